@@ -1,0 +1,183 @@
+/*
+ * cranepredict C core: faster-than-real-time prediction of a hydraulic crane's lift and
+ * outer boom (2-DOF Newton-Euler, fixed-step RK4). The model is specified in docs/model.md.
+ *
+ * C99, libm only, no heap, no mutable globals, no I/O. The caller owns every struct and buffer.
+ * Every entry point returns a crane_status and never aborts; on an error nothing is written to
+ * the outputs beyond what the status says. SI units throughout: m, s, rad, kg, N, Pa.
+ *
+ * Build with -DCRANE_FLOAT to compute in float instead of double.
+ *
+ * The declarations between CRANE_CDEF_BEGIN and CRANE_CDEF_END are read verbatim by the Python
+ * build (cffi cdef), so they must stay plain declarations: no macros, no preprocessor lines.
+ */
+#ifndef CRANE_H
+#define CRANE_H
+
+#include <stddef.h>
+
+#ifdef CRANE_FLOAT
+typedef float crane_real;
+#else
+typedef double crane_real;
+#endif
+
+/* CRANE_CDEF_BEGIN */
+typedef enum {
+    CRANE_OK = 0,
+    CRANE_E_NULL = 1,           /* a required pointer is NULL */
+    CRANE_E_NONFINITE = 2,      /* a NaN or infinity in the inputs */
+    CRANE_E_BODY = 3,           /* a mass, centre of mass or inertia is not physical */
+    CRANE_E_CYLINDER = 4,       /* bore/rod/length/stroke range not physical */
+    CRANE_E_FRICTION = 5,       /* friction coefficients not physical */
+    CRANE_E_GEOMETRY = 6,       /* lift triangle leaves 0 < gamma < pi over the lift stroke */
+    CRANE_E_FOURBAR = 7,        /* the tilt four-bar cannot close over the tilt stroke */
+    CRANE_E_GRAVITY = 8,        /* gravity < 0 */
+    CRANE_E_STROKE = 9,         /* an initial stroke outside [stroke_min, stroke_max] */
+    CRANE_E_EXTENSION = 10,     /* extension outside [extension_min, extension_max] */
+    CRANE_E_STROKE_RATE = 11,   /* a held cylinder given a nonzero stroke rate */
+    CRANE_E_DRIVE = 12,         /* drive mode unknown */
+    CRANE_E_PRESSURE = 13,      /* a pressure outside [0, CRANE_PRESSURE_MAX] */
+    CRANE_E_SAMPLES = 14,       /* pressure sample times not increasing or not covering [0, horizon] */
+    CRANE_E_DT = 15,            /* dt <= 0 or dt > horizon */
+    CRANE_E_HORIZON = 16,       /* horizon <= 0, or more steps than fit in a long */
+    CRANE_E_CAPACITY = 17,      /* output buffer smaller than the number of samples */
+    CRANE_E_ANGLE = 18          /* an angle outside the range reachable by the cylinder */
+} crane_status;
+
+enum { CRANE_LIFT = 0, CRANE_TILT = 1 };
+enum { CRANE_DRIVE_PRESSURE = 0, CRANE_DRIVE_HOLD = 1 };
+enum { CRANE_N_POINTS = 11 };
+enum { CRANE_PRESSURE_MAX = 100000000 };   /* Pa (1000 bar): the largest pressure accepted */
+
+typedef struct {
+    crane_real x, y;
+} crane_vec2;
+
+typedef struct {
+    crane_real mass;     /* kg */
+    crane_vec2 com;      /* centre of mass in the body's frame, m */
+    crane_real izz;      /* moment of inertia about the centre of mass, kg m^2 */
+} crane_body;
+
+typedef struct {
+    crane_real coulomb;            /* F_C, N */
+    crane_real static_;            /* F_S >= F_C, N */
+    crane_real viscous;            /* sigma, N s/m */
+    crane_real stribeck_velocity;  /* v_S > 0, m/s */
+    crane_real tanh_velocity;      /* v_T > 0, m/s: smoothing of the sign at v = 0 */
+} crane_friction;
+
+typedef struct {
+    crane_real bore;               /* piston diameter, m */
+    crane_real rod;                /* rod diameter, m */
+    crane_real length_retracted;   /* pin-to-pin length at stroke 0, m */
+    crane_real stroke_min;         /* end stops, m */
+    crane_real stroke_max;
+    crane_friction friction;
+} crane_cylinder;
+
+typedef struct {
+    crane_real gravity;              /* m/s^2, along -y of the boom plane */
+    crane_vec2 lift_pivot;           /* O1, boom plane */
+    crane_vec2 lift_cylinder_base;   /* boom plane */
+    crane_vec2 lift_cylinder_rod;    /* lift boom frame */
+    crane_vec2 tilt_cylinder_base;   /* lift boom frame */
+    crane_vec2 link1_pivot;          /* P1, lift boom frame */
+    crane_vec2 tilt_pivot;           /* O2, lift boom frame */
+    crane_vec2 link_pin;             /* Q in side link 1's frame (origin P1) */
+    crane_vec2 link2_end;            /* A in side link 2's frame (origin Q) */
+    crane_vec2 link2_attach;         /* A in the outer boom frame */
+    crane_vec2 extension_mount;      /* outer boom frame */
+    crane_real tip_distance;         /* load point along the extension boom's x axis, m */
+    crane_real extension_min;        /* m */
+    crane_real extension_max;
+    crane_body lift_boom;            /* lift boom frame */
+    crane_body outer_boom;           /* outer boom frame */
+    crane_body extension_boom;       /* extension boom frame */
+    crane_real load_mass;            /* kg, point mass at the tip, >= 0 */
+    crane_cylinder cylinder[2];      /* [CRANE_LIFT], [CRANE_TILT] */
+} crane_params;
+
+typedef struct {
+    crane_real stroke[2];        /* m */
+    crane_real stroke_rate[2];   /* m/s; 0 = at rest; must be 0 for a held cylinder */
+    crane_real slew;             /* rad, about the vertical axis; constant during a prediction */
+    crane_real extension;        /* m; constant during a prediction */
+} crane_state;
+
+typedef struct {
+    int mode;                    /* CRANE_DRIVE_PRESSURE or CRANE_DRIVE_HOLD */
+    crane_real p_a;              /* bore-side pressure, Pa (used when n_samples == 0) */
+    crane_real p_b;              /* rod-side pressure, Pa */
+    const crane_real *t;         /* n_samples sample times, s, strictly increasing */
+    const crane_real *p_a_samples;
+    const crane_real *p_b_samples;
+    size_t n_samples;            /* 0: constant pressures */
+} crane_drive;
+
+typedef struct {
+    crane_drive drive[2];        /* [CRANE_LIFT], [CRANE_TILT] */
+} crane_inputs;
+
+typedef struct {
+    crane_real t;                /* s */
+    crane_real stroke[2];        /* m */
+    crane_real theta[2];         /* rad: lift angle, tilt angle relative to the lift boom */
+    crane_real omega[2];         /* rad/s */
+    crane_real tip[3];           /* world, m */
+    int stop[2];                 /* -1 at the lower stop, +1 at the upper stop, 0 otherwise */
+} crane_sample;
+
+/* Derived constants of one crane at one extension: filled by crane_model_init, read-only after.
+ * Fields are internal; the struct is public only so that the caller can own it. */
+typedef struct {
+    crane_params p;
+    crane_real extension;
+    crane_real lift_db, lift_dr, lift_beta, lift_eps;
+    crane_real tilt_l1, tilt_l2, tilt_ra, tilt_alpha_a;
+    crane_real area_a[2], area_b[2];
+    crane_real m1, m2, i1, i2;
+    crane_vec2 c1, c2;
+    crane_real theta_min[2], theta_max[2];
+} crane_model;
+
+/* Checks the parameters (all the checks of docs/model.md) and derives the model constants. */
+crane_status crane_model_init(crane_model *model, const crane_params *params, crane_real extension);
+
+/* Number of samples a prediction writes: ceil(horizon/dt - 1e-9) + 1. */
+crane_status crane_sample_count(crane_real horizon, crane_real dt, size_t *count);
+
+/* Predicts the motion from state0 under the inputs over [0, horizon] with RK4 step dt.
+ * Writes *n_written samples (t = 0 first) into out[0..capacity). */
+crane_status crane_predict(const crane_params *params, const crane_state *state0,
+                           const crane_inputs *inputs, crane_real horizon, crane_real dt,
+                           crane_sample *out, size_t capacity, size_t *n_written);
+
+/* Kinematics of one joint (joint = CRANE_LIFT or CRANE_TILT). */
+crane_status crane_joint_angle(const crane_model *model, int joint, crane_real stroke,
+                               crane_real *theta, crane_real *dstroke_dtheta);
+crane_status crane_joint_stroke(const crane_model *model, int joint, crane_real theta,
+                                crane_real *stroke);
+
+/* World positions (x, y, z) of the crane's points for n poses: theta is n x 2, xyz is
+ * n x CRANE_N_POINTS x 3, in the order: pillar_base, lift_pivot, lift_cylinder_base,
+ * lift_cylinder_rod, tilt_cylinder_base, link1_pivot, link_pin, link2_attach, tilt_pivot,
+ * extension_mount, tip. */
+crane_status crane_points(const crane_model *model, crane_real slew, size_t n,
+                          const crane_real *theta, crane_real *xyz);
+
+/* Newton-Euler inverse dynamics: joint torques for (theta, omega, alpha), gravity included. */
+crane_status crane_inverse_dynamics(const crane_model *model, const crane_real theta[2],
+                                    const crane_real omega[2], const crane_real alpha[2],
+                                    crane_real tau[2]);
+
+/* Cylinder force along its axis (positive extends) at pressures p_a, p_b and stroke rate v. */
+crane_status crane_cylinder_force(const crane_model *model, int joint, crane_real p_a,
+                                  crane_real p_b, crane_real stroke_rate, crane_real *force);
+
+/* A short English description of a status code (a static string). */
+const char *crane_status_message(crane_status status);
+/* CRANE_CDEF_END */
+
+#endif /* CRANE_H */
