@@ -1,0 +1,44 @@
+"""cffi build script (API mode): compiles csrc/ into ``cranepredict._cranepredict``.
+
+The cdef is read from the public header between CRANE_CDEF_BEGIN and CRANE_CDEF_END, so the
+declarations are written once. The Python extension always uses the double build.
+"""
+
+from __future__ import annotations
+
+import glob
+import os
+import re
+
+from cffi import FFI
+
+ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
+CSRC = os.path.join(ROOT, "csrc")
+
+
+def header_cdef(path: str = os.path.join(CSRC, "crane.h")) -> str:
+    with open(path, encoding="utf-8") as f:
+        text = f.read()
+    m = re.search(r"/\* CRANE_CDEF_BEGIN \*/(.*)/\* CRANE_CDEF_END \*/", text, re.S)
+    if m is None:
+        raise RuntimeError(f"{path}: CRANE_CDEF_BEGIN/END markers not found")
+    return "typedef double crane_real;\n" + m.group(1)
+
+
+def core_sources() -> list:
+    return sorted(os.path.relpath(p, ROOT) for p in glob.glob(os.path.join(CSRC, "*.c")))
+
+
+ffibuilder = FFI()
+ffibuilder.cdef(header_cdef())
+ffibuilder.set_source(
+    "cranepredict._cranepredict",
+    '#include "crane.h"',
+    sources=core_sources(),
+    include_dirs=[os.path.relpath(CSRC, ROOT)],
+    extra_compile_args=["-std=c99", "-O2"],
+    libraries=["m"],
+)
+
+if __name__ == "__main__":
+    ffibuilder.compile(verbose=True)

@@ -1,0 +1,190 @@
+"""What a prediction takes (State, drives, Inputs) and what it gives back (Trajectory).
+
+SI units: strokes in m, stroke rates in m/s, angles in rad, pressures in Pa (gauge), times in s.
+Index 0 of every (N, 2) array is the lift cylinder/joint, index 1 the tilt cylinder/joint.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+from typing import Callable, Dict, Optional, Sequence, Tuple, Union
+
+import numpy as np
+
+__all__ = ["State", "Pressure", "PressureSeries", "Hold", "Drive", "Inputs", "Trajectory",
+           "POINT_NAMES", "PRESSURE_MAX"]
+
+#: The largest pressure accepted, Pa (1000 bar); the C core's CRANE_PRESSURE_MAX.
+PRESSURE_MAX = 1.0e8
+
+#: Names of the points in ``Trajectory.points`` (the C core's and the twin's order).
+POINT_NAMES = ("pillar_base", "lift_pivot", "lift_cylinder_base", "lift_cylinder_rod",
+               "tilt_cylinder_base", "link1_pivot", "link_pin", "link2_attach", "tilt_pivot",
+               "extension_mount", "tip")
+
+
+def _finite(value: object, name: str) -> float:
+    if isinstance(value, bool) or not isinstance(value, (int, float, np.floating, np.integer)):
+        raise TypeError(f"{name} must be a number, got {type(value).__name__}")
+    x = float(value)
+    if not math.isfinite(x):
+        raise ValueError(f"{name} must be finite, got {x}")
+    return x
+
+
+def _pressure(value: object, name: str) -> float:
+    p = _finite(value, name)
+    if not 0.0 <= p <= PRESSURE_MAX:
+        raise ValueError(f"{name} must be in [0, {PRESSURE_MAX:g}] Pa, got {p:g}")
+    return p
+
+
+@dataclass(frozen=True)
+class State:
+    """The crane at the start of a prediction.
+
+    Strokes (m) set the boom angles; slew (rad, about the vertical axis) and extension (m) stay as
+    given during the prediction (they are kinematic inputs, not simulated). The crane starts at
+    rest unless stroke rates (m/s) are given.
+    """
+
+    lift_stroke: float
+    tilt_stroke: float
+    slew: float = 0.0
+    extension: float = 0.0
+    lift_stroke_rate: float = 0.0
+    tilt_stroke_rate: float = 0.0
+
+    def __post_init__(self) -> None:
+        for name in ("lift_stroke", "tilt_stroke", "slew", "extension",
+                     "lift_stroke_rate", "tilt_stroke_rate"):
+            object.__setattr__(self, name, _finite(getattr(self, name), f"State.{name}"))
+
+
+@dataclass(frozen=True)
+class Pressure:
+    """Constant chamber pressures (Pa): p_a on the bore side, p_b on the rod side."""
+
+    p_a: float
+    p_b: float = 0.0
+    held = False
+
+    def __post_init__(self) -> None:
+        object.__setattr__(self, "p_a", _pressure(self.p_a, "Pressure.p_a"))
+        object.__setattr__(self, "p_b", _pressure(self.p_b, "Pressure.p_b"))
+
+    @property
+    def t(self) -> None:
+        return None
+
+
+@dataclass(frozen=True)
+class PressureSeries:
+    """Chamber pressures sampled at times t (s, strictly increasing, covering [0, horizon]),
+    interpolated linearly. The arrays are copied; the caller's are never modified."""
+
+    t: np.ndarray
+    p_a: np.ndarray
+    p_b: np.ndarray
+    held = False
+
+    def __post_init__(self) -> None:
+        arrays = {}
+        for name in ("t", "p_a", "p_b"):
+            try:
+                a = np.array(getattr(self, name), dtype=float, copy=True)
+            except (TypeError, ValueError):
+                raise TypeError(f"PressureSeries.{name} must be a sequence of numbers") from None
+            if a.ndim != 1 or a.size < 2:
+                raise ValueError(f"PressureSeries.{name} must be 1-D with at least 2 samples, "
+                                 f"got shape {a.shape}")
+            if not np.all(np.isfinite(a)):
+                raise ValueError(f"PressureSeries.{name} must be finite")
+            a.setflags(write=False)
+            arrays[name] = a
+        if not (arrays["t"].size == arrays["p_a"].size == arrays["p_b"].size):
+            raise ValueError("PressureSeries.t, p_a and p_b must have the same length, got "
+                             f"{arrays['t'].size}, {arrays['p_a'].size}, {arrays['p_b'].size}")
+        if np.any(np.diff(arrays["t"]) <= 0):
+            raise ValueError("PressureSeries.t must be strictly increasing")
+        for name in ("p_a", "p_b"):
+            a = arrays[name]
+            if a.min() < 0.0 or a.max() > PRESSURE_MAX:
+                raise ValueError(f"PressureSeries.{name} must be in [0, {PRESSURE_MAX:g}] Pa, "
+                                 f"got [{a.min():g}, {a.max():g}]")
+        for name, a in arrays.items():
+            object.__setattr__(self, name, a)
+
+    @classmethod
+    def ramp(cls, t0: float, t1: float, start: Tuple[float, float], end: Tuple[float, float],
+             horizon: float) -> "PressureSeries":
+        """(p_a, p_b) held at ``start`` until t0, linear to ``end`` at t1, then held to horizon."""
+        t0, t1, horizon = (_finite(v, n) for v, n in ((t0, "t0"), (t1, "t1"), (horizon, "horizon")))
+        if not 0.0 <= t0 < t1 <= horizon:
+            raise ValueError(f"ramp times must satisfy 0 <= t0 < t1 <= horizon, got {t0}, {t1}, {horizon}")
+        ts = [0.0, t0, t1, horizon] if t0 > 0 else [0.0, t1, horizon]
+        if ts[-1] == ts[-2]:
+            ts = ts[:-1]
+        pts = [start if t <= t0 else end for t in ts]
+        return cls(t=ts, p_a=[p[0] for p in pts], p_b=[p[1] for p in pts])
+
+    def covers(self, horizon: float) -> bool:
+        return bool(self.t[0] <= 0.0 and self.t[-1] >= horizon)
+
+
+@dataclass(frozen=True)
+class Hold:
+    """The cylinder's valve is closed: its stroke stays at the initial value (the paper's tilt)."""
+
+    held = True
+
+
+Drive = Union[Pressure, PressureSeries, Hold]
+
+
+@dataclass(frozen=True)
+class Inputs:
+    """How each cylinder is driven during the prediction."""
+
+    lift: Drive
+    tilt: Drive
+
+    def __post_init__(self) -> None:
+        for name in ("lift", "tilt"):
+            d = getattr(self, name)
+            if not isinstance(d, (Pressure, PressureSeries, Hold)):
+                raise TypeError(f"Inputs.{name} must be Pressure, PressureSeries or Hold, "
+                                f"got {type(d).__name__}")
+
+
+@dataclass(frozen=True, eq=False)
+class Trajectory:
+    """A predicted motion, one row per sample (t = 0 first).
+
+    t (N,) s; strokes (N, 2) m; theta (N, 2) rad (lift angle, tilt angle relative to the lift
+    boom); omega (N, 2) rad/s; tip (N, 3) m in the world frame (X, Y horizontal, Z up);
+    stop (N, 2): -1 at the lower end stop, +1 at the upper, 0 otherwise.
+    ``points()`` gives the world positions of every pivot and pin, to draw the crane.
+    """
+
+    t: np.ndarray
+    strokes: np.ndarray
+    theta: np.ndarray
+    omega: np.ndarray
+    tip: np.ndarray
+    stop: np.ndarray
+    slew: float
+    extension: float
+    backend: str
+    _points: Callable[[np.ndarray], np.ndarray] = field(repr=False)
+
+    def points(self) -> Dict[str, np.ndarray]:
+        """World positions (N, 3) of each point in POINT_NAMES, computed on demand."""
+        xyz = self._points(self.theta)
+        return {name: xyz[:, i, :] for i, name in enumerate(POINT_NAMES)}
+
+    def first_stop_time(self, joint: int, side: int = +1) -> Optional[float]:
+        """Time (s) of the first sample at the given end stop of a joint, or None."""
+        hits = np.flatnonzero(self.stop[:, joint] == side)
+        return float(self.t[hits[0]]) if hits.size else None
