@@ -15,8 +15,7 @@ import numpy as np
 __all__ = ["State", "Pressure", "PressureSeries", "Hold", "Drive", "Inputs", "Trajectory",
            "POINT_NAMES", "PRESSURE_MAX"]
 
-#: The largest pressure accepted, Pa (1000 bar); the C core's CRANE_PRESSURE_MAX.
-PRESSURE_MAX = 1.0e8
+from ._core import PRESSURE_MAX  # Pa: the largest pressure accepted (the C core's CRANE_PRESSURE_MAX)
 
 #: Names of the points in ``Trajectory.points`` (the C core's and the twin's order).
 POINT_NAMES = ("pillar_base", "lift_pivot", "lift_cylinder_base", "lift_cylinder_rod",

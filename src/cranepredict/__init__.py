@@ -1,0 +1,15 @@
+"""cranepredict: faster-than-real-time prediction of a hydraulic mobile crane's booms and load.
+
+Data flow: crane file (TOML) -> :class:`Crane` -> :func:`predict` (C core, or the pure-Python twin
+with ``backend="python"``) -> :class:`Trajectory` (numpy arrays) -> checks and plots.
+"""
+
+from .api import BACKENDS, DEFAULT_DT, predict
+from .crane import Body, Crane, Cylinder, Friction, Geometry
+from .types import POINT_NAMES, Hold, Inputs, Pressure, PressureSeries, State, Trajectory
+from . import scenarios
+
+__all__ = ["predict", "DEFAULT_DT", "BACKENDS", "Crane", "Body", "Cylinder", "Friction", "Geometry",
+           "State", "Pressure", "PressureSeries", "Hold", "Inputs", "Trajectory", "POINT_NAMES",
+           "scenarios"]
+__version__ = "0.1.0"
