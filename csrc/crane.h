@@ -126,7 +126,7 @@ typedef struct {
     crane_real theta[2];         /* rad: lift angle, tilt angle relative to the lift boom */
     crane_real omega[2];         /* rad/s */
     crane_real tip[3];           /* world, m */
-    int stop[2];                 /* -1 at the lower stop, +1 at the upper stop, 0 otherwise */
+    int stop[2];                 /* -1 at stroke_min, +1 at stroke_max, 0 otherwise (cylinder terms) */
 } crane_sample;
 
 /* Derived constants of one crane at one extension: filled by crane_model_init, read-only after.
@@ -140,6 +140,9 @@ typedef struct {
     crane_real m1, m2, i1, i2;
     crane_vec2 c1, c2;
     crane_real theta_min[2], theta_max[2];
+    crane_real lift_cos_off, lift_sin_off; /* cos, sin of (lift_eps - lift_beta) */
+    crane_real j1, j2, m2_o2sq;            /* i1 + m1 |c1|^2, i2 + m2 |c2|^2, m2 |O2|^2 */
+    crane_vec2 tip;                        /* load point in the outer boom frame */
 } crane_model;
 
 /* Checks the parameters (all the checks of docs/model.md) and derives the model constants. */

@@ -1,0 +1,122 @@
+/*
+ * Internal helpers of the cranepredict C core: precision-neutral math wrappers, 2-D vector
+ * algebra and the prototypes shared between the core's source files. Not part of the public API.
+ */
+#ifndef CRANE_INTERNAL_H
+#define CRANE_INTERNAL_H
+
+#include <math.h>
+#include "crane.h"
+
+/* ---- math wrappers: one spelling for both precisions, so no call promotes float to double ---- */
+
+#ifdef CRANE_FLOAT
+static inline crane_real crane__sqrt(crane_real x) { return sqrtf(x); }
+static inline crane_real crane__sin(crane_real x) { return sinf(x); }
+static inline crane_real crane__cos(crane_real x) { return cosf(x); }
+static inline crane_real crane__acos(crane_real x) { return acosf(x); }
+static inline crane_real crane__atan2(crane_real y, crane_real x) { return atan2f(y, x); }
+static inline crane_real crane__exp(crane_real x) { return expf(x); }
+static inline crane_real crane__tanh(crane_real x) { return tanhf(x); }
+static inline crane_real crane__fabs(crane_real x) { return fabsf(x); }
+#else
+static inline crane_real crane__sqrt(crane_real x) { return sqrt(x); }
+static inline crane_real crane__sin(crane_real x) { return sin(x); }
+static inline crane_real crane__cos(crane_real x) { return cos(x); }
+static inline crane_real crane__acos(crane_real x) { return acos(x); }
+static inline crane_real crane__atan2(crane_real y, crane_real x) { return atan2(y, x); }
+static inline crane_real crane__exp(crane_real x) { return exp(x); }
+static inline crane_real crane__tanh(crane_real x) { return tanh(x); }
+static inline crane_real crane__fabs(crane_real x) { return fabs(x); }
+#endif
+
+/* isfinite is a type-generic macro; wrapping it keeps the call sites typed. */
+static inline int crane__finite(crane_real x) { return isfinite(x) != 0; }
+
+static inline int crane__finite_vec(crane_vec2 v) { return crane__finite(v.x) && crane__finite(v.y); }
+
+/* pi rounded to the working precision (the cast folds at compile time). */
+static inline crane_real crane__pi(void) { return (crane_real)3.14159265358979323846; }
+
+/* ---- 2-D vectors ---- */
+
+static inline crane_vec2 crane__v2(crane_real x, crane_real y)
+{
+    crane_vec2 v;
+    v.x = x;
+    v.y = y;
+    return v;
+}
+
+static inline crane_vec2 crane__add(crane_vec2 a, crane_vec2 b) { return crane__v2(a.x + b.x, a.y + b.y); }
+static inline crane_vec2 crane__sub(crane_vec2 a, crane_vec2 b) { return crane__v2(a.x - b.x, a.y - b.y); }
+static inline crane_vec2 crane__scale(crane_real s, crane_vec2 a) { return crane__v2(s * a.x, s * a.y); }
+static inline crane_real crane__dot(crane_vec2 a, crane_vec2 b) { return a.x * b.x + a.y * b.y; }
+static inline crane_real crane__cross(crane_vec2 a, crane_vec2 b) { return a.x * b.y - a.y * b.x; }
+static inline crane_vec2 crane__perp(crane_vec2 a) { return crane__v2(-a.y, a.x); }
+static inline crane_real crane__norm2(crane_vec2 a) { return crane__dot(a, a); }
+static inline crane_real crane__norm(crane_vec2 a) { return crane__sqrt(crane__dot(a, a)); }
+
+/* R(a) v, with the caller's cos/sin so that each angle's trig is evaluated once. */
+static inline crane_vec2 crane__rot(crane_real c, crane_real s, crane_vec2 v)
+{
+    return crane__v2(c * v.x - s * v.y, s * v.x + c * v.y);
+}
+
+/* ---- joint modes of the integrator ---- */
+
+enum { CRANE__FREE = 0, CRANE__HELD = 1, CRANE__STOP_LO = 2, CRANE__STOP_HI = 3 };
+
+/* ---- kinematics.c ---- */
+
+/* circle() of docs/model.md; returns h2 (the mechanism closes only if h2 > 0). With h2 <= 0 the
+ * point is computed with h2 clamped to 0, which keeps RK4 stages that overshoot a limit finite. */
+crane_real crane__circle(crane_vec2 c0, crane_real r0, crane_vec2 c1, crane_real r1,
+                         crane_real sign, crane_vec2 *p);
+
+/* Lift: stroke -> (theta0, ds/dtheta0); the stroke must be in range (or the acos is clamped). */
+void crane__lift_from_stroke(const crane_model *m, crane_real stroke, crane_real *theta,
+                             crane_real *ds);
+/* Lift from cos/sin of theta0: stroke and ds/dtheta0 (either pointer may be NULL). */
+void crane__lift_from_angle(const crane_model *m, crane_real c0, crane_real s0,
+                            crane_real *stroke, crane_real *ds);
+
+/* Tilt: stroke -> theta1, ds/dtheta1, Q and A (lift boom frame); returns 0 if it cannot close. */
+int crane__tilt_from_stroke(const crane_model *m, crane_real stroke, crane_real *theta,
+                            crane_real *ds, crane_vec2 *q, crane_vec2 *a);
+/* Tilt from cos/sin of theta1: stroke, ds/dtheta1, Q and A (any output pointer may be NULL). */
+void crane__tilt_from_angle(const crane_model *m, crane_real c1, crane_real s1,
+                            crane_real *stroke, crane_real *ds, crane_vec2 *q, crane_vec2 *a);
+
+/* theta wrapped into (-3pi/2, pi/2]. */
+crane_real crane__wrap_tilt(crane_real theta);
+
+/* ---- dynamics.c ---- */
+
+/* Newton-Euler inverse dynamics from the rotated vectors C1 = R(th0) c1, C2 = R(th0+th1) c2,
+ * r12 = R(th0) O2 (computed once by the caller). */
+void crane__inverse_dynamics(const crane_model *m, crane_vec2 C1, crane_vec2 C2, crane_vec2 r12,
+                             const crane_real omega[2], const crane_real alpha[2], crane_real g,
+                             crane_real tau[2]);
+
+/* Mass matrix (M00, M01, M11) from cos/sin of theta1 alone (it does not depend on theta0). */
+void crane__mass_matrix(const crane_model *m, crane_real c1, crane_real s1, crane_real M[3]);
+
+/* ---- cylinder.c ---- */
+
+crane_real crane__friction(const crane_friction *f, crane_real v);
+crane_real crane__cylinder_force(const crane_model *m, int joint, crane_real p_a, crane_real p_b,
+                                 crane_real v);
+
+/* ---- model.c ---- */
+
+crane_status crane__check_params(const crane_params *p);
+
+/* ---- integrator.c ---- */
+
+/* Runs a validated prediction: the model, state, inputs, horizon, dt, step count and capacity
+ * have all been checked by crane_predict. Writes n_steps + 1 samples. */
+void crane__integrate(const crane_model *m, const crane_state *s0, const crane_inputs *in,
+                      crane_real horizon, crane_real dt, long n_steps, crane_sample *out);
+
+#endif /* CRANE_INTERNAL_H */

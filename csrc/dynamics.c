@@ -1,0 +1,61 @@
+/*
+ * Planar iterative Newton-Euler inverse dynamics of the two booms (docs/model.md, "Dynamics").
+ */
+#include "crane_internal.h"
+
+void crane__inverse_dynamics(const crane_model *m, crane_vec2 C1, crane_vec2 C2, crane_vec2 r12,
+                             const crane_real omega[2], const crane_real alpha[2], crane_real g,
+                             crane_real tau[2])
+{
+    const crane_real w1 = omega[0], w2 = omega[0] + omega[1];
+    const crane_real a1 = alpha[0], a2 = alpha[0] + alpha[1];
+    /* Forward: a base acceleration of +g upward stands in for gravity. */
+    const crane_vec2 acc_o1 = crane__v2(0, g);
+    const crane_vec2 acc_c1 = crane__add(acc_o1, crane__sub(crane__scale(a1, crane__perp(C1)),
+                                                            crane__scale(w1 * w1, C1)));
+    const crane_vec2 acc_o2 = crane__add(acc_o1, crane__sub(crane__scale(a1, crane__perp(r12)),
+                                                            crane__scale(w1 * w1, r12)));
+    const crane_vec2 acc_c2 = crane__add(acc_o2, crane__sub(crane__scale(a2, crane__perp(C2)),
+                                                            crane__scale(w2 * w2, C2)));
+    /* Backward: force and moment of each parent on its child at the joint. */
+    const crane_vec2 f2 = crane__scale(m->m2, acc_c2);
+    const crane_real n2 = m->i2 * a2 + crane__cross(C2, f2);
+    const crane_real n1 = m->i1 * a1 + crane__cross(C1, crane__scale(m->m1, acc_c1)) +
+                          crane__cross(r12, f2) + n2;
+    tau[0] = n1;
+    tau[1] = n2;
+}
+
+/* The Newton-Euler recursion with omega = 0, g = 0 and alpha = e_j, simplified by hand:
+ * cross(a, perp(b)) = a.b, and r12.C2 = O2.R(theta1)c2 does not depend on theta0. */
+void crane__mass_matrix(const crane_model *m, crane_real c1, crane_real s1, crane_real M[3])
+{
+    const crane_real k = m->m2 * crane__dot(m->p.tilt_pivot, crane__rot(c1, s1, m->c2));
+    M[0] = m->j1 + m->m2_o2sq + m->j2 + 2 * k;
+    M[1] = m->j2 + k;
+    M[2] = m->j2;
+}
+
+crane_status crane_inverse_dynamics(const crane_model *model, const crane_real theta[2],
+                                    const crane_real omega[2], const crane_real alpha[2],
+                                    crane_real tau[2])
+{
+    crane_real c0, s0, c01, s01, t[2];
+    int i;
+
+    if (!model || !theta || !omega || !alpha || !tau)
+        return CRANE_E_NULL;
+    for (i = 0; i < 2; ++i)
+        if (!crane__finite(theta[i]) || !crane__finite(omega[i]) || !crane__finite(alpha[i]))
+            return CRANE_E_NONFINITE;
+    c0 = crane__cos(theta[0]);
+    s0 = crane__sin(theta[0]);
+    c01 = crane__cos(theta[0] + theta[1]);
+    s01 = crane__sin(theta[0] + theta[1]);
+    crane__inverse_dynamics(model, crane__rot(c0, s0, model->c1), crane__rot(c01, s01, model->c2),
+                            crane__rot(c0, s0, model->p.tilt_pivot), omega, alpha,
+                            model->p.gravity, t);
+    tau[0] = t[0];
+    tau[1] = t[1];
+    return CRANE_OK;
+}

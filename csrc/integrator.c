@@ -1,0 +1,368 @@
+/*
+ * Fixed-step RK4 with end stops (docs/model.md, "Cylinders", "End stops", "Integration and
+ * samples"). Everything here runs on inputs that crane_predict has already validated.
+ */
+#include "crane_internal.h"
+
+enum { BISECTIONS = 60 };
+
+typedef struct {
+    crane_real th[2], w[2];
+} xstate;
+
+/* Per-prediction working data, on the caller's stack. */
+typedef struct {
+    const crane_model *m;
+    const crane_inputs *in;
+    size_t cursor[2];           /* pressure sample segment last used, per joint */
+    int mode[2];                /* CRANE__FREE, _HELD, _STOP_LO, _STOP_HI */
+    crane_real stroke_at[2][2]; /* stroke at [joint][lower, upper angle limit] */
+    int flag_at[2][2];          /* reported stop flag there: -1 stroke_min, +1 stroke_max */
+    crane_real stroke0[2];      /* initial strokes, reported for held joints */
+} ctx_t;
+
+/* Pressures of a pressure-driven joint at time t: linear interpolation, with a cursor that walks
+ * from the last segment (RK4 stage times move forward, redone event steps go back a little). */
+static void pressures(ctx_t *c, int i, crane_real t, crane_real *p_a, crane_real *p_b)
+{
+    const crane_drive *d = &c->in->drive[i];
+    size_t j, n = d->n_samples;
+    crane_real s;
+
+    if (n == 0) {
+        *p_a = d->p_a;
+        *p_b = d->p_b;
+        return;
+    }
+    /* Validation guarantees n >= 2 and t[0] <= 0 < horizon <= t[n-1]. */
+    j = c->cursor[i];
+    while (j + 2 < n && t > d->t[j + 1])
+        ++j;
+    while (j > 0 && t < d->t[j])
+        --j;
+    c->cursor[i] = j;
+    s = (t - d->t[j]) / (d->t[j + 1] - d->t[j]);
+    if (s < 0)
+        s = 0;
+    else if (s > 1)
+        s = 1;
+    *p_a = d->p_a_samples[j] + s * (d->p_a_samples[j + 1] - d->p_a_samples[j]);
+    *p_b = d->p_b_samples[j] + s * (d->p_b_samples[j + 1] - d->p_b_samples[j]);
+}
+
+/* Joint accelerations at (t, theta, omega); locked joints (held or stopped) get alpha = 0. */
+static void accel(ctx_t *c, crane_real t, const xstate *x, const int lk[2], crane_real alpha[2])
+{
+    const crane_model *m = c->m;
+    static const crane_real zero[2] = {0, 0};
+    crane_real c0, s0, c1, s1, c01, s01, h[2], M[3], r[2] = {0, 0};
+    crane_vec2 C1, C2, r12;
+    int i;
+
+    if (lk[0] && lk[1]) {
+        alpha[0] = alpha[1] = 0;
+        return;
+    }
+    /* One sin/cos per joint angle; the absolute outer boom angle by the angle-sum formulas. */
+    c0 = crane__cos(x->th[0]);
+    s0 = crane__sin(x->th[0]);
+    c1 = crane__cos(x->th[1]);
+    s1 = crane__sin(x->th[1]);
+    c01 = c0 * c1 - s0 * s1;
+    s01 = s0 * c1 + c0 * s1;
+    C1 = crane__rot(c0, s0, m->c1);
+    C2 = crane__rot(c01, s01, m->c2);
+    r12 = crane__rot(c0, s0, m->p.tilt_pivot);
+    crane__inverse_dynamics(m, C1, C2, r12, x->w, zero, m->p.gravity, h);
+    crane__mass_matrix(m, c1, s1, M);
+
+    /* Cylinder torques only for the joints that can move. */
+    for (i = 0; i < 2; ++i) {
+        crane_real ds, p_a, p_b;
+        if (lk[i])
+            continue;
+        if (i == CRANE_LIFT)
+            crane__lift_from_angle(m, c0, s0, NULL, &ds);
+        else
+            crane__tilt_from_angle(m, c1, s1, NULL, &ds, NULL, NULL);
+        pressures(c, i, t, &p_a, &p_b);
+        r[i] = crane__cylinder_force(m, i, p_a, p_b, ds * x->w[i]) * ds - h[i];
+    }
+
+    if (lk[0]) {
+        alpha[0] = 0;
+        alpha[1] = r[1] / M[2];
+    } else if (lk[1]) {
+        alpha[0] = r[0] / M[0];
+        alpha[1] = 0;
+    } else {
+        const crane_real det = M[0] * M[2] - M[1] * M[1];
+        alpha[0] = (M[2] * r[0] - M[1] * r[1]) / det;
+        alpha[1] = (M[0] * r[1] - M[1] * r[0]) / det;
+    }
+}
+
+static void lock_mask(const ctx_t *c, int lk[2])
+{
+    lk[0] = c->mode[0] != CRANE__FREE;
+    lk[1] = c->mode[1] != CRANE__FREE;
+}
+
+/* x + h * (dtheta, domega) */
+static xstate axpy(const xstate *x, crane_real h, const crane_real dth[2], const crane_real dw[2])
+{
+    xstate y;
+    y.th[0] = x->th[0] + h * dth[0];
+    y.th[1] = x->th[1] + h * dth[1];
+    y.w[0] = x->w[0] + h * dw[0];
+    y.w[1] = x->w[1] + h * dw[1];
+    return y;
+}
+
+static xstate rk4(ctx_t *c, crane_real t, const xstate *x, crane_real h, const int lk[2])
+{
+    const crane_real h2 = h / 2, h6 = h / 6;
+    crane_real a1[2], a2[2], a3[2], a4[2];
+    xstate x2, x3, x4, y;
+    int i;
+
+    accel(c, t, x, lk, a1);
+    x2 = axpy(x, h2, x->w, a1);
+    accel(c, t + h2, &x2, lk, a2);
+    x3 = axpy(x, h2, x2.w, a2);
+    accel(c, t + h2, &x3, lk, a3);
+    x4 = axpy(x, h, x3.w, a3);
+    accel(c, t + h, &x4, lk, a4);
+    for (i = 0; i < 2; ++i) {
+        y.th[i] = x->th[i] + h6 * (x->w[i] + 2 * x2.w[i] + 2 * x3.w[i] + x4.w[i]);
+        y.w[i] = x->w[i] + h6 * (a1[i] + 2 * a2[i] + 2 * a3[i] + a4[i]);
+    }
+    return y;
+}
+
+/* Time in (0, h] at which the cubic Hermite interpolant of theta on the step first reaches the
+ * limit: 60 bisections keeping lo inside and hi outside; the answer is hi. */
+static crane_real crossing_time(crane_real th0, crane_real w0, crane_real th1, crane_real w1,
+                                crane_real h, crane_real limit, int upper)
+{
+    /* Bisecting s = tau/h in [0, 1] is the same search without a division in the loop (this
+     * loop's dependency chain is the cost of an event). Hermite basis with the h's folded in. */
+    const crane_real hw0 = h * w0, hw1 = h * w1;
+    crane_real lo = 0, hi = 1;
+    int k;
+
+    for (k = 0; k < BISECTIONS; ++k) {
+        const crane_real s = (lo + hi) / 2, s2 = s * s, s3 = s2 * s;
+        const crane_real H = (2 * s3 - 3 * s2 + 1) * th0 + (s3 - 2 * s2 + s) * hw0 +
+                             (-2 * s3 + 3 * s2) * th1 + (s3 - s2) * hw1;
+        const int outside = upper ? H > limit : H < limit;
+        if (outside)
+            hi = s;
+        else
+            lo = s;
+    }
+    return hi * h;
+}
+
+/* Plastic impact on joint i: an impulse on joint i alone takes omega_i to 0, which conserves the
+ * other joint's generalized momentum when it is free. */
+static void impact(const ctx_t *c, xstate *x, int i)
+{
+    const int j = 1 - i;
+
+    if (c->mode[j] == CRANE__FREE) {
+        crane_real M[3];
+        crane__mass_matrix(c->m, crane__cos(x->th[1]), crane__sin(x->th[1]), M);
+        /* omega - Minv e_i omega_i / Minv_ii, written without the inverse. */
+        x->w[j] += M[1] / M[j == 0 ? 0 : 2] * x->w[i];
+    }
+    x->w[i] = 0;
+}
+
+/* Puts joint i on its stop: theta exactly at the limit, plastic impact, STOPPED. */
+static void stop_joint(ctx_t *c, xstate *x, int i, int upper)
+{
+    x->th[i] = upper ? c->m->theta_max[i] : c->m->theta_min[i];
+    impact(c, x, i);
+    c->mode[i] = upper ? CRANE__STOP_HI : CRANE__STOP_LO;
+}
+
+/* Stopped joints whose acceleration, computed as if they were free, points into the range. */
+static void release(ctx_t *c, crane_real t, const xstate *x)
+{
+    int lk[2], i;
+    crane_real alpha[2];
+
+    if (c->mode[0] < CRANE__STOP_LO && c->mode[1] < CRANE__STOP_LO)
+        return;
+    lk[0] = c->mode[0] == CRANE__HELD;
+    lk[1] = c->mode[1] == CRANE__HELD;
+    accel(c, t, x, lk, alpha);
+    for (i = 0; i < 2; ++i)
+        if ((c->mode[i] == CRANE__STOP_LO && alpha[i] > 0) ||
+            (c->mode[i] == CRANE__STOP_HI && alpha[i] < 0))
+            c->mode[i] = CRANE__FREE;
+}
+
+/* One step of size h from t, cut at end-stop events. Each event piece normally stops a joint, so
+ * two or three pieces are the rule; if the shorter RK4 step lands a rounding error inside the limit
+ * the joint is not stopped yet and the next piece finds it again a hair later (as the
+ * specification reads). MAX_PIECES only bounds that in pathological cases: the last piece takes
+ * the whole rest and puts any joint that overshot on its limit. */
+enum { MAX_PIECES = 8 };
+
+static void step(ctx_t *c, crane_real t, xstate *x, crane_real h)
+{
+    const crane_model *m = c->m;
+    crane_real rem = h;
+    int piece;
+
+    for (piece = 0; rem > 0; ++piece) {
+        int lk[2], out[2] = {0, 0}, upper[2] = {0, 0}, i, any = 0;
+        crane_real tmin = rem;
+        xstate x1;
+
+        lock_mask(c, lk);
+        x1 = rk4(c, t, x, rem, lk);
+        for (i = 0; i < 2; ++i) {
+            if (c->mode[i] != CRANE__FREE)
+                continue;
+            if (x1.th[i] > m->theta_max[i])
+                upper[i] = 1;
+            else if (!(x1.th[i] < m->theta_min[i]))
+                continue;
+            out[i] = 1;
+            any = 1;
+        }
+        if (!any) {
+            *x = x1;
+            return;
+        }
+        if (piece == MAX_PIECES - 1) {
+            *x = x1;
+            for (i = 0; i < 2; ++i)
+                if (out[i])
+                    stop_joint(c, x, i, upper[i]);
+            return;
+        }
+        for (i = 0; i < 2; ++i) {
+            if (out[i]) {
+                const crane_real tau =
+                    crossing_time(x->th[i], x->w[i], x1.th[i], x1.w[i], rem,
+                                  upper[i] ? m->theta_max[i] : m->theta_min[i], upper[i]);
+                if (tau < tmin)
+                    tmin = tau;
+            }
+        }
+        *x = rk4(c, t, x, tmin, lk);
+        t += tmin;
+        rem -= tmin;
+        /* In joint order, every free joint at or beyond a limit goes onto it. */
+        for (i = 0; i < 2; ++i) {
+            if (c->mode[i] != CRANE__FREE)
+                continue;
+            if (x->th[i] <= m->theta_min[i])
+                stop_joint(c, x, i, 0);
+            else if (x->th[i] >= m->theta_max[i])
+                stop_joint(c, x, i, 1);
+        }
+    }
+}
+
+static void put_sample(const ctx_t *c, crane_real t, const xstate *x, crane_real cpsi,
+                       crane_real spsi, crane_sample *o)
+{
+    const crane_model *m = c->m;
+    const crane_real c0 = crane__cos(x->th[0]), s0 = crane__sin(x->th[0]);
+    const crane_real c1 = crane__cos(x->th[1]), s1 = crane__sin(x->th[1]);
+    const crane_vec2 tip = crane__add(
+        m->p.lift_pivot,
+        crane__rot(c0, s0, crane__add(m->p.tilt_pivot, crane__rot(c1, s1, m->tip))));
+    int i;
+
+    o->t = t;
+    for (i = 0; i < 2; ++i) {
+        crane_real s;
+        switch (c->mode[i]) {
+        case CRANE__STOP_LO: s = c->stroke_at[i][0]; break;
+        case CRANE__STOP_HI: s = c->stroke_at[i][1]; break;
+        case CRANE__HELD: s = c->stroke0[i]; break;
+        default:
+            if (i == CRANE_LIFT)
+                crane__lift_from_angle(m, c0, s0, &s, NULL);
+            else
+                crane__tilt_from_angle(m, c1, s1, &s, NULL, NULL, NULL);
+            break;
+        }
+        o->stroke[i] = s;
+        o->theta[i] = x->th[i];
+        o->omega[i] = x->w[i];
+        /* Stop flags are in cylinder terms (docs/model.md): the tilt's lower angle stop is +1. */
+        o->stop[i] = c->mode[i] == CRANE__STOP_LO   ? c->flag_at[i][0]
+                     : c->mode[i] == CRANE__STOP_HI ? c->flag_at[i][1]
+                                                    : 0;
+    }
+    o->tip[0] = tip.x * cpsi;
+    o->tip[1] = tip.x * spsi;
+    o->tip[2] = tip.y;
+}
+
+void crane__integrate(const crane_model *m, const crane_state *s0, const crane_inputs *in,
+                      crane_real horizon, crane_real dt, long n_steps, crane_sample *out)
+{
+    const crane_real cpsi = crane__cos(s0->slew), spsi = crane__sin(s0->slew);
+    ctx_t c;
+    xstate x;
+    long k;
+    int i;
+
+    c.m = m;
+    c.in = in;
+    for (i = 0; i < 2; ++i) {
+        const crane_cylinder *cyl = &m->p.cylinder[i];
+        crane_real ds;
+        c.cursor[i] = 0;
+        c.stroke0[i] = s0->stroke[i];
+        c.mode[i] = in->drive[i].mode == CRANE_DRIVE_HOLD ? CRANE__HELD : CRANE__FREE;
+        if (i == CRANE_LIFT)
+            crane__lift_from_stroke(m, s0->stroke[i], &x.th[i], &ds);
+        else
+            (void)crane__tilt_from_stroke(m, s0->stroke[i], &x.th[i], &ds, NULL, NULL);
+        x.w[i] = s0->stroke_rate[i] / ds;
+        /* Which stroke limit is the lower angle limit follows the sign of ds/dtheta, which the
+         * crane check keeps constant over the stroke. */
+        c.stroke_at[i][0] = ds > 0 ? cyl->stroke_min : cyl->stroke_max;
+        c.stroke_at[i][1] = ds > 0 ? cyl->stroke_max : cyl->stroke_min;
+        c.flag_at[i][0] = ds > 0 ? -1 : 1;
+        c.flag_at[i][1] = -c.flag_at[i][0];
+    }
+
+    /* At t = 0: a free joint at a stroke limit whose stroke rate does not point into the range
+     * starts on that stop, in joint order, with a plastic impact. */
+    for (i = 0; i < 2; ++i) {
+        const crane_cylinder *cyl = &m->p.cylinder[i];
+        const crane_real s = s0->stroke[i], v = s0->stroke_rate[i];
+        crane_real limit_stroke;
+        if (c.mode[i] != CRANE__FREE)
+            continue;
+        if (s <= cyl->stroke_min && v <= 0)
+            limit_stroke = cyl->stroke_min;
+        else if (s >= cyl->stroke_max && v >= 0)
+            limit_stroke = cyl->stroke_max;
+        else
+            continue;
+        stop_joint(&c, &x, i, limit_stroke == c.stroke_at[i][1]);
+    }
+
+    put_sample(&c, 0, &x, cpsi, spsi, &out[0]);
+    for (k = 0; k < n_steps; ++k) {
+        const crane_real t = (crane_real)k * dt;
+        const int last = k == n_steps - 1;
+        const crane_real h = last ? horizon - t : dt;
+
+        release(&c, t, &x);
+        if (h > 0)
+            step(&c, t, &x, h);
+        put_sample(&c, last ? horizon : (crane_real)(k + 1) * dt, &x, cpsi, spsi, &out[k + 1]);
+    }
+}

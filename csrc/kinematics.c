@@ -1,0 +1,235 @@
+/*
+ * Joint kinematics (docs/model.md, "Lift kinematics" and "Tilt kinematics") and the crane's
+ * point positions.
+ */
+#include "crane_internal.h"
+
+crane_real crane__circle(crane_vec2 c0, crane_real r0, crane_vec2 c1, crane_real r1,
+                         crane_real sign, crane_vec2 *p)
+{
+    const crane_vec2 d = crane__sub(c1, c0);
+    const crane_real D = crane__norm(d);
+    crane_vec2 u;
+    crane_real a, h2, h;
+
+    if (!(D > 0)) {
+        /* Concentric circles: no intersection point; report "does not close". */
+        *p = c0;
+        return -1;
+    }
+    u = crane__scale(1 / D, d);
+    a = (r0 * r0 - r1 * r1 + D * D) / (2 * D);
+    h2 = r0 * r0 - a * a;
+    h = h2 > 0 ? crane__sqrt(h2) : 0;
+    *p = crane__add(crane__add(c0, crane__scale(a, u)), crane__scale(sign * h, crane__perp(u)));
+    return h2;
+}
+
+crane_real crane__wrap_tilt(crane_real theta)
+{
+    const crane_real two_pi = 2 * crane__pi();
+    const crane_real hi = crane__pi() / 2;
+    const crane_real lo = -3 * crane__pi() / 2;
+
+    /* atan2 - alpha_a lies in (-2pi, 2pi), so one turn either way is enough. */
+    if (theta > hi)
+        theta -= two_pi;
+    else if (theta <= lo)
+        theta += two_pi;
+    return theta;
+}
+
+void crane__lift_from_stroke(const crane_model *m, crane_real stroke, crane_real *theta,
+                             crane_real *ds)
+{
+    const crane_real db = m->lift_db, dr = m->lift_dr;
+    const crane_real L = m->p.cylinder[CRANE_LIFT].length_retracted + stroke;
+    crane_real cg = (db * db + dr * dr - L * L) / (2 * db * dr);
+    crane_real gamma;
+
+    /* The crane check keeps |cg| < 1 over the stroke; the clamp only guards rounding. */
+    if (cg > 1)
+        cg = 1;
+    else if (cg < -1)
+        cg = -1;
+    gamma = crane__acos(cg);
+    *theta = gamma - m->lift_eps + m->lift_beta;
+    *ds = db * dr * crane__sin(gamma) / L;
+}
+
+void crane__lift_from_angle(const crane_model *m, crane_real c0, crane_real s0,
+                            crane_real *stroke, crane_real *ds)
+{
+    const crane_real db = m->lift_db, dr = m->lift_dr;
+    /* gamma = theta0 + (eps - beta): its cos/sin by the angle-sum formulas, no trig call. */
+    const crane_real cg = c0 * m->lift_cos_off - s0 * m->lift_sin_off;
+    const crane_real sg = s0 * m->lift_cos_off + c0 * m->lift_sin_off;
+    const crane_real L2 = db * db + dr * dr - 2 * db * dr * cg;
+    const crane_real L = crane__sqrt(L2 > 0 ? L2 : 0);
+
+    if (stroke)
+        *stroke = L - m->p.cylinder[CRANE_LIFT].length_retracted;
+    if (ds)
+        *ds = db * dr * sg / L;
+}
+
+/* ds/dtheta1 by virtual velocities: A turns about O2, Q about P1, and QA is rigid. */
+static crane_real tilt_ds(const crane_params *p, crane_vec2 q, crane_vec2 a, crane_real L)
+{
+    const crane_vec2 qp = crane__sub(q, p->link1_pivot);
+    const crane_vec2 qa = crane__sub(q, a);
+    const crane_real cyl = crane__dot(crane__sub(q, p->tilt_cylinder_base), crane__perp(qp)) / L;
+    return cyl * crane__dot(qa, crane__perp(crane__sub(a, p->tilt_pivot))) /
+           crane__dot(qa, crane__perp(qp));
+}
+
+int crane__tilt_from_stroke(const crane_model *m, crane_real stroke, crane_real *theta,
+                            crane_real *ds, crane_vec2 *q, crane_vec2 *a)
+{
+    const crane_params *p = &m->p;
+    const crane_real L = p->cylinder[CRANE_TILT].length_retracted + stroke;
+    crane_vec2 Q, A, oa;
+    int ok = 1;
+
+    if (!(crane__circle(p->link1_pivot, m->tilt_l1, p->tilt_cylinder_base, L, -1, &Q) > 0))
+        ok = 0;
+    if (!(crane__circle(p->tilt_pivot, m->tilt_ra, Q, m->tilt_l2, -1, &A) > 0))
+        ok = 0;
+    oa = crane__sub(A, p->tilt_pivot);
+    *theta = crane__wrap_tilt(crane__atan2(oa.y, oa.x) - m->tilt_alpha_a);
+    *ds = tilt_ds(p, Q, A, L);
+    if (q)
+        *q = Q;
+    if (a)
+        *a = A;
+    return ok;
+}
+
+void crane__tilt_from_angle(const crane_model *m, crane_real c1, crane_real s1,
+                            crane_real *stroke, crane_real *ds, crane_vec2 *q, crane_vec2 *a)
+{
+    const crane_params *p = &m->p;
+    const crane_vec2 A = crane__add(p->tilt_pivot, crane__rot(c1, s1, p->link2_attach));
+    crane_vec2 Q;
+    crane_real L;
+
+    (void)crane__circle(p->link1_pivot, m->tilt_l1, A, m->tilt_l2, 1, &Q);
+    L = crane__norm(crane__sub(Q, p->tilt_cylinder_base));
+    if (stroke)
+        *stroke = L - p->cylinder[CRANE_TILT].length_retracted;
+    if (ds)
+        *ds = tilt_ds(p, Q, A, L);
+    if (q)
+        *q = Q;
+    if (a)
+        *a = A;
+}
+
+crane_status crane_joint_angle(const crane_model *model, int joint, crane_real stroke,
+                               crane_real *theta, crane_real *dstroke_dtheta)
+{
+    const crane_cylinder *cyl;
+    crane_real th, ds;
+
+    if (!model || !theta || !dstroke_dtheta)
+        return CRANE_E_NULL;
+    if (joint != CRANE_LIFT && joint != CRANE_TILT)
+        return CRANE_E_CYLINDER;
+    if (!crane__finite(stroke))
+        return CRANE_E_NONFINITE;
+    cyl = &model->p.cylinder[joint];
+    if (stroke < cyl->stroke_min || stroke > cyl->stroke_max)
+        return CRANE_E_STROKE;
+    if (joint == CRANE_LIFT)
+        crane__lift_from_stroke(model, stroke, &th, &ds);
+    else
+        (void)crane__tilt_from_stroke(model, stroke, &th, &ds, NULL, NULL);
+    *theta = th;
+    *dstroke_dtheta = ds;
+    return CRANE_OK;
+}
+
+crane_status crane_joint_stroke(const crane_model *model, int joint, crane_real theta,
+                                crane_real *stroke)
+{
+    crane_real s;
+
+    if (!model || !stroke)
+        return CRANE_E_NULL;
+    if (joint != CRANE_LIFT && joint != CRANE_TILT)
+        return CRANE_E_CYLINDER;
+    if (!crane__finite(theta))
+        return CRANE_E_NONFINITE;
+    if (theta < model->theta_min[joint] || theta > model->theta_max[joint])
+        return CRANE_E_ANGLE;
+    if (joint == CRANE_LIFT)
+        crane__lift_from_angle(model, crane__cos(theta), crane__sin(theta), &s, NULL);
+    else
+        crane__tilt_from_angle(model, crane__cos(theta), crane__sin(theta), &s, NULL, NULL, NULL);
+    *stroke = s;
+    return CRANE_OK;
+}
+
+/* A boom-plane point (x, y) in the world: (x cos psi, x sin psi, y). */
+static void put_world(crane_real *dst, crane_vec2 v, crane_real cpsi, crane_real spsi)
+{
+    dst[0] = v.x * cpsi;
+    dst[1] = v.x * spsi;
+    dst[2] = v.y;
+}
+
+crane_status crane_points(const crane_model *model, crane_real slew, size_t n,
+                          const crane_real *theta, crane_real *xyz)
+{
+    const crane_params *p;
+    crane_real cpsi, spsi;
+    size_t k;
+
+    if (!model)
+        return CRANE_E_NULL;
+    if (n > 0 && (!theta || !xyz))
+        return CRANE_E_NULL;
+    if (!crane__finite(slew))
+        return CRANE_E_NONFINITE;
+    /* Validate every pose before the first write. */
+    for (k = 0; k < 2 * n; ++k)
+        if (!crane__finite(theta[k]))
+            return CRANE_E_NONFINITE;
+    for (k = 0; k < n; ++k) {
+        int j;
+        for (j = 0; j < 2; ++j)
+            if (theta[2 * k + (size_t)j] < model->theta_min[j] ||
+                theta[2 * k + (size_t)j] > model->theta_max[j])
+                return CRANE_E_ANGLE;
+    }
+
+    p = &model->p;
+    cpsi = crane__cos(slew);
+    spsi = crane__sin(slew);
+    for (k = 0; k < n; ++k) {
+        const crane_real c0 = crane__cos(theta[2 * k]), s0 = crane__sin(theta[2 * k]);
+        const crane_real c1 = crane__cos(theta[2 * k + 1]), s1 = crane__sin(theta[2 * k + 1]);
+        const crane_vec2 o1 = p->lift_pivot;
+        crane_vec2 q, a, pts[CRANE_N_POINTS];
+        crane_real *dst = xyz + k * (size_t)CRANE_N_POINTS * 3;
+        int i;
+
+        crane__tilt_from_angle(model, c1, s1, NULL, NULL, &q, &a);
+        pts[0] = crane__v2(0, 0);
+        pts[1] = o1;
+        pts[2] = p->lift_cylinder_base;
+        pts[3] = crane__add(o1, crane__rot(c0, s0, p->lift_cylinder_rod));
+        pts[4] = crane__add(o1, crane__rot(c0, s0, p->tilt_cylinder_base));
+        pts[5] = crane__add(o1, crane__rot(c0, s0, p->link1_pivot));
+        pts[6] = crane__add(o1, crane__rot(c0, s0, q));
+        pts[7] = crane__add(o1, crane__rot(c0, s0, a));
+        pts[8] = crane__add(o1, crane__rot(c0, s0, p->tilt_pivot));
+        pts[9] = crane__add(o1, crane__rot(c0, s0, crane__add(p->tilt_pivot,
+                                                     crane__rot(c1, s1, p->extension_mount))));
+        pts[10] = crane__add(o1, crane__rot(c0, s0, crane__add(p->tilt_pivot,
+                                                      crane__rot(c1, s1, model->tip))));
+        for (i = 0; i < CRANE_N_POINTS; ++i)
+            put_world(dst + 3 * i, pts[i], cpsi, spsi);
+    }
+    return CRANE_OK;
+}

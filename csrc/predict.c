@@ -1,0 +1,125 @@
+/*
+ * The prediction entry point: validates every input before anything is written, then hands over
+ * to the integrator (docs/model.md, "Integration and samples", "Bad input").
+ */
+#include <float.h>
+#include <limits.h>
+#include <stdint.h>
+#include "crane_internal.h"
+
+/* The step count is worked out in double even in the float build. The 1e-9 tolerance of the
+ * specification is for double; in the float build horizon/dt carries the float rounding of both
+ * operands, so the tolerance grows by a few float epsilons of the quotient (else 0.1f/0.01f would
+ * ask for an 11th step of 4e-9 s). */
+static crane_status step_count(crane_real horizon, crane_real dt, long *n_steps)
+{
+    double q, n;
+
+    if (!crane__finite(horizon) || !crane__finite(dt))
+        return CRANE_E_NONFINITE;
+    if (!(horizon > 0))
+        return CRANE_E_HORIZON;
+    if (!(dt > 0) || dt > horizon)
+        return CRANE_E_DT;
+    q = (double)horizon / (double)dt;
+    q -= 1e-9 + (sizeof(crane_real) < sizeof(double) ? q * 4.0 * (double)FLT_EPSILON : 0.0);
+    n = ceil(q);
+    if (n < 1)
+        n = 1;
+    /* n + 1 samples must fit both a long step counter and a size_t sample count. */
+    if (!(n < (double)LONG_MAX / 2) || !(n < (double)SIZE_MAX / 2))
+        return CRANE_E_HORIZON;
+    *n_steps = (long)n;
+    return CRANE_OK;
+}
+
+crane_status crane_sample_count(crane_real horizon, crane_real dt, size_t *count)
+{
+    long n;
+    crane_status st;
+
+    if (!count)
+        return CRANE_E_NULL;
+    st = step_count(horizon, dt, &n);
+    if (st != CRANE_OK)
+        return st;
+    *count = (size_t)n + 1;
+    return CRANE_OK;
+}
+
+static int pressure_ok(crane_real p)
+{
+    return p >= 0 && p <= (crane_real)CRANE_PRESSURE_MAX;
+}
+
+static crane_status check_drive(const crane_drive *d, crane_real stroke_rate, crane_real horizon)
+{
+    size_t k;
+
+    if (d->mode != CRANE_DRIVE_PRESSURE && d->mode != CRANE_DRIVE_HOLD)
+        return CRANE_E_DRIVE;
+    if (!crane__finite(d->p_a) || !crane__finite(d->p_b))
+        return CRANE_E_NONFINITE;
+    if (d->mode == CRANE_DRIVE_HOLD)
+        /* A closed valve ignores the pressures and samples. */
+        return stroke_rate != 0 ? CRANE_E_STROKE_RATE : CRANE_OK;
+    if (d->n_samples == 0)
+        return pressure_ok(d->p_a) && pressure_ok(d->p_b) ? CRANE_OK : CRANE_E_PRESSURE;
+
+    if (!d->t || !d->p_a_samples || !d->p_b_samples)
+        return CRANE_E_NULL;
+    for (k = 0; k < d->n_samples; ++k)
+        if (!crane__finite(d->t[k]) || !crane__finite(d->p_a_samples[k]) ||
+            !crane__finite(d->p_b_samples[k]))
+            return CRANE_E_NONFINITE;
+    for (k = 0; k < d->n_samples; ++k)
+        if (!pressure_ok(d->p_a_samples[k]) || !pressure_ok(d->p_b_samples[k]))
+            return CRANE_E_PRESSURE;
+    for (k = 1; k < d->n_samples; ++k)
+        if (!(d->t[k] > d->t[k - 1]))
+            return CRANE_E_SAMPLES;
+    if (!(d->t[0] <= 0) || !(d->t[d->n_samples - 1] >= horizon))
+        return CRANE_E_SAMPLES;
+    return CRANE_OK;
+}
+
+crane_status crane_predict(const crane_params *params, const crane_state *state0,
+                           const crane_inputs *inputs, crane_real horizon, crane_real dt,
+                           crane_sample *out, size_t capacity, size_t *n_written)
+{
+    crane_model model;
+    crane_status st;
+    long n_steps;
+    int i;
+
+    if (!params || !state0 || !inputs || !out || !n_written)
+        return CRANE_E_NULL;
+    st = crane_model_init(&model, params, state0->extension);
+    if (st != CRANE_OK)
+        return st;
+    st = step_count(horizon, dt, &n_steps);
+    if (st != CRANE_OK)
+        return st;
+
+    for (i = 0; i < 2; ++i)
+        if (!crane__finite(state0->stroke[i]) || !crane__finite(state0->stroke_rate[i]))
+            return CRANE_E_NONFINITE;
+    if (!crane__finite(state0->slew))
+        return CRANE_E_NONFINITE;
+    for (i = 0; i < 2; ++i) {
+        const crane_cylinder *c = &params->cylinder[i];
+        if (state0->stroke[i] < c->stroke_min || state0->stroke[i] > c->stroke_max)
+            return CRANE_E_STROKE;
+    }
+    for (i = 0; i < 2; ++i) {
+        st = check_drive(&inputs->drive[i], state0->stroke_rate[i], horizon);
+        if (st != CRANE_OK)
+            return st;
+    }
+    if ((size_t)n_steps + 1 > capacity)
+        return CRANE_E_CAPACITY;
+
+    crane__integrate(&model, state0, inputs, horizon, dt, n_steps, out);
+    *n_written = (size_t)n_steps + 1;
+    return CRANE_OK;
+}

@@ -1,0 +1,792 @@
+/*
+ * Unit tests of the cranepredict C core (no framework). The last line of output is
+ * "N passed, N failed"; the exit status is nonzero on any failure.
+ *
+ * Test-side arithmetic is done in double and compared with the core's crane_real results, so the
+ * same file checks the double and the float build (with looser tolerances for float).
+ */
+#include <math.h>
+#include <stdio.h>
+#include <string.h>
+#include <time.h>
+#include "crane.h"
+
+static int n_pass, n_fail;
+
+#ifdef CRANE_FLOAT
+static const int is_float = 1;
+#else
+static const int is_float = 0;
+#endif
+
+static void check(int ok, const char *what)
+{
+    if (ok) {
+        ++n_pass;
+    } else {
+        ++n_fail;
+        printf("FAIL: %s\n", what);
+    }
+}
+
+static void check_status(crane_status got, crane_status want, const char *what)
+{
+    if (got != want)
+        printf("  (%s: got status %d '%s', want %d)\n", what, (int)got, crane_status_message(got),
+               (int)want);
+    check(got == want, what);
+}
+
+static void check_close(double got, double want, double tol, const char *what)
+{
+    const int ok = fabs(got - want) <= tol;
+    if (!ok)
+        printf("  (%s: got %.17g, want %.17g, |diff| %.3g > %.3g)\n", what, got, want,
+               fabs(got - want), tol);
+    check(ok, what);
+}
+
+/* tolerance for the current precision */
+static double tol(double dbl, double flt) { return is_float ? flt : dbl; }
+
+static crane_real R(double x) { return (crane_real)x; }
+static double D(crane_real x) { return (double)x; }
+
+static crane_vec2 v2(double x, double y)
+{
+    crane_vec2 v;
+    v.x = R(x);
+    v.y = R(y);
+    return v;
+}
+
+static crane_body body(double mass, double cx, double cy, double izz)
+{
+    crane_body b;
+    b.mass = R(mass);
+    b.com = v2(cx, cy);
+    b.izz = R(izz);
+    return b;
+}
+
+static crane_cylinder cylinder(double bore, double rod, double lr, double smin, double smax)
+{
+    crane_cylinder c;
+    c.bore = R(bore);
+    c.rod = R(rod);
+    c.length_retracted = R(lr);
+    c.stroke_min = R(smin);
+    c.stroke_max = R(smax);
+    c.friction.coulomb = R(210);
+    c.friction.static_ = R(300);
+    c.friction.viscous = R(330);
+    c.friction.stribeck_velocity = R(0.005);
+    c.friction.tanh_velocity = R(0.001);
+    return c;
+}
+
+/* PATU 655 from /work/shared/reference/patu655.md (the S1 set) */
+static crane_params patu(void)
+{
+    crane_params p;
+    memset(&p, 0, sizeof p);
+    p.gravity = R(9.81);
+    p.lift_pivot = v2(-0.090, 1.4261);
+    p.lift_cylinder_base = v2(0.170, 0.386113);
+    p.lift_cylinder_rod = v2(0.3025, -0.105);
+    p.tilt_cylinder_base = v2(1.263, 0.206702);
+    p.link1_pivot = v2(2.690, -0.006593);
+    p.tilt_pivot = v2(2.881081, 0.021593);
+    p.link_pin = v2(-0.457227, 0.0425);
+    p.link2_end = v2(-0.475, 0.0);
+    p.link2_attach = v2(-0.095, 0.240432);
+    p.extension_mount = v2(-0.415, 0.287);
+    p.tip_distance = R(2.45);
+    p.extension_min = R(0);
+    p.extension_max = R(1.0);
+    p.lift_boom = body(143.66, 1.229248, 0.055596, 67.0537);
+    p.outer_boom = body(141.943, 0.659935, 0.251085, 67.05);
+    p.extension_boom = body(15.928, 1.225, 0, 7.97);
+    p.load_mass = R(200);
+    p.cylinder[CRANE_LIFT] = cylinder(0.1, 0.056, 0.820, 0, 0.535);
+    p.cylinder[CRANE_TILT] = cylinder(0.1, 0.056, 1.050, 0, 0.780);
+    return p;
+}
+
+static crane_inputs constant_inputs(double pa0, double pb0, int mode1, double pa1, double pb1)
+{
+    crane_inputs in;
+    memset(&in, 0, sizeof in);
+    in.drive[0].mode = CRANE_DRIVE_PRESSURE;
+    in.drive[0].p_a = R(pa0);
+    in.drive[0].p_b = R(pb0);
+    in.drive[1].mode = mode1;
+    in.drive[1].p_a = R(pa1);
+    in.drive[1].p_b = R(pb1);
+    return in;
+}
+
+static crane_state state(double s0, double s1, double v0, double v1, double slew, double ext)
+{
+    crane_state s;
+    s.stroke[0] = R(s0);
+    s.stroke[1] = R(s1);
+    s.stroke_rate[0] = R(v0);
+    s.stroke_rate[1] = R(v1);
+    s.slew = R(slew);
+    s.extension = R(ext);
+    return s;
+}
+
+/* ---------------------------------------------------------------------------------------------- */
+
+static void test_model_init(void)
+{
+    const crane_params p = patu();
+    crane_model m;
+    crane_real th_lo, th_hi, ds;
+
+    check_status(crane_model_init(&m, &p, R(0.5)), CRANE_OK, "model_init PATU 655");
+    check(m.theta_min[0] < m.theta_max[0] && m.theta_min[1] < m.theta_max[1], "angle limits ordered");
+    check(crane_joint_angle(&m, CRANE_TILT, R(0.78), &th_lo, &ds) == CRANE_OK &&
+              th_lo == m.theta_min[1] && D(ds) < 0,
+          "tilt: stroke_max is the lower angle limit, ds/dtheta1 < 0");
+    check(crane_joint_angle(&m, CRANE_TILT, R(0), &th_hi, &ds) == CRANE_OK &&
+              th_hi == m.theta_max[1],
+          "tilt: stroke_min is the upper angle limit");
+    check(crane_joint_angle(&m, CRANE_LIFT, R(0), &th_lo, &ds) == CRANE_OK &&
+              th_lo == m.theta_min[0] && D(ds) > 0,
+          "lift: stroke_min is the lower angle limit, ds/dtheta0 > 0");
+    /* the tilt runs from about 0 to about -190 deg on the PATU 655 */
+    check(D(m.theta_max[1]) < 0.5 && D(m.theta_min[1]) > -3.5, "tilt range plausible");
+    check_close(D(m.area_a[0]), 3.14159265358979 * 0.01 / 4, tol(1e-15, 1e-8), "bore area");
+    check_close(175e5 * D(m.area_a[0]), 137445.0, 1.0, "175 bar on a 100 mm bore = 137,445 N");
+    check_close(D(m.m2), 141.943 + 15.928 + 200, tol(1e-12, 1e-4), "lumped m2");
+}
+
+static void test_round_trips(void)
+{
+    const crane_params p = patu();
+    crane_model m;
+    int j, k;
+
+    crane_model_init(&m, &p, R(0));
+    for (j = 0; j < 2; ++j) {
+        const double smin = D(p.cylinder[j].stroke_min), smax = D(p.cylinder[j].stroke_max);
+        double worst = 0;
+        int all_ok = 1;
+        for (k = 0; k <= 100; ++k) {
+            const crane_real s = R(smin + (smax - smin) * k / 100.0);
+            crane_real th, ds, s2;
+            if (crane_joint_angle(&m, j, s, &th, &ds) != CRANE_OK) {
+                all_ok = 0;
+                continue;
+            }
+            /* the float angle can round a hair outside the limits at the ends */
+            if (th < m.theta_min[j]) th = m.theta_min[j];
+            if (th > m.theta_max[j]) th = m.theta_max[j];
+            if (crane_joint_stroke(&m, j, th, &s2) != CRANE_OK) {
+                all_ok = 0;
+                continue;
+            }
+            if (fabs(D(s2) - D(s)) > worst)
+                worst = fabs(D(s2) - D(s));
+        }
+        check(all_ok, j == 0 ? "lift round trip statuses" : "tilt round trip statuses");
+        check_close(worst, 0, tol(1e-12, 2e-4), j == 0 ? "lift stroke->angle->stroke" :
+                                                         "tilt stroke->angle->stroke");
+    }
+}
+
+static void test_transmission(void)
+{
+    const crane_params p = patu();
+    crane_model m;
+    int j, k;
+
+    crane_model_init(&m, &p, R(0));
+    for (j = 0; j < 2; ++j) {
+        const double smin = D(p.cylinder[j].stroke_min), smax = D(p.cylinder[j].stroke_max);
+        const double d = tol(1e-6, 2e-3);
+        double worst = 0;
+        for (k = 0; k <= 20; ++k) {
+            const crane_real s = R(smin + 0.02 + (smax - smin - 0.04) * k / 20.0);
+            crane_real th, ds, sp, sm;
+            double fd;
+            crane_joint_angle(&m, j, s, &th, &ds);
+            crane_joint_stroke(&m, j, R(D(th) + d), &sp);
+            crane_joint_stroke(&m, j, R(D(th) - d), &sm);
+            fd = (D(sp) - D(sm)) / (D(R(D(th) + d)) - D(R(D(th) - d)));
+            if (fabs(fd - D(ds)) / fabs(D(ds)) > worst)
+                worst = fabs(fd - D(ds)) / fabs(D(ds));
+        }
+        check_close(worst, 0, tol(1e-7, 2e-2), j == 0 ? "lift ds/dtheta vs finite differences" :
+                                                        "tilt ds/dtheta vs finite differences");
+    }
+}
+
+static void test_points(void)
+{
+    const crane_params p = patu();
+    crane_model m;
+    crane_real th[4], xyz[2 * CRANE_N_POINTS * 3], ds;
+    const double psi = 0.7;
+    double L;
+    int ok;
+
+    crane_model_init(&m, &p, R(0.3));
+    crane_joint_angle(&m, CRANE_LIFT, R(0.2), &th[0], &ds);
+    crane_joint_angle(&m, CRANE_TILT, R(0.5), &th[1], &ds);
+    crane_joint_angle(&m, CRANE_LIFT, R(0.4), &th[2], &ds);
+    crane_joint_angle(&m, CRANE_TILT, R(0.1), &th[3], &ds);
+    check_status(crane_points(&m, R(psi), 2, th, xyz), CRANE_OK, "points OK");
+    ok = xyz[0] == 0 && xyz[1] == 0 && xyz[2] == 0;
+    check(ok, "pillar base at the origin");
+    check_close(D(xyz[3]), -0.090 * cos(psi), 1e-6, "lift pivot world x");
+    check_close(D(xyz[4]), -0.090 * sin(psi), 1e-6, "lift pivot world y");
+    check_close(D(xyz[5]), 1.4261, 1e-6, "lift pivot world z");
+    /* the cylinders' pin-to-pin lengths give back the strokes; side links keep their lengths */
+    {
+        const crane_real *P = xyz; /* pose 0 */
+        double d2 = 0, e2 = 0, f2 = 0;
+        int i;
+        for (i = 0; i < 3; ++i) {
+            d2 += pow(D(P[3 * 3 + i]) - D(P[2 * 3 + i]), 2);     /* rod eye - lift base */
+            e2 += pow(D(P[6 * 3 + i]) - D(P[4 * 3 + i]), 2);     /* Q - tilt base */
+            f2 += pow(D(P[6 * 3 + i]) - D(P[7 * 3 + i]), 2);     /* Q - A */
+        }
+        check_close(sqrt(d2) - 0.820, 0.2, tol(1e-12, 1e-5), "lift cylinder length from points");
+        check_close(sqrt(e2) - 1.050, 0.5, tol(1e-12, 1e-5), "tilt cylinder length from points");
+        L = sqrt(f2);
+        check_close(L, 0.475, tol(1e-12, 1e-5), "side link 2 length from points");
+    }
+    /* nothing written on a bad pose */
+    {
+        crane_real buf[2 * CRANE_N_POINTS * 3], ref[2 * CRANE_N_POINTS * 3];
+        crane_real bad[4];
+        memset(buf, 0x5a, sizeof buf);
+        memcpy(ref, buf, sizeof buf);
+        memcpy(bad, th, sizeof bad);
+        bad[3] = R(D(m.theta_max[1]) + 0.1);
+        check_status(crane_points(&m, R(0), 2, bad, buf), CRANE_E_ANGLE, "points angle range");
+        bad[3] = (crane_real)NAN;
+        check_status(crane_points(&m, R(0), 2, bad, buf), CRANE_E_NONFINITE, "points NaN");
+        check_status(crane_points(&m, R(0), 2, NULL, buf), CRANE_E_NULL, "points NULL");
+        check_status(crane_points(NULL, R(0), 2, th, buf), CRANE_E_NULL, "points NULL model");
+        check(memcmp(buf, ref, sizeof buf) == 0, "points: nothing written on bad input");
+        check_status(crane_points(&m, R(0), 0, NULL, NULL), CRANE_OK, "points n = 0");
+    }
+}
+
+/* ---- bad input ------------------------------------------------------------------------------ */
+
+static void expect_init(crane_params p, double ext, crane_status want, const char *what)
+{
+    crane_model m, ref;
+    memset(&m, 0x3c, sizeof m);
+    memcpy(&ref, &m, sizeof m);
+    check_status(crane_model_init(&m, &p, R(ext)), want, what);
+    if (want != CRANE_OK)
+        check(memcmp(&m, &ref, sizeof m) == 0, "model untouched on bad crane");
+}
+
+static void test_bad_params(void)
+{
+    const crane_params good = patu();
+    crane_params p;
+    crane_model m;
+
+    check_status(crane_model_init(NULL, &good, R(0)), CRANE_E_NULL, "init NULL model");
+    check_status(crane_model_init(&m, NULL, R(0)), CRANE_E_NULL, "init NULL params");
+    p = good; p.lift_pivot.x = (crane_real)NAN; expect_init(p, 0, CRANE_E_NONFINITE, "NaN lift pivot");
+    p = good; p.cylinder[1].friction.viscous = (crane_real)INFINITY;
+    expect_init(p, 0, CRANE_E_NONFINITE, "inf viscous");
+    expect_init(good, (double)NAN, CRANE_E_NONFINITE, "NaN extension");
+    p = good; p.lift_boom.mass = 0; expect_init(p, 0, CRANE_E_BODY, "zero lift mass");
+    p = good; p.outer_boom.izz = R(-1); expect_init(p, 0, CRANE_E_BODY, "negative Izz");
+    p = good; p.extension_boom.mass = R(-1); expect_init(p, 0, CRANE_E_BODY, "negative ext mass");
+    p = good; p.load_mass = R(-1); expect_init(p, 0, CRANE_E_BODY, "negative load");
+    p = good; p.load_mass = 0; expect_init(p, 0, CRANE_OK, "zero load is fine");
+    p = good; p.cylinder[0].rod = R(0.1); expect_init(p, 0, CRANE_E_CYLINDER, "bore <= rod");
+    p = good; p.cylinder[1].rod = 0; expect_init(p, 0, CRANE_E_CYLINDER, "rod <= 0");
+    p = good; p.cylinder[1].stroke_min = R(0.78);
+    expect_init(p, 0, CRANE_E_CYLINDER, "stroke_min >= stroke_max");
+    p = good; p.cylinder[0].friction.static_ = R(100);
+    expect_init(p, 0, CRANE_E_FRICTION, "F_S < F_C");
+    p = good; p.cylinder[0].friction.viscous = R(-1);
+    expect_init(p, 0, CRANE_E_FRICTION, "negative viscous");
+    p = good; p.cylinder[1].friction.stribeck_velocity = 0;
+    expect_init(p, 0, CRANE_E_FRICTION, "v_S <= 0");
+    p = good; p.cylinder[1].friction.tanh_velocity = 0;
+    expect_init(p, 0, CRANE_E_FRICTION, "v_T <= 0");
+    p = good; p.gravity = R(-9.81); expect_init(p, 0, CRANE_E_GRAVITY, "negative gravity");
+    expect_init(good, 1.5, CRANE_E_EXTENSION, "extension > max");
+    expect_init(good, -0.1, CRANE_E_EXTENSION, "extension < min");
+    p = good; p.cylinder[0].length_retracted = R(1.2);
+    expect_init(p, 0, CRANE_E_GEOMETRY, "lift triangle cannot close");
+    p = good; p.cylinder[1].stroke_max = R(3.0);
+    expect_init(p, 0, CRANE_E_FOURBAR, "four-bar cannot close (tilt stroke_max 3.0)");
+}
+
+static void test_bad_small_calls(void)
+{
+    const crane_params p = patu();
+    crane_model m;
+    crane_real th = R(123), ds = R(456), s = R(789), f = R(1), tau[2] = {R(5), R(6)};
+    const crane_real z[2] = {0, 0};
+    crane_real nan2[2];
+    size_t count = 77;
+
+    nan2[0] = (crane_real)NAN;
+    nan2[1] = 0;
+    crane_model_init(&m, &p, R(0));
+    check_status(crane_joint_angle(&m, CRANE_LIFT, R(0.6), &th, &ds), CRANE_E_STROKE, "angle: stroke > max");
+    check_status(crane_joint_angle(&m, CRANE_TILT, R(-0.01), &th, &ds), CRANE_E_STROKE, "angle: stroke < min");
+    check_status(crane_joint_angle(&m, CRANE_TILT, (crane_real)NAN, &th, &ds), CRANE_E_NONFINITE, "angle: NaN");
+    check_status(crane_joint_angle(&m, 2, R(0.1), &th, &ds), CRANE_E_CYLINDER, "angle: bad joint");
+    check_status(crane_joint_angle(&m, 0, R(0.1), NULL, &ds), CRANE_E_NULL, "angle: NULL out");
+    check_status(crane_joint_angle(NULL, 0, R(0.1), &th, &ds), CRANE_E_NULL, "angle: NULL model");
+    check(D(th) == 123 && D(ds) == 456, "angle: nothing written on bad input");
+    check_status(crane_joint_stroke(&m, CRANE_LIFT, R(D(m.theta_max[0]) + 0.01), &s), CRANE_E_ANGLE,
+                 "stroke: angle above range");
+    check_status(crane_joint_stroke(&m, CRANE_TILT, R(D(m.theta_min[1]) - 0.01), &s), CRANE_E_ANGLE,
+                 "stroke: angle below range");
+    check_status(crane_joint_stroke(&m, CRANE_TILT, (crane_real)INFINITY, &s), CRANE_E_NONFINITE, "stroke: inf");
+    check_status(crane_joint_stroke(&m, -1, R(0), &s), CRANE_E_CYLINDER, "stroke: bad joint");
+    check_status(crane_joint_stroke(&m, 0, R(0), NULL), CRANE_E_NULL, "stroke: NULL");
+    check(D(s) == 789, "stroke: nothing written on bad input");
+    check_status(crane_cylinder_force(&m, 0, R(-1), 0, 0, &f), CRANE_E_PRESSURE, "force: p_a < 0");
+    check_status(crane_cylinder_force(&m, 1, 0, R(2e8), 0, &f), CRANE_E_PRESSURE, "force: p_b > max");
+    check_status(crane_cylinder_force(&m, 1, 0, 0, (crane_real)NAN, &f), CRANE_E_NONFINITE, "force: NaN rate");
+    check_status(crane_cylinder_force(&m, 3, 0, 0, 0, &f), CRANE_E_CYLINDER, "force: bad joint");
+    check_status(crane_cylinder_force(&m, 0, 0, 0, 0, NULL), CRANE_E_NULL, "force: NULL");
+    check(D(f) == 1, "force: nothing written on bad input");
+    {
+        /* F = p_a A_a - p_b A_b - friction */
+        const double v = 0.01, Aa = 3.14159265358979 * 0.01 / 4,
+                     Ab = 3.14159265358979 * (0.01 - 0.056 * 0.056) / 4;
+        const double fr = (210 + 90 * exp(-(v / 0.005) * (v / 0.005))) * tanh(v / 0.001) + 330 * v;
+        check_status(crane_cylinder_force(&m, 0, R(1e7), R(2e6), R(v), &f), CRANE_OK, "force OK");
+        check_close(D(f), 1e7 * Aa - 2e6 * Ab - fr, tol(1e-8, 0.05), "force value");
+        check_status(crane_cylinder_force(&m, 1, 0, 0, R(-v), &f), CRANE_OK, "force OK 2");
+        check_close(D(f), fr, tol(1e-10, 1e-3), "friction is odd and opposes motion");
+    }
+    check_status(crane_inverse_dynamics(&m, nan2, z, z, tau), CRANE_E_NONFINITE, "ID: NaN");
+    check_status(crane_inverse_dynamics(&m, z, z, z, NULL), CRANE_E_NULL, "ID: NULL");
+    check(D(tau[0]) == 5 && D(tau[1]) == 6, "ID: nothing written on bad input");
+
+    check_status(crane_sample_count(R(2), R(1e-3), &count), CRANE_OK, "count OK");
+    check(count == 2001, "2 s at 1 ms: 2001 samples");
+    check_status(crane_sample_count(R(0.3), R(0.1), &count), CRANE_OK, "count 0.3/0.1");
+    check(count == 4, "0.3 s at 0.1 s: 4 samples (the 1e-9 tolerance)");
+    check_status(crane_sample_count(R(1), R(0.3), &count), CRANE_OK, "count 1/0.3");
+    check(count == 5, "1 s at 0.3 s: 5 samples (short last step)");
+    count = 77;
+    check_status(crane_sample_count(0, R(1e-3), &count), CRANE_E_HORIZON, "count: horizon 0");
+    check_status(crane_sample_count(R(1), 0, &count), CRANE_E_DT, "count: dt 0");
+    check_status(crane_sample_count(R(1), R(-1e-3), &count), CRANE_E_DT, "count: dt < 0");
+    check_status(crane_sample_count(R(1), R(2), &count), CRANE_E_DT, "count: dt > horizon");
+    check_status(crane_sample_count((crane_real)NAN, R(1e-3), &count), CRANE_E_NONFINITE, "count: NaN");
+    check_status(crane_sample_count(R(1e30), R(1e-10), &count), CRANE_E_HORIZON, "count: too many");
+    check_status(crane_sample_count(R(1), R(1e-3), NULL), CRANE_E_NULL, "count: NULL");
+    check(count == 77, "count: nothing written on bad input");
+    check(strlen(crane_status_message(CRANE_E_FOURBAR)) > 0 &&
+              strlen(crane_status_message((crane_status)99)) > 0,
+          "status messages");
+}
+
+enum { BUF = 64 };
+
+/* Runs crane_predict into a canary-filled buffer; checks the status and, on an error, that not a
+ * byte of the buffer or of *n_written changed. */
+static void expect_predict(const crane_params *p, const crane_state *s, const crane_inputs *in,
+                           double horizon, double dt, size_t capacity, crane_status want,
+                           const char *what)
+{
+    crane_sample buf[BUF], ref[BUF];
+    size_t n = 12345;
+
+    memset(buf, 0xa5, sizeof buf);
+    memcpy(ref, buf, sizeof buf);
+    check_status(crane_predict(p, s, in, R(horizon), R(dt), buf, capacity, &n), want, what);
+    if (want != CRANE_OK)
+        check(memcmp(buf, ref, sizeof buf) == 0 && n == 12345, "predict: nothing written");
+    else
+        check(n <= capacity && memcmp(buf + n, ref + n, (BUF - n) * sizeof buf[0]) == 0,
+              "predict: nothing written past the samples");
+}
+
+static void test_bad_predict(void)
+{
+    const crane_params good = patu();
+    const crane_state s0 = state(0.2, 0.3, 0, 0, 0, 0);
+    const crane_inputs in0 = constant_inputs(5e6, 1e6, CRANE_DRIVE_HOLD, 0, 0);
+    crane_params p;
+    crane_state s;
+    crane_inputs in;
+    crane_sample buf[BUF];
+    size_t n;
+    const crane_real ts[3] = {R(-0.1), R(0.05), R(0.2)};
+    const crane_real tbad[3] = {R(0), R(0.05), R(0.05)};
+    const crane_real tlate[3] = {R(0.01), R(0.05), R(0.2)};
+    const crane_real tshort[3] = {R(0), R(0.05), R(0.09)};
+    const crane_real pa[3] = {R(1e6), R(2e6), R(3e6)};
+    const crane_real pbig[3] = {R(1e6), R(2e8), R(3e6)};
+    const crane_real pnan[3] = {R(1e6), (crane_real)NAN, R(3e6)};
+
+    expect_predict(&good, &s0, &in0, 0.1, 0.01, BUF, CRANE_OK, "predict OK (11 samples)");
+    expect_predict(&good, &s0, &in0, 0.1, 0.01, 11, CRANE_OK, "predict OK, capacity exact");
+    expect_predict(&good, &s0, &in0, 0.1, 0.01, 10, CRANE_E_CAPACITY, "capacity too small");
+    check_status(crane_predict(NULL, &s0, &in0, R(0.1), R(0.01), buf, BUF, &n), CRANE_E_NULL, "NULL params");
+    check_status(crane_predict(&good, NULL, &in0, R(0.1), R(0.01), buf, BUF, &n), CRANE_E_NULL, "NULL state");
+    check_status(crane_predict(&good, &s0, NULL, R(0.1), R(0.01), buf, BUF, &n), CRANE_E_NULL, "NULL inputs");
+    check_status(crane_predict(&good, &s0, &in0, R(0.1), R(0.01), NULL, BUF, &n), CRANE_E_NULL, "NULL out");
+    check_status(crane_predict(&good, &s0, &in0, R(0.1), R(0.01), buf, BUF, NULL), CRANE_E_NULL, "NULL n");
+    expect_predict(&good, &s0, &in0, 0.1, 0, BUF, CRANE_E_DT, "dt = 0");
+    expect_predict(&good, &s0, &in0, 0.1, -0.01, BUF, CRANE_E_DT, "dt < 0");
+    expect_predict(&good, &s0, &in0, 0.1, 0.2, BUF, CRANE_E_DT, "dt > horizon");
+    expect_predict(&good, &s0, &in0, 0, 0.01, BUF, CRANE_E_HORIZON, "horizon = 0");
+    expect_predict(&good, &s0, &in0, (double)NAN, 0.01, BUF, CRANE_E_NONFINITE, "horizon NaN");
+    p = good; p.cylinder[1].stroke_max = R(3.0);
+    expect_predict(&p, &s0, &in0, 0.1, 0.01, BUF, CRANE_E_FOURBAR, "predict: four-bar cannot close");
+    p = good; p.outer_boom.com.y = (crane_real)NAN;
+    expect_predict(&p, &s0, &in0, 0.1, 0.01, BUF, CRANE_E_NONFINITE, "predict: NaN in crane");
+    s = s0; s.stroke[0] = (crane_real)NAN; expect_predict(&good, &s, &in0, 0.1, 0.01, BUF, CRANE_E_NONFINITE, "stroke NaN");
+    s = s0; s.slew = (crane_real)INFINITY; expect_predict(&good, &s, &in0, 0.1, 0.01, BUF, CRANE_E_NONFINITE, "slew inf");
+    s = s0; s.stroke[0] = R(0.6); expect_predict(&good, &s, &in0, 0.1, 0.01, BUF, CRANE_E_STROKE, "stroke > max");
+    s = s0; s.stroke[1] = R(-0.001); expect_predict(&good, &s, &in0, 0.1, 0.01, BUF, CRANE_E_STROKE, "stroke < min");
+    s = s0; s.extension = R(2); expect_predict(&good, &s, &in0, 0.1, 0.01, BUF, CRANE_E_EXTENSION, "extension");
+    s = s0; s.stroke_rate[1] = R(0.01);
+    expect_predict(&good, &s, &in0, 0.1, 0.01, BUF, CRANE_E_STROKE_RATE, "held cylinder with a rate");
+    in = in0; in.drive[1].mode = 5; expect_predict(&good, &s0, &in, 0.1, 0.01, BUF, CRANE_E_DRIVE, "drive mode");
+    in = in0; in.drive[0].p_a = R(-1); expect_predict(&good, &s0, &in, 0.1, 0.01, BUF, CRANE_E_PRESSURE, "p_a < 0");
+    in = in0; in.drive[0].p_b = R(1.5e8); expect_predict(&good, &s0, &in, 0.1, 0.01, BUF, CRANE_E_PRESSURE, "p_b > max");
+    in = in0; in.drive[0].p_a = (crane_real)NAN; expect_predict(&good, &s0, &in, 0.1, 0.01, BUF, CRANE_E_NONFINITE, "p_a NaN");
+
+    in = in0;
+    in.drive[0].n_samples = 3;
+    in.drive[0].t = ts;
+    in.drive[0].p_a_samples = pa;
+    in.drive[0].p_b_samples = pa;
+    expect_predict(&good, &s0, &in, 0.1, 0.01, BUF, CRANE_OK, "samples OK");
+    in.drive[0].t = tbad; expect_predict(&good, &s0, &in, 0.1, 0.01, BUF, CRANE_E_SAMPLES, "samples not increasing");
+    in.drive[0].t = tlate; expect_predict(&good, &s0, &in, 0.1, 0.01, BUF, CRANE_E_SAMPLES, "samples start after 0");
+    in.drive[0].t = tshort; expect_predict(&good, &s0, &in, 0.1, 0.01, BUF, CRANE_E_SAMPLES, "samples end before horizon");
+    in.drive[0].t = ts; in.drive[0].p_a_samples = pbig;
+    expect_predict(&good, &s0, &in, 0.1, 0.01, BUF, CRANE_E_PRESSURE, "sample pressure > max");
+    in.drive[0].p_a_samples = pnan;
+    expect_predict(&good, &s0, &in, 0.1, 0.01, BUF, CRANE_E_NONFINITE, "sample pressure NaN");
+    in.drive[0].p_a_samples = pa; in.drive[0].t = NULL;
+    expect_predict(&good, &s0, &in, 0.1, 0.01, BUF, CRANE_E_NULL, "sample times NULL");
+    in.drive[0].t = ts; in.drive[0].n_samples = 1;
+    expect_predict(&good, &s0, &in, 0.1, 0.01, BUF, CRANE_E_SAMPLES, "one sample cannot cover");
+}
+
+/* ---- dynamics ------------------------------------------------------------------------------- */
+
+/* small deterministic generator for the random states */
+static double rnd(unsigned long *seed)
+{
+    *seed = (*seed * 1103515245UL + 12345UL) & 0x7fffffffUL;
+    return (double)*seed / 2147483648.0;
+}
+
+static void test_inverse_dynamics_lagrange(void)
+{
+    const crane_params p = patu();
+    const double e = 0.37, g = 9.81;
+    crane_model m;
+    unsigned long seed = 42;
+    double worst = 0;
+    /* body 2 lumped independently: outer boom + extension boom at e + load at the tip */
+    const double mob = 141.943, mex = 15.928, ml = 200;
+    const double cob[2] = {0.659935, 0.251085};
+    const double xex[2] = {-0.415 + e + 1.225, 0.287};
+    const double xtp[2] = {-0.415 + e + 2.45, 0.287};
+    const double m2 = mob + mex + ml;
+    const double c2[2] = {(mob * cob[0] + mex * xex[0] + ml * xtp[0]) / m2,
+                          (mob * cob[1] + mex * xex[1] + ml * xtp[1]) / m2};
+    const double I2 = 67.05 + mob * (pow(cob[0] - c2[0], 2) + pow(cob[1] - c2[1], 2)) + 7.97 +
+                      mex * (pow(xex[0] - c2[0], 2) + pow(xex[1] - c2[1], 2)) +
+                      ml * (pow(xtp[0] - c2[0], 2) + pow(xtp[1] - c2[1], 2));
+    const double m1 = 143.66, c1[2] = {1.229248, 0.055596}, I1 = 67.0537;
+    const double O2[2] = {2.881081, 0.021593};
+    const double J1 = I1 + m1 * (c1[0] * c1[0] + c1[1] * c1[1]);
+    const double J2 = I2 + m2 * (c2[0] * c2[0] + c2[1] * c2[1]);
+    int k;
+
+    crane_model_init(&m, &p, R(e));
+    check_close(D(m.i2), I2, tol(1e-10, 1e-3), "lumped I2");
+    check_close(D(m.c2.x), c2[0], tol(1e-13, 1e-5), "lumped c2.x");
+    for (k = 0; k < 200; ++k) {
+        const double th0 = -0.5 + 1.5 * rnd(&seed), th1 = -3.2 + 3.4 * rnd(&seed);
+        const double w0 = 2 * rnd(&seed) - 1, w1 = 2 * rnd(&seed) - 1;
+        const double a0 = 4 * rnd(&seed) - 2, a1 = 4 * rnd(&seed) - 2;
+        const crane_real th[2] = {R(th0), R(th1)}, w[2] = {R(w0), R(w1)}, a[2] = {R(a0), R(a1)};
+        crane_real tau[2];
+        /* R(theta1) c2 and its derivative perp(R c2) */
+        const double rc[2] = {cos(th1) * c2[0] - sin(th1) * c2[1], sin(th1) * c2[0] + cos(th1) * c2[1]};
+        const double kk = O2[0] * rc[0] + O2[1] * rc[1];
+        const double kp = O2[0] * -rc[1] + O2[1] * rc[0];
+        const double M11 = J1 + m2 * (O2[0] * O2[0] + O2[1] * O2[1]) + J2 + 2 * m2 * kk;
+        const double M12 = J2 + m2 * kk, M22 = J2;
+        /* gravity: dV/dtheta = g m (R c).x for each rotated centre of mass */
+        const double C1x = cos(th0) * c1[0] - sin(th0) * c1[1];
+        const double r12x = cos(th0) * O2[0] - sin(th0) * O2[1];
+        const double C2x = cos(th0 + th1) * c2[0] - sin(th0 + th1) * c2[1];
+        const double G0 = g * (m1 * C1x + m2 * (r12x + C2x)), G1 = g * m2 * C2x;
+        const double t0 = M11 * a0 + M12 * a1 + m2 * kp * w1 * (2 * w0 + w1) + G0;
+        const double t1 = M12 * a0 + M22 * a1 - m2 * kp * w0 * w0 + G1;
+        double err;
+
+        crane_inverse_dynamics(&m, th, w, a, tau);
+        err = (fabs(D(tau[0]) - t0) + fabs(D(tau[1]) - t1)) / (fabs(t0) + fabs(t1) + 1);
+        if (err > worst)
+            worst = err;
+    }
+    check_close(worst, 0, tol(1e-12, 1e-4), "Newton-Euler ID vs Lagrange closed form (200 states)");
+}
+
+/* 0.5 omega^T M omega, M from the core's inverse dynamics with g = 0 */
+static double kinetic_energy(const crane_model *m, const crane_real th[2], const crane_real w[2])
+{
+    const crane_real z[2] = {0, 0}, e0[2] = {1, 0}, e1[2] = {0, 1};
+    crane_real col0[2], col1[2];
+    crane_inverse_dynamics(m, th, z, e0, col0);
+    crane_inverse_dynamics(m, th, z, e1, col1);
+    return 0.5 * (D(w[0]) * (D(col0[0]) * D(w[0]) + D(col1[0]) * D(w[1])) +
+                  D(w[1]) * (D(col0[1]) * D(w[0]) + D(col1[1]) * D(w[1])));
+}
+
+static void test_energy(void)
+{
+    crane_params p = patu();
+    const crane_state s0 = state(0.25, 0.40, 0.03, -0.04, 0.2, 0.5);
+    const crane_inputs in = constant_inputs(0, 0, CRANE_DRIVE_PRESSURE, 0, 0);
+    crane_sample out[401];
+    crane_model m;
+    size_t n = 0, k;
+    double E0, worst = 0;
+    int i, no_stop = 1, moved;
+
+    p.gravity = 0;
+    for (i = 0; i < 2; ++i) {
+        p.cylinder[i].friction.coulomb = 0;
+        p.cylinder[i].friction.static_ = 0;
+        p.cylinder[i].friction.viscous = 0;
+    }
+    crane_model_init(&m, &p, R(0.5));
+    check_status(crane_predict(&p, &s0, &in, R(0.4), R(1e-3), out, 401, &n), CRANE_OK, "energy run");
+    check(n == 401, "energy run: 401 samples");
+    E0 = kinetic_energy(&m, out[0].theta, out[0].omega);
+    for (k = 0; k < n; ++k) {
+        const double E = kinetic_energy(&m, out[k].theta, out[k].omega);
+        if (fabs(E - E0) / E0 > worst)
+            worst = fabs(E - E0) / E0;
+        if (out[k].stop[0] || out[k].stop[1])
+            no_stop = 0;
+    }
+    moved = fabs(D(out[n - 1].stroke[0]) - 0.25) > 1e-3;
+    check(no_stop && moved, "energy run stays free of the stops and moves");
+    check_close(worst, 0, tol(1e-9, 1e-4), "frictionless, gravity-free: kinetic energy conserved");
+}
+
+/* ---- whole predictions ---------------------------------------------------------------------- */
+
+static int strokes_in_range(const crane_params *p, const crane_sample *out, size_t n)
+{
+    size_t k;
+    int j;
+    for (k = 0; k < n; ++k)
+        for (j = 0; j < 2; ++j)
+            if (!(out[k].stroke[j] >= p->cylinder[j].stroke_min &&
+                  out[k].stroke[j] <= p->cylinder[j].stroke_max))
+                return 0;
+    return 1;
+}
+
+enum { N_PAPER = 2001 };
+static crane_sample paper_out[N_PAPER];
+
+static void test_paper_scenario(void)
+{
+    const crane_params p = patu();
+    const crane_state s0 = state(0.116, 0.32, 0, 0, 0, 0);
+    const crane_inputs in = constant_inputs(175e5, 0, CRANE_DRIVE_HOLD, 0, 0);
+    crane_model m;
+    crane_real xyz[CRANE_N_POINTS * 3];
+    size_t n = 0, k, first_stop = 0;
+    int reached = 0, stays = 1, held = 1, mono = 1;
+
+    crane_model_init(&m, &p, R(0));
+    check_status(crane_predict(&p, &s0, &in, R(2), R(1e-3), paper_out, N_PAPER, &n), CRANE_OK,
+                 "paper scenario runs");
+    check(n == N_PAPER, "paper scenario: 2001 samples");
+    check(D(paper_out[0].t) == 0 && D(paper_out[n - 1].t) == 2, "paper scenario: t from 0 to 2");
+    for (k = 0; k < n; ++k) {
+        if (paper_out[k].stop[0] == 1 && !reached) {
+            reached = 1;
+            first_stop = k;
+        }
+        if (reached && (paper_out[k].stop[0] != 1 || paper_out[k].stroke[0] != p.cylinder[0].stroke_max ||
+                        paper_out[k].theta[0] != m.theta_max[0] || paper_out[k].omega[0] != 0))
+            stays = 0;
+        if (paper_out[k].stroke[1] != s0.stroke[1] || paper_out[k].omega[1] != 0 ||
+            paper_out[k].stop[1] != 0)
+            held = 0;
+        if (k > 0 && !(paper_out[k].t > paper_out[k - 1].t))
+            mono = 0;
+    }
+    check(reached && first_stop < n - 1, "paper scenario reaches the lift upper stop before 2 s");
+    check(stays, "lift stays on its upper stop (stroke exactly stroke_max, omega 0)");
+    check(held, "held tilt keeps its stroke, omega 0, no stop flag");
+    check(mono, "sample times increase");
+    check(strokes_in_range(&p, paper_out, n), "paper scenario: strokes never leave their range");
+    printf("  paper scenario: lift upper stop at t = %.4f s (sample %lu)\n",
+           D(paper_out[first_stop].t), (unsigned long)first_stop);
+    /* the reported tip equals the tip of crane_points at the reported angles */
+    check_status(crane_points(&m, 0, 1, paper_out[n / 2].theta, xyz), CRANE_OK, "points at a sample");
+    check_close(D(xyz[30]), D(paper_out[n / 2].tip[0]), tol(1e-12, 1e-5), "sample tip x = points tip x");
+    check_close(D(xyz[32]), D(paper_out[n / 2].tip[2]), tol(1e-12, 1e-5), "sample tip z = points tip z");
+}
+
+static void test_stops_and_release(void)
+{
+    const crane_params p = patu();
+    crane_model m;
+    crane_sample out[301];
+    size_t n = 0, k;
+    int ok;
+
+    crane_model_init(&m, &p, R(0));
+    /* At rest on the lower angle stops with no pressure (tilt at stroke_max is its lower angle
+     * limit, reported as stop +1 since the flags are in cylinder terms):
+     * gravity keeps the lift on its stop and, in this pose, lifts the folded outer boom off its. */
+    {
+        const crane_state s0 = state(0, 0.78, 0, 0, 0, 0);
+        const crane_inputs in = constant_inputs(0, 0, CRANE_DRIVE_PRESSURE, 0, 0);
+        check_status(crane_predict(&p, &s0, &in, R(0.3), R(1e-3), out, 301, &n), CRANE_OK, "rest on stops");
+        ok = 1;
+        for (k = 0; k < n; ++k)
+            if (out[k].stop[0] != -1 || out[k].stroke[0] != 0 || out[k].theta[0] != m.theta_min[0])
+                ok = 0;
+        check(ok, "lift stays on its lower stop under gravity (stroke exactly stroke_min)");
+        check(out[0].stop[1] == 1 && out[0].stroke[1] == p.cylinder[1].stroke_max &&
+                  out[0].theta[1] == m.theta_min[1],
+              "tilt at stroke_max starts on its lower angle stop, flagged +1 (cylinder terms)");
+        check(out[1].stop[1] == 0 && out[n - 1].stroke[1] < out[1].stroke[1] &&
+                  out[n - 1].theta[1] > out[1].theta[1],
+              "tilt released from its lower stop when gravity pulls it into the range");
+    }
+    /* Lift on its lower stop, then pressurised: released at the first step and rising. */
+    {
+        const crane_state s0 = state(0, 0.3, 0, 0, 0, 0);
+        const crane_inputs in = constant_inputs(100e5, 0, CRANE_DRIVE_HOLD, 0, 0);
+        check_status(crane_predict(&p, &s0, &in, R(0.3), R(1e-3), out, 301, &n), CRANE_OK, "release run");
+        check(out[0].stop[0] == -1 && out[1].stop[0] == 0 && out[n - 1].stroke[0] > out[1].stroke[0],
+              "lift released from its lower stop when pressurised");
+    }
+    /* Moving into a stop at t = 0: plastic impact takes the lift's rate to zero. */
+    {
+        const crane_state s0 = state(0.535, 0.3, 0.05, 0, 0, 0);
+        const crane_inputs in = constant_inputs(175e5, 0, CRANE_DRIVE_PRESSURE, 30e5, 30e5);
+        check_status(crane_predict(&p, &s0, &in, R(0.3), R(1e-3), out, 301, &n), CRANE_OK, "impact at t=0");
+        check(out[0].stop[0] == 1 && out[0].omega[0] == 0, "moving into the stop at t = 0: stopped, omega 0");
+    }
+    /* Both joints free, the lift hits its upper stop: the plastic impact must not add energy and
+     * the strokes stay in range. */
+    {
+        const crane_state s0 = state(0.3, 0.3, 0.1, 0, 0, 0);
+        const crane_inputs in = constant_inputs(175e5, 0, CRANE_DRIVE_PRESSURE, 60e5, 60e5);
+        int hit = 0;
+        check_status(crane_predict(&p, &s0, &in, R(1), R(5e-3), out, 301, &n), CRANE_OK, "free-free run");
+        for (k = 0; k < n; ++k)
+            if (out[k].stop[0] == 1)
+                hit = 1;
+        check(hit, "free-free run hits the lift upper stop");
+        check(strokes_in_range(&p, out, n), "free-free run: strokes stay in range");
+    }
+}
+
+/* Both free, lift driven out hard: the lift hits stroke_max, the impact throws the outer boom down
+ * and the tilt cylinder runs to stroke_max, its lower angle stop, flagged +1. */
+static void test_tilt_flag(void)
+{
+    const crane_params p = patu();
+    const crane_state s0 = state(0.116, 0.32, 0, 0, 0, 0);
+    const crane_inputs in = constant_inputs(100e5, 0, CRANE_DRIVE_PRESSURE, 30e5, 20e5);
+    crane_sample out[401];
+    size_t n = 0;
+
+    check_status(crane_predict(&p, &s0, &in, R(2), R(5e-3), out, 401, &n), CRANE_OK, "tilt flag run");
+    check(out[n - 1].stop[0] == 1 && out[n - 1].stroke[0] == p.cylinder[0].stroke_max,
+          "lift ends on stroke_max (+1)");
+    check(out[n - 1].stop[1] == 1 && out[n - 1].stroke[1] == p.cylinder[1].stroke_max,
+          "tilt ends on stroke_max, flagged +1 in cylinder terms");
+    check(strokes_in_range(&p, out, n), "tilt flag run: strokes stay in range");
+}
+
+static void test_samples_equal_constant(void)
+{
+    const crane_params p = patu();
+    const crane_state s0 = state(0.2, 0.4, 0, 0, 0.3, 0.2);
+    crane_inputs in = constant_inputs(120e5, 10e5, CRANE_DRIVE_PRESSURE, 40e5, 50e5);
+    crane_sample a[101], b[101], c[101];
+    const crane_real t[4] = {R(-1), R(0.03), R(0.07), R(0.5)};
+    const crane_real pa[4] = {R(120e5), R(120e5), R(120e5), R(120e5)};
+    const crane_real pb[4] = {R(10e5), R(10e5), R(10e5), R(10e5)};
+    const crane_real ramp_a[4] = {R(0), R(40e5), R(200e5), R(10e5)};
+    size_t na, nb, nc;
+
+    crane_predict(&p, &s0, &in, R(0.5), R(5e-3), a, 101, &na);
+    in.drive[0].n_samples = 4;
+    in.drive[0].t = t;
+    in.drive[0].p_a_samples = pa;
+    in.drive[0].p_b_samples = pb;
+    crane_predict(&p, &s0, &in, R(0.5), R(5e-3), b, 101, &nb);
+    check(na == nb && memcmp(a, b, na * sizeof a[0]) == 0,
+          "constant pressure samples give the same prediction as constant pressures");
+    in.drive[0].p_a_samples = ramp_a;
+    check_status(crane_predict(&p, &s0, &in, R(0.5), R(5e-3), c, 101, &nc), CRANE_OK, "ramp samples run");
+    check(strokes_in_range(&p, c, nc) && D(c[nc - 1].tip[2]) != D(a[na - 1].tip[2]),
+          "ramp samples change the prediction");
+}
+
+static void benchmark(void)
+{
+    const crane_params p = patu();
+    const crane_state s0 = state(0.116, 0.32, 0, 0, 0, 0);
+    const crane_inputs in = constant_inputs(100e5, 0, CRANE_DRIVE_PRESSURE, 30e5, 20e5);
+    static crane_sample out[401];
+    size_t n;
+    const int reps = 2000;
+    int r;
+    clock_t c0 = clock(), c1;
+
+    for (r = 0; r < reps; ++r)
+        crane_predict(&p, &s0, &in, R(2), R(5e-3), out, 401, &n);
+    c1 = clock();
+    printf("  benchmark: 2 s at dt 5 ms (both joints free): %.1f us per prediction\n",
+           1e6 * (double)(c1 - c0) / CLOCKS_PER_SEC / reps);
+}
+
+int main(void)
+{
+    printf("cranepredict core tests (%s)\n", is_float ? "float" : "double");
+    test_model_init();
+    test_round_trips();
+    test_transmission();
+    test_points();
+    test_bad_params();
+    test_bad_small_calls();
+    test_bad_predict();
+    test_inverse_dynamics_lagrange();
+    test_energy();
+    test_paper_scenario();
+    test_stops_and_release();
+    test_tilt_flag();
+    test_samples_equal_constant();
+    benchmark();
+    printf("%d passed, %d failed\n", n_pass, n_fail);
+    return n_fail ? 1 : 0;
+}

@@ -1,0 +1,750 @@
+"""Pure-Python twin of the fast crane model (docs/model.md).
+
+The twin exists to validate the C core: it is written from the same specification but shares no
+code with it, so an error in one shows up as a disagreement with the other.  It follows
+docs/model.md step by step (kinematics, iterative Newton-Euler, smooth Stribeck friction, RK4 with
+the end-stop event logic) and is deliberately plain: Python floats and ``math`` in the hot path,
+because for 2x2 algebra they are faster than numpy; numpy only builds the output arrays.
+
+Index 0 is the lift joint/cylinder, index 1 the tilt joint/cylinder.  Angles are in the boom plane
+(x outward, y up); world coordinates are X, Y horizontal and Z up.
+"""
+
+from __future__ import annotations
+
+import math
+from bisect import bisect_right
+from typing import Any, List, Optional, Sequence, Tuple
+
+import numpy as np
+
+__all__ = ["POINT_NAMES", "TwinModel", "simulate", "points", "LIFT", "TILT"]
+
+LIFT = 0
+TILT = 1
+
+#: Names of the points returned by :meth:`TwinModel.points` / :func:`points`, in order.
+POINT_NAMES: Tuple[str, ...] = (
+    "pillar_base",
+    "lift_pivot",
+    "lift_cylinder_base",
+    "lift_cylinder_rod",
+    "tilt_cylinder_base",
+    "link1_pivot",
+    "link_pin",
+    "link2_attach",
+    "tilt_pivot",
+    "extension_mount",
+    "tip",
+)
+
+#: Bisections used to locate an end-stop event inside a step (spec: 60).
+EVENT_BISECTIONS = 60
+
+Vec = Tuple[float, float]
+Pair = Tuple[float, float]
+Matrix2 = Tuple[Pair, Pair]
+Matrix4 = Tuple[Tuple[float, float, float, float], ...]
+
+_HALF_PI = 0.5 * math.pi
+_TWO_PI = 2.0 * math.pi
+
+
+# --------------------------------------------------------------------------------------------
+# Plane-vector helpers (spec "Helpers")
+# --------------------------------------------------------------------------------------------
+
+def _vec(p: Sequence[float]) -> Vec:
+    """A geometry point as a plain float pair (the crane may hold numpy scalars or lists)."""
+    return (float(p[0]), float(p[1]))
+
+
+def _sub(a: Vec, b: Vec) -> Vec:
+    return (a[0] - b[0], a[1] - b[1])
+
+
+def _dot(a: Vec, b: Vec) -> float:
+    return a[0] * b[0] + a[1] * b[1]
+
+
+def _perp(v: Vec) -> Vec:
+    """Rotate by +90 deg: the velocity direction of a point at v on a body turning about the origin."""
+    return (-v[1], v[0])
+
+
+def _cross(a: Vec, b: Vec) -> float:
+    """z component of a x b: the moment about the origin of a force b applied at a."""
+    return a[0] * b[1] - a[1] * b[0]
+
+
+def _rotate(angle: float, v: Vec) -> Vec:
+    """R(angle) v, R = [[cos, -sin], [sin, cos]]."""
+    c = math.cos(angle)
+    s = math.sin(angle)
+    return (c * v[0] - s * v[1], s * v[0] + c * v[1])
+
+
+def _norm(v: Vec) -> float:
+    return math.sqrt(v[0] * v[0] + v[1] * v[1])
+
+
+def _circle(c0: Vec, r0: float, c1: Vec, r1: float, sign: float) -> Vec:
+    """Intersection of the circle about c0 (radius r0) and about c1 (radius r1).
+
+    sign = -1 picks the point to the right of the directed line c0 -> c1, +1 the one to the left.
+    A mechanism that cannot close raises ValueError instead of silently producing NaN.
+    """
+    dx = c1[0] - c0[0]
+    dy = c1[1] - c0[1]
+    d = math.sqrt(dx * dx + dy * dy)
+    if not d > 0.0:
+        raise ValueError("four-bar does not close: coincident circle centres")
+    ux = dx / d
+    uy = dy / d
+    a = (r0 * r0 - r1 * r1 + d * d) / (2.0 * d)
+    h2 = r0 * r0 - a * a
+    if not h2 > 0.0:
+        raise ValueError(
+            f"four-bar does not close (circles about ({c0[0]:.6g}, {c0[1]:.6g}) r={r0:.6g} and "
+            f"({c1[0]:.6g}, {c1[1]:.6g}) r={r1:.6g} do not intersect)")
+    h = sign * math.sqrt(h2)
+    # p = c0 + a u + sign sqrt(h2) perp(u), perp(u) = (-uy, ux)
+    return (c0[0] + a * ux - h * uy, c0[1] + a * uy + h * ux)
+
+
+def _wrap_tilt(theta: float) -> float:
+    """Wrap into (-3pi/2, pi/2]: the PATU tilt runs from ~0 to ~-190 deg, so this keeps it continuous."""
+    while theta > _HALF_PI:
+        theta -= _TWO_PI
+    while theta <= -3.0 * _HALF_PI:
+        theta += _TWO_PI
+    return theta
+
+
+# --------------------------------------------------------------------------------------------
+# 4x4 homogeneous transforms (spec "Frames": T_w0, T01, T12, T2e)
+# --------------------------------------------------------------------------------------------
+
+def _planar_transform(angle: float, origin: Vec) -> Matrix4:
+    """[R(angle), origin] as a 4x4 transform about z (a body frame inside the boom plane)."""
+    c = math.cos(angle)
+    s = math.sin(angle)
+    return ((c, -s, 0.0, origin[0]),
+            (s, c, 0.0, origin[1]),
+            (0.0, 0.0, 1.0, 0.0),
+            (0.0, 0.0, 0.0, 1.0))
+
+
+def _world_transform(slew: float) -> Matrix4:
+    """T_w0 = Rot_Z(slew) Rot_X(+90 deg): the boom plane (x, y) goes to (x cos, x sin, y), Z up."""
+    c = math.cos(slew)
+    s = math.sin(slew)
+    # Rot_X(90) = [[1,0,0],[0,0,-1],[0,1,0]]; Rot_Z(psi) Rot_X(90) = [[c,0,s],[s,0,-c],[0,1,0]]
+    return ((c, 0.0, s, 0.0),
+            (s, 0.0, -c, 0.0),
+            (0.0, 1.0, 0.0, 0.0),
+            (0.0, 0.0, 0.0, 1.0))
+
+
+def _compose(a: Matrix4, b: Matrix4) -> Matrix4:
+    """a b for 4x4 transforms."""
+    return tuple(
+        tuple(sum(a[i][k] * b[k][j] for k in range(4)) for j in range(4)) for i in range(4)
+    )  # type: ignore[return-value]
+
+
+def _apply(m: Matrix4, p: Vec) -> Tuple[float, float, float]:
+    """m (p.x, p.y, 0, 1): a planar point of m's frame in the frame m maps into."""
+    x, y = p
+    return (m[0][0] * x + m[0][1] * y + m[0][3],
+            m[1][0] * x + m[1][1] * y + m[1][3],
+            m[2][0] * x + m[2][1] * y + m[2][3])
+
+
+# --------------------------------------------------------------------------------------------
+# The model
+# --------------------------------------------------------------------------------------------
+
+class TwinModel:
+    """The fast model of one crane at one extension: kinematics, dynamics and cylinder forces.
+
+    Everything that is constant during a prediction (triangle and four-bar constants, piston
+    areas, the lumped outer boom body, the angle limits) is computed once here.
+    """
+
+    def __init__(self, crane: Any, extension: float) -> None:
+        geo = crane.geometry
+        self.gravity = float(crane.gravity)
+        self.extension = float(extension)
+
+        # --- lift triangle ---------------------------------------------------------------
+        self.lift_pivot = _vec(geo.lift_pivot)                      # O1, boom plane
+        self.lift_cylinder_base = _vec(geo.lift_cylinder_base)      # B1, boom plane
+        self.lift_cylinder_rod = _vec(geo.lift_cylinder_rod)        # E1, lift boom frame
+        base_arm = _sub(self.lift_cylinder_base, self.lift_pivot)
+        self.lift_db = _norm(base_arm)
+        self.lift_dr = _norm(self.lift_cylinder_rod)
+        self.lift_beta = math.atan2(base_arm[1], base_arm[0])
+        self.lift_eps = math.atan2(self.lift_cylinder_rod[1], self.lift_cylinder_rod[0])
+
+        # --- tilt four-bar ---------------------------------------------------------------
+        self.tilt_cylinder_base = _vec(geo.tilt_cylinder_base)      # B2, lift boom frame
+        self.link1_pivot = _vec(geo.link1_pivot)                    # P1, lift boom frame
+        self.tilt_pivot = _vec(geo.tilt_pivot)                      # O2, lift boom frame
+        self.link2_attach = _vec(geo.link2_attach)                  # A, outer boom frame
+        self.tilt_l1 = _norm(_vec(geo.link_pin))
+        self.tilt_l2 = _norm(_vec(geo.link2_end))
+        self.tilt_ra = _norm(self.link2_attach)
+        self.tilt_alpha_a = math.atan2(self.link2_attach[1], self.link2_attach[0])
+
+        # --- outer end of the booms ------------------------------------------------------
+        self.extension_mount = _vec(geo.extension_mount)            # outer boom frame
+        self.tip_distance = float(geo.tip_distance)
+
+        # --- cylinders -------------------------------------------------------------------
+        cylinders = (crane.lift_cylinder, crane.tilt_cylinder)
+        self.length_retracted: Pair = tuple(float(c.length_retracted) for c in cylinders)  # type: ignore
+        self.stroke_min: Pair = tuple(float(c.stroke_min) for c in cylinders)  # type: ignore
+        self.stroke_max: Pair = tuple(float(c.stroke_max) for c in cylinders)  # type: ignore
+        self.area_bore: Pair = tuple(math.pi * float(c.bore) ** 2 / 4.0 for c in cylinders)  # type: ignore
+        self.area_rod: Pair = tuple(
+            math.pi * (float(c.bore) ** 2 - float(c.rod) ** 2) / 4.0 for c in cylinders)  # type: ignore
+        self.friction = tuple(
+            (float(c.friction.coulomb), float(c.friction.static), float(c.friction.viscous),
+             float(c.friction.stribeck_velocity), float(c.friction.tanh_velocity))
+            for c in cylinders)
+
+        # --- bodies ----------------------------------------------------------------------
+        self.m1 = float(crane.lift_boom.mass)
+        self.c1 = _vec(crane.lift_boom.com)
+        self.i1 = float(crane.lift_boom.izz)
+        self.m2, self.c2, self.i2 = self._lumped_outer_body(crane)
+
+        # --- angle limits (spec "End stops") ----------------------------------------------
+        # lift: stroke_min -> lower angle; tilt: stroke_max -> lower angle (ds/dtheta1 < 0).
+        lift_lo = self.lift_angle(self.stroke_min[LIFT])[0]
+        lift_hi = self.lift_angle(self.stroke_max[LIFT])[0]
+        tilt_lo = self.tilt_angle(self.stroke_max[TILT])[0]
+        tilt_hi = self.tilt_angle(self.stroke_min[TILT])[0]
+        #: angle_limits[joint] = (lower, upper)
+        self.angle_limits: Tuple[Pair, Pair] = ((lift_lo, lift_hi), (tilt_lo, tilt_hi))
+        #: stroke_at_stop[joint][side]: the stroke reported at a lower (-1) / upper (+1) stop
+        self.stroke_at_stop = (
+            {-1: self.stroke_min[LIFT], +1: self.stroke_max[LIFT]},
+            {-1: self.stroke_max[TILT], +1: self.stroke_min[TILT]},
+        )
+        #: stop_flag[joint][side]: the reported flag, in cylinder terms (-1 at stroke_min,
+        #: +1 at stroke_max), for a joint stopped at its lower (-1) / upper (+1) angle limit
+        self.stop_flag = ({-1: -1, +1: +1}, {-1: +1, +1: -1})
+
+    def _lumped_outer_body(self, crane: Any) -> Tuple[float, Vec, float]:
+        """Body 2 = outer boom + extension boom at this extension + load at the tip, in the outer
+        boom frame; lumped once because the extension does not move during a prediction."""
+        e = self.extension
+        m_ob = float(crane.outer_boom.mass)
+        c_ob = _vec(crane.outer_boom.com)
+        m_ext = float(crane.extension_boom.mass)
+        c_ext = _vec(crane.extension_boom.com)
+        m_load = float(crane.load_mass)
+        mount = self.extension_mount
+        x_ext = (mount[0] + e + c_ext[0], mount[1] + c_ext[1])
+        x_tip = (mount[0] + e + self.tip_distance, mount[1])
+        m2 = m_ob + m_ext + m_load
+        c2 = ((m_ob * c_ob[0] + m_ext * x_ext[0] + m_load * x_tip[0]) / m2,
+              (m_ob * c_ob[1] + m_ext * x_ext[1] + m_load * x_tip[1]) / m2)
+
+        def offset2(p: Vec) -> float:
+            d = _sub(p, c2)
+            return _dot(d, d)
+
+        i2 = (float(crane.outer_boom.izz) + m_ob * offset2(c_ob)
+              + float(crane.extension_boom.izz) + m_ext * offset2(x_ext)
+              + m_load * offset2(x_tip))
+        return m2, c2, i2
+
+    # ---------------------------------------------------------------------------------
+    # Lift kinematics (triangle)
+    # ---------------------------------------------------------------------------------
+
+    def _lift_gamma(self, theta: float) -> float:
+        """Angle at O1 from (B1 - O1) to R(theta0) E1."""
+        return theta + self.lift_eps - self.lift_beta
+
+    def _lift_length(self, gamma: float) -> float:
+        """Cylinder pin-to-pin length for the triangle angle gamma (law of cosines)."""
+        db, dr = self.lift_db, self.lift_dr
+        return math.sqrt(db * db + dr * dr - 2.0 * db * dr * math.cos(gamma))
+
+    def _lift_ratio(self, gamma: float, length: float) -> float:
+        """ds/dtheta0 = db dr sin(gamma) / L."""
+        return self.lift_db * self.lift_dr * math.sin(gamma) / length
+
+    def lift_angle(self, stroke: float) -> Pair:
+        """Lift angle theta0 and ds/dtheta0 for a lift stroke."""
+        db, dr = self.lift_db, self.lift_dr
+        length = self.length_retracted[LIFT] + stroke
+        cos_gamma = (db * db + dr * dr - length * length) / (2.0 * db * dr)
+        if not -1.0 <= cos_gamma <= 1.0:
+            raise ValueError(f"lift triangle does not close at stroke {stroke!r}")
+        gamma = math.acos(cos_gamma)
+        theta = gamma - self.lift_eps + self.lift_beta
+        return theta, self._lift_ratio(gamma, length)
+
+    def lift_stroke(self, theta: float) -> float:
+        """Lift stroke for a lift angle."""
+        return self._lift_length(self._lift_gamma(theta)) - self.length_retracted[LIFT]
+
+    def _lift_transmission(self, theta: float) -> float:
+        gamma = self._lift_gamma(theta)
+        return self._lift_ratio(gamma, self._lift_length(gamma))
+
+    # ---------------------------------------------------------------------------------
+    # Tilt kinematics (four-bar of side links)
+    # ---------------------------------------------------------------------------------
+
+    def _tilt_pins(self, theta: float) -> Tuple[Vec, Vec]:
+        """(A, Q) in the lift boom frame for a tilt angle: A turns with the outer boom about O2,
+        Q closes the side links about P1."""
+        a = _rotate(theta, self.link2_attach)
+        a = (self.tilt_pivot[0] + a[0], self.tilt_pivot[1] + a[1])
+        q = _circle(self.link1_pivot, self.tilt_l1, a, self.tilt_l2, +1.0)
+        return a, q
+
+    def _tilt_ratio(self, q: Vec, a: Vec, length: float) -> float:
+        """ds/dtheta1 by virtual velocities: A turns about O2, Q about P1, link QA is rigid."""
+        q_arm = _perp(_sub(q, self.link1_pivot))            # perp(Q - P1)
+        link = _sub(q, a)                                   # Q - A
+        rod = _sub(q, self.tilt_cylinder_base)              # Q - B2
+        a_arm = _perp(_sub(a, self.tilt_pivot))             # perp(A - O2)
+        return (_dot(rod, q_arm) / length) * _dot(link, a_arm) / _dot(link, q_arm)
+
+    def tilt_angle(self, stroke: float) -> Pair:
+        """Tilt angle theta1 (relative to the lift boom) and ds/dtheta1 for a tilt stroke."""
+        length = self.length_retracted[TILT] + stroke
+        q = _circle(self.link1_pivot, self.tilt_l1, self.tilt_cylinder_base, length, -1.0)
+        a = _circle(self.tilt_pivot, self.tilt_ra, q, self.tilt_l2, -1.0)
+        theta = _wrap_tilt(
+            math.atan2(a[1] - self.tilt_pivot[1], a[0] - self.tilt_pivot[0]) - self.tilt_alpha_a)
+        return theta, self._tilt_ratio(q, a, length)
+
+    def tilt_stroke(self, theta: float) -> float:
+        """Tilt stroke for a tilt angle."""
+        _, q = self._tilt_pins(theta)
+        return _norm(_sub(q, self.tilt_cylinder_base)) - self.length_retracted[TILT]
+
+    def _tilt_transmission(self, theta: float) -> float:
+        a, q = self._tilt_pins(theta)
+        return self._tilt_ratio(q, a, _norm(_sub(q, self.tilt_cylinder_base)))
+
+    # ---------------------------------------------------------------------------------
+    # Joint dispatch
+    # ---------------------------------------------------------------------------------
+
+    def joint_angle(self, joint: int, stroke: float) -> Pair:
+        """(theta, ds/dtheta) of joint 0 (lift) or 1 (tilt) for a stroke."""
+        return self.lift_angle(stroke) if joint == LIFT else self.tilt_angle(stroke)
+
+    def joint_stroke(self, joint: int, theta: float) -> float:
+        """Stroke of joint 0 (lift) or 1 (tilt) for an angle."""
+        return self.lift_stroke(theta) if joint == LIFT else self.tilt_stroke(theta)
+
+    def transmission(self, joint: int, theta: float) -> float:
+        """ds/dtheta of a joint at an angle (what turns cylinder force into joint torque)."""
+        return self._lift_transmission(theta) if joint == LIFT else self._tilt_transmission(theta)
+
+    # ---------------------------------------------------------------------------------
+    # Dynamics
+    # ---------------------------------------------------------------------------------
+
+    def inverse_dynamics(self, theta: Sequence[float], omega: Sequence[float],
+                         alpha: Sequence[float], gravity: Optional[float] = None) -> Pair:
+        """Joint torques (tau0, tau1) by the iterative planar Newton-Euler of the spec.
+
+        Gravity enters as a base acceleration (0, +g); ``gravity`` defaults to the crane's and
+        is 0 when building the mass matrix.
+        """
+        g = self.gravity if gravity is None else gravity
+        th0, th1 = theta
+        w1 = omega[0]
+        w2 = omega[0] + omega[1]
+        a1 = alpha[0]
+        a2 = alpha[0] + alpha[1]
+        r12 = _rotate(th0, self.tilt_pivot)
+        cc1 = _rotate(th0, self.c1)
+        cc2 = _rotate(th0 + th1, self.c2)
+        m1, m2 = self.m1, self.m2
+
+        # forward recursion: accelerations (acc = acc_parent + a perp(r) - w^2 r)
+        acc_c1 = (-a1 * cc1[1] - w1 * w1 * cc1[0], g + a1 * cc1[0] - w1 * w1 * cc1[1])
+        acc_o2 = (-a1 * r12[1] - w1 * w1 * r12[0], g + a1 * r12[0] - w1 * w1 * r12[1])
+        acc_c2 = (acc_o2[0] - a2 * cc2[1] - w2 * w2 * cc2[0],
+                  acc_o2[1] + a2 * cc2[0] - w2 * w2 * cc2[1])
+
+        # backward recursion: forces and moments about each joint
+        f2 = (m2 * acc_c2[0], m2 * acc_c2[1])
+        n2 = self.i2 * a2 + _cross(cc2, f2)
+        f1c = (m1 * acc_c1[0], m1 * acc_c1[1])
+        n1 = self.i1 * a1 + _cross(cc1, f1c) + _cross(r12, f2) + n2
+        return n1, n2
+
+    def mass_matrix(self, theta: Sequence[float]) -> Matrix2:
+        """M with column j = ID(theta, 0, e_j, g=0)."""
+        col0 = self.inverse_dynamics(theta, (0.0, 0.0), (1.0, 0.0), 0.0)
+        col1 = self.inverse_dynamics(theta, (0.0, 0.0), (0.0, 1.0), 0.0)
+        return ((col0[0], col1[0]), (col0[1], col1[1]))
+
+    def bias(self, theta: Sequence[float], omega: Sequence[float]) -> Pair:
+        """h = ID(theta, omega, 0, g): Coriolis, centrifugal and gravity torques."""
+        return self.inverse_dynamics(theta, omega, (0.0, 0.0))
+
+    def forward_dynamics(self, theta: Sequence[float], omega: Sequence[float],
+                         tau: Sequence[float], locked: Sequence[bool]) -> Pair:
+        """Joint accelerations from M alpha = tau - h; a locked joint has alpha = 0 and the
+        other obeys M_ii alpha_i = tau_i - h_i (only column i of M is needed then)."""
+        lock0, lock1 = bool(locked[0]), bool(locked[1])
+        if lock0 and lock1:
+            return 0.0, 0.0
+        h = self.bias(theta, omega)
+        if lock0:
+            m11 = self.inverse_dynamics(theta, (0.0, 0.0), (0.0, 1.0), 0.0)[1]
+            return 0.0, (tau[1] - h[1]) / m11
+        if lock1:
+            m00 = self.inverse_dynamics(theta, (0.0, 0.0), (1.0, 0.0), 0.0)[0]
+            return (tau[0] - h[0]) / m00, 0.0
+        (m00, m01), (m10, m11) = self.mass_matrix(theta)
+        r0 = tau[0] - h[0]
+        r1 = tau[1] - h[1]
+        det = m00 * m11 - m01 * m10
+        return (m11 * r0 - m01 * r1) / det, (m00 * r1 - m10 * r0) / det
+
+    def inverse_mass_matrix(self, theta: Sequence[float]) -> Matrix2:
+        """M^-1, used by the plastic impact."""
+        (m00, m01), (m10, m11) = self.mass_matrix(theta)
+        det = m00 * m11 - m01 * m10
+        return ((m11 / det, -m01 / det), (-m10 / det, m00 / det))
+
+    # ---------------------------------------------------------------------------------
+    # Cylinders
+    # ---------------------------------------------------------------------------------
+
+    def friction_force(self, joint: int, stroke_rate: float) -> float:
+        """Smooth Stribeck friction opposing the stroke rate (tanh instead of sign so the right
+        side stays smooth for RK4)."""
+        f_c, f_s, sigma, v_s, v_t = self.friction[joint]
+        ratio = stroke_rate / v_s
+        return (f_c + (f_s - f_c) * math.exp(-ratio * ratio)) * math.tanh(stroke_rate / v_t) \
+            + sigma * stroke_rate
+
+    def cylinder_force(self, joint: int, p_a: float, p_b: float, stroke_rate: float) -> float:
+        """Piston force (N, positive extends): pressures on both areas minus friction."""
+        return p_a * self.area_bore[joint] - p_b * self.area_rod[joint] \
+            - self.friction_force(joint, stroke_rate)
+
+    def joint_torque(self, joint: int, theta: float, omega: float, p_a: float, p_b: float) -> float:
+        """tau_i = F_i ds/dtheta_i, with the stroke rate v_i = ds/dtheta_i omega_i."""
+        ratio = self.transmission(joint, theta)
+        return self.cylinder_force(joint, p_a, p_b, ratio * omega) * ratio
+
+    # ---------------------------------------------------------------------------------
+    # Points
+    # ---------------------------------------------------------------------------------
+
+    def _frames(self, theta: Sequence[float], slew: float) -> Tuple[Matrix4, Matrix4, Matrix4, Matrix4]:
+        """World transforms of the boom plane, lift boom, outer boom and extension boom frames."""
+        t_w0 = _world_transform(slew)
+        t_w1 = _compose(t_w0, _planar_transform(theta[0], self.lift_pivot))
+        t_w2 = _compose(t_w1, _planar_transform(theta[1], self.tilt_pivot))
+        mount = self.extension_mount
+        t_we = _compose(t_w2, _planar_transform(0.0, (mount[0] + self.extension, mount[1])))
+        return t_w0, t_w1, t_w2, t_we
+
+    def points(self, theta: Sequence[float], slew: float) -> List[Tuple[float, float, float]]:
+        """The 11 POINT_NAMES points in world coordinates (m), for drawing the crane."""
+        t_w0, t_w1, t_w2, t_we = self._frames(theta, slew)
+        _, q = self._tilt_pins(theta[1])
+        return [
+            _apply(t_w0, (0.0, 0.0)),
+            _apply(t_w0, self.lift_pivot),
+            _apply(t_w0, self.lift_cylinder_base),
+            _apply(t_w1, self.lift_cylinder_rod),
+            _apply(t_w1, self.tilt_cylinder_base),
+            _apply(t_w1, self.link1_pivot),
+            _apply(t_w1, q),
+            _apply(t_w2, self.link2_attach),
+            _apply(t_w1, self.tilt_pivot),
+            _apply(t_w2, self.extension_mount),
+            _apply(t_we, (self.tip_distance, 0.0)),
+        ]
+
+    def tip(self, theta: Sequence[float], slew: float) -> Tuple[float, float, float]:
+        """World position of the load point, T_w0 T01 T12 T2e (tip_distance, 0, 0, 1)."""
+        return _apply(self._frames(theta, slew)[3], (self.tip_distance, 0.0))
+
+
+# --------------------------------------------------------------------------------------------
+# Drives
+# --------------------------------------------------------------------------------------------
+
+class _PressureDrive:
+    """Chamber pressures of one cylinder: constant, or samples interpolated linearly."""
+
+    def __init__(self, drive: Any) -> None:
+        times = getattr(drive, "t", None)
+        if times is None:
+            self.times: Optional[List[float]] = None
+            self.p_a: Any = float(drive.p_a)
+            self.p_b: Any = float(drive.p_b)
+        else:
+            self.times = [float(x) for x in times]
+            self.p_a = [float(x) for x in drive.p_a]
+            self.p_b = [float(x) for x in drive.p_b]
+
+    def pressures(self, t: float) -> Pair:
+        if self.times is None:
+            return self.p_a, self.p_b
+        ts = self.times
+        k = bisect_right(ts, t) - 1
+        k = min(max(k, 0), len(ts) - 2)
+        s = (t - ts[k]) / (ts[k + 1] - ts[k])
+        return (self.p_a[k] + s * (self.p_a[k + 1] - self.p_a[k]),
+                self.p_b[k] + s * (self.p_b[k + 1] - self.p_b[k]))
+
+
+def _drive(drive: Any) -> Optional[_PressureDrive]:
+    """None for a held cylinder, else its pressure drive."""
+    return None if getattr(drive, "held", False) else _PressureDrive(drive)
+
+
+# --------------------------------------------------------------------------------------------
+# Integration with end stops
+# --------------------------------------------------------------------------------------------
+
+State4 = Tuple[float, float, float, float]   # (theta0, theta1, omega0, omega1)
+
+
+class _Prediction:
+    """One prediction: the model, the drives and the joint status (held / stopped side)."""
+
+    def __init__(self, model: TwinModel, drives: Sequence[Optional[_PressureDrive]]) -> None:
+        self.model = model
+        self.drives = tuple(drives)
+        self.held = tuple(d is None for d in drives)
+        #: stop[j]: 0 not stopped, -1 at the lower angle limit, +1 at the upper (angle terms;
+        #: the reported flag is converted to cylinder terms by TwinModel.stop_flag)
+        self.stop = [0, 0]
+        #: (time, joint, angle side) of every impact, for diagnostics
+        self.events: List[Tuple[float, int, int]] = []
+
+    def locked(self) -> Tuple[bool, bool]:
+        return (self.held[0] or self.stop[0] != 0, self.held[1] or self.stop[1] != 0)
+
+    def acceleration(self, t: float, x: State4, locked: Tuple[bool, bool]) -> Pair:
+        """alpha at time t: cylinder torques of the unlocked joints into forward dynamics."""
+        if locked[0] and locked[1]:
+            return 0.0, 0.0
+        theta = (x[0], x[1])
+        omega = (x[2], x[3])
+        tau = [0.0, 0.0]
+        for j in (LIFT, TILT):
+            if not locked[j]:
+                p_a, p_b = self.drives[j].pressures(t)  # type: ignore[union-attr]
+                tau[j] = self.model.joint_torque(j, theta[j], omega[j], p_a, p_b)
+        return self.model.forward_dynamics(theta, omega, tau, locked)
+
+    def rk4(self, t: float, x: State4, h: float, locked: Tuple[bool, bool]) -> State4:
+        """One classical RK4 step of size h on (theta, omega)."""
+        th0, th1, w0, w1 = x
+        half = 0.5 * h
+        k1 = self.acceleration(t, x, locked)
+        x2 = (th0 + half * w0, th1 + half * w1, w0 + half * k1[0], w1 + half * k1[1])
+        k2 = self.acceleration(t + half, x2, locked)
+        x3 = (th0 + half * x2[2], th1 + half * x2[3], w0 + half * k2[0], w1 + half * k2[1])
+        k3 = self.acceleration(t + half, x3, locked)
+        x4 = (th0 + h * x3[2], th1 + h * x3[3], w0 + h * k3[0], w1 + h * k3[1])
+        k4 = self.acceleration(t + h, x4, locked)
+        sixth = h / 6.0
+        return (th0 + sixth * (w0 + 2.0 * x2[2] + 2.0 * x3[2] + x4[2]),
+                th1 + sixth * (w1 + 2.0 * x2[3] + 2.0 * x3[3] + x4[3]),
+                w0 + sixth * (k1[0] + 2.0 * k2[0] + 2.0 * k3[0] + k4[0]),
+                w1 + sixth * (k1[1] + 2.0 * k2[1] + 2.0 * k3[1] + k4[1]))
+
+    def plastic_impact(self, x: State4, joint: int, side: int) -> State4:
+        """Put the joint on its limit and stop it; the impulse acts on this joint only, so with
+        the other joint free omega <- omega - Minv e_i (omega_i / Minv_ii), else omega_i <- 0."""
+        model = self.model
+        th = [x[0], x[1]]
+        w = [x[2], x[3]]
+        lower, upper = model.angle_limits[joint]
+        th[joint] = lower if side < 0 else upper
+        other = 1 - joint
+        if not self.held[other] and self.stop[other] == 0:
+            minv = model.inverse_mass_matrix(th)
+            scale = w[joint] / minv[joint][joint]
+            w[0] -= minv[0][joint] * scale
+            w[1] -= minv[1][joint] * scale
+        w[joint] = 0.0
+        self.stop[joint] = side
+        return (th[0], th[1], w[0], w[1])
+
+    def stop_at_start(self, x: State4, strokes: Pair, rates: Pair) -> State4:
+        """t = 0 rule: a free joint at a stroke limit whose stroke rate does not point into the
+        range starts STOPPED there (with a plastic impact if it was moving)."""
+        model = self.model
+        for j in (LIFT, TILT):
+            if self.held[j]:
+                continue
+            if strokes[j] <= model.stroke_min[j] and rates[j] <= 0.0:
+                at_min = True
+            elif strokes[j] >= model.stroke_max[j] and rates[j] >= 0.0:
+                at_min = False
+            else:
+                continue
+            # lift: stroke_min is the lower angle; tilt: stroke_min is the upper angle
+            side = (-1 if at_min else +1) if j == LIFT else (+1 if at_min else -1)
+            x = self.plastic_impact(x, j, side)
+            self.events.append((0.0, j, side))
+        return x
+
+    def release(self, t: float, x: State4) -> None:
+        """Start of a step: a STOPPED joint whose acceleration (all stopped joints treated as
+        free, omega 0) points back into its range becomes FREE."""
+        if self.stop[0] == 0 and self.stop[1] == 0:
+            return
+        alpha = self.acceleration(t, x, self.held)
+        for j in (LIFT, TILT):
+            if (self.stop[j] == -1 and alpha[j] > 0.0) or (self.stop[j] == +1 and alpha[j] < 0.0):
+                self.stop[j] = 0
+
+    @staticmethod
+    def crossing_time(th0: float, w0: float, th1: float, w1: float, h: float,
+                      limit: float, below: bool) -> float:
+        """Time in (0, h] at which the cubic Hermite interpolant of theta on the step reaches
+        the limit: 60 bisections, lo inside, hi outside, returns hi."""
+        lo = 0.0
+        hi = h
+        for _ in range(EVENT_BISECTIONS):
+            mid = 0.5 * (lo + hi)
+            s = mid / h
+            s2 = s * s
+            s3 = s2 * s
+            theta = ((2.0 * s3 - 3.0 * s2 + 1.0) * th0 + (s3 - 2.0 * s2 + s) * h * w0
+                     + (-2.0 * s3 + 3.0 * s2) * th1 + (s3 - s2) * h * w1)
+            outside = theta < limit if below else theta > limit
+            if outside:
+                hi = mid
+            else:
+                lo = mid
+        return hi
+
+    def step(self, t: float, x: State4, h: float) -> State4:
+        """One step of size h with end-stop events located inside it."""
+        model = self.model
+        t_cur = t
+        remaining = h
+        while True:
+            locked = self.locked()
+            x1 = self.rk4(t_cur, x, remaining, locked)
+            tau = math.inf
+            for j in (LIFT, TILT):
+                if locked[j]:
+                    continue
+                lower, upper = model.angle_limits[j]
+                if x1[j] < lower:
+                    tau = min(tau, self.crossing_time(x[j], x[2 + j], x1[j], x1[2 + j],
+                                                      remaining, lower, True))
+                elif x1[j] > upper:
+                    tau = min(tau, self.crossing_time(x[j], x[2 + j], x1[j], x1[2 + j],
+                                                      remaining, upper, False))
+            if tau == math.inf:
+                return x1
+            x = self.rk4(t_cur, x, tau, locked)
+            t_cur = t_cur + tau
+            remaining = remaining - tau
+            for j in (LIFT, TILT):
+                if self.held[j] or self.stop[j] != 0:
+                    continue
+                lower, upper = model.angle_limits[j]
+                if x[j] <= lower:
+                    x = self.plastic_impact(x, j, -1)
+                    self.events.append((t_cur, j, -1))
+                elif x[j] >= upper:
+                    x = self.plastic_impact(x, j, +1)
+                    self.events.append((t_cur, j, +1))
+            if not remaining > 0.0:
+                return x
+
+
+def _run(crane: Any, state: Any, inputs: Any, horizon: float, dt: float
+         ) -> Tuple[dict, List[Tuple[float, int, int]]]:
+    """simulate() plus the list of impacts (time, joint, angle side), for diagnostics and tests."""
+    horizon = float(horizon)
+    dt = float(dt)
+    model = TwinModel(crane, state.extension)
+    pred = _Prediction(model, (_drive(inputs.lift), _drive(inputs.tilt)))
+    slew = float(state.slew)
+
+    strokes0 = (float(state.lift_stroke), float(state.tilt_stroke))
+    rates0 = (float(state.lift_stroke_rate), float(state.tilt_stroke_rate))
+    theta0 = [0.0, 0.0]
+    omega0 = [0.0, 0.0]
+    for j in (LIFT, TILT):
+        theta0[j], ratio = model.joint_angle(j, strokes0[j])
+        omega0[j] = 0.0 if pred.held[j] else rates0[j] / ratio
+    x: State4 = (theta0[0], theta0[1], omega0[0], omega0[1])
+    x = pred.stop_at_start(x, strokes0, rates0)
+
+    n = int(math.ceil(horizon / dt - 1e-9))
+    t_out = np.empty(n + 1)
+    strokes = np.empty((n + 1, 2))
+    theta = np.empty((n + 1, 2))
+    omega = np.empty((n + 1, 2))
+    tip = np.empty((n + 1, 3))
+    stop = np.zeros((n + 1, 2), dtype=np.int64)
+
+    def record(i: int, t: float, x: State4) -> None:
+        t_out[i] = t
+        for j in (LIFT, TILT):
+            if pred.held[j]:
+                strokes[i, j] = strokes0[j]
+            elif pred.stop[j] != 0:
+                strokes[i, j] = model.stroke_at_stop[j][pred.stop[j]]
+            else:
+                strokes[i, j] = model.joint_stroke(j, x[j])
+            stop[i, j] = model.stop_flag[j][pred.stop[j]] if pred.stop[j] != 0 else 0
+        theta[i] = (x[0], x[1])
+        omega[i] = (x[2], x[3])
+        tip[i] = model.tip((x[0], x[1]), slew)
+
+    record(0, 0.0, x)
+    for k in range(n):
+        t = k * dt
+        last = k == n - 1
+        h = horizon - t if last else dt
+        pred.release(t, x)
+        x = pred.step(t, x, h)
+        record(k + 1, horizon if last else (k + 1) * dt, x)
+
+    out = {"t": t_out, "strokes": strokes, "theta": theta, "omega": omega, "tip": tip,
+           "stop": stop}
+    return out, pred.events
+
+
+def simulate(crane: Any, state: Any, inputs: Any, horizon: float, dt: float) -> dict:
+    """Predict the crane over [0, horizon] with RK4 steps dt and end stops, per docs/model.md.
+
+    Returns numpy arrays: ``t`` (N,), ``strokes`` (N, 2), ``theta`` (N, 2), ``omega`` (N, 2),
+    ``tip`` (N, 3, world), ``stop`` (N, 2; in cylinder terms: -1 stopped at stroke_min, +1 at
+    stroke_max, 0 otherwise; for the tilt, stroke_max is the lower angle limit), with
+    N = n + 1 samples.  Inputs are assumed validated by the API layer.
+    """
+    return _run(crane, state, inputs, horizon, dt)[0]
+
+
+def points(crane: Any, extension: float, slew: float, theta_array: Any) -> np.ndarray:
+    """World coordinates (N, 11, 3) of the POINT_NAMES points for each row (theta0, theta1)."""
+    model = TwinModel(crane, extension)
+    thetas = np.asarray(theta_array, dtype=float).reshape(-1, 2)
+    out = np.empty((thetas.shape[0], len(POINT_NAMES), 3))
+    for i, (th0, th1) in enumerate(thetas.tolist()):
+        out[i] = model.points((th0, th1), float(slew))
+    return out
