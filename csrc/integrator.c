@@ -50,19 +50,18 @@ static void pressures(ctx_t *c, int i, crane_real t, crane_real *p_a, crane_real
     *p_b = d->p_b_samples[j] + s * (d->p_b_samples[j + 1] - d->p_b_samples[j]);
 }
 
-/* Joint accelerations at (t, theta, omega); locked joints (held or stopped) get alpha = 0. */
-static void accel(ctx_t *c, crane_real t, const xstate *x, const int lk[2], crane_real alpha[2])
+/* Mass matrix M (M00, M01, M11) and the net joint torques b = tau - h at (t, theta, omega);
+ * cylinder torques only for the joints in act[] (a locked joint's own torque is not needed to
+ * move the crane, only to decide whether it leaves its stop). */
+static void forces(ctx_t *c, crane_real t, const xstate *x, const int act[2], crane_real M[3],
+                   crane_real b[2])
 {
     const crane_model *m = c->m;
     static const crane_real zero[2] = {0, 0};
-    crane_real c0, s0, c1, s1, c01, s01, h[2], M[3], r[2] = {0, 0};
+    crane_real c0, s0, c1, s1, c01, s01, h[2];
     crane_vec2 C1, C2, r12;
     int i;
 
-    if (lk[0] && lk[1]) {
-        alpha[0] = alpha[1] = 0;
-        return;
-    }
     /* One sin/cos per joint angle; the absolute outer boom angle by the angle-sum formulas. */
     c0 = crane__cos(x->th[0]);
     s0 = crane__sin(x->th[0]);
@@ -76,30 +75,50 @@ static void accel(ctx_t *c, crane_real t, const xstate *x, const int lk[2], cran
     crane__inverse_dynamics(m, C1, C2, r12, x->w, zero, m->p.gravity, h);
     crane__mass_matrix(m, c1, s1, M);
 
-    /* Cylinder torques only for the joints that can move. */
     for (i = 0; i < 2; ++i) {
         crane_real ds, p_a, p_b;
-        if (lk[i])
+        b[i] = -h[i];
+        if (!act[i])
             continue;
         if (i == CRANE_LIFT)
             crane__lift_from_angle(m, c0, s0, NULL, &ds);
         else
             crane__tilt_from_angle(m, c1, s1, NULL, &ds, NULL, NULL);
         pressures(c, i, t, &p_a, &p_b);
-        r[i] = crane__cylinder_force(m, i, p_a, p_b, ds * x->w[i]) * ds - h[i];
+        b[i] += crane__cylinder_force(m, i, p_a, p_b, ds * x->w[i]) * ds;
     }
+}
 
-    if (lk[0]) {
+/* Solves M alpha = b for the unlocked joints; locked joints get alpha = 0. */
+static void solve(const crane_real M[3], const crane_real b[2], const int lk[2], crane_real alpha[2])
+{
+    if (lk[0] && lk[1]) {
+        alpha[0] = alpha[1] = 0;
+    } else if (lk[0]) {
         alpha[0] = 0;
-        alpha[1] = r[1] / M[2];
+        alpha[1] = b[1] / M[2];
     } else if (lk[1]) {
-        alpha[0] = r[0] / M[0];
+        alpha[0] = b[0] / M[0];
         alpha[1] = 0;
     } else {
         const crane_real det = M[0] * M[2] - M[1] * M[1];
-        alpha[0] = (M[2] * r[0] - M[1] * r[1]) / det;
-        alpha[1] = (M[0] * r[1] - M[1] * r[0]) / det;
+        alpha[0] = (M[2] * b[0] - M[1] * b[1]) / det;
+        alpha[1] = (M[0] * b[1] - M[1] * b[0]) / det;
     }
+}
+
+/* Joint accelerations at (t, theta, omega); locked joints (held or stopped) get alpha = 0. */
+static void accel(ctx_t *c, crane_real t, const xstate *x, const int lk[2], crane_real alpha[2])
+{
+    const int act[2] = {!lk[0], !lk[1]};
+    crane_real M[3], b[2];
+
+    if (lk[0] && lk[1]) {
+        alpha[0] = alpha[1] = 0;
+        return;
+    }
+    forces(c, t, x, act, M, b);
+    solve(M, b, lk, alpha);
 }
 
 static void lock_mask(const ctx_t *c, int lk[2])
@@ -187,21 +206,52 @@ static void stop_joint(ctx_t *c, xstate *x, int i, int upper)
     c->mode[i] = upper ? CRANE__STOP_HI : CRANE__STOP_LO;
 }
 
-/* Stopped joints whose acceleration, computed as if they were free, points into the range. */
+/* Which stopped joints leave their stops: the solution of the two-contact complementarity problem.
+ * Candidates (bit i set = joint i released) are tried in the order none, lift, tilt, both; the
+ * first where every released joint accelerates into its range and every joint kept on its stop
+ * is pushed onto it (its reaction r = M alpha - b points into the range) is taken. With one
+ * stopped joint this is simply "released if its free acceleration points inward"; with two, it
+ * keeps a joint from being released when only the other's being locked makes it want to leave. */
 static void release(ctx_t *c, crane_real t, const xstate *x)
 {
-    int lk[2], i;
-    crane_real alpha[2];
+    int held[2], act[2], cand, i;
+    crane_real M[3], b[2];
 
     if (c->mode[0] < CRANE__STOP_LO && c->mode[1] < CRANE__STOP_LO)
         return;
-    lk[0] = c->mode[0] == CRANE__HELD;
-    lk[1] = c->mode[1] == CRANE__HELD;
-    accel(c, t, x, lk, alpha);
-    for (i = 0; i < 2; ++i)
-        if ((c->mode[i] == CRANE__STOP_LO && alpha[i] > 0) ||
-            (c->mode[i] == CRANE__STOP_HI && alpha[i] < 0))
-            c->mode[i] = CRANE__FREE;
+    for (i = 0; i < 2; ++i) {
+        held[i] = c->mode[i] == CRANE__HELD;
+        act[i] = !held[i];
+    }
+    forces(c, t, x, act, M, b);
+    for (cand = 0; cand < 4; ++cand) {
+        int lk[2], ok = 1;
+        crane_real alpha[2];
+        for (i = 0; i < 2; ++i) {
+            const int released = (cand >> i) & 1;
+            if (released && c->mode[i] < CRANE__STOP_LO)
+                ok = 0;
+            lk[i] = held[i] || (c->mode[i] >= CRANE__STOP_LO && !released);
+        }
+        if (!ok)
+            continue;
+        solve(M, b, lk, alpha);
+        for (i = 0; i < 2; ++i) {
+            const crane_real inward = c->mode[i] == CRANE__STOP_LO ? 1 : -1;
+            if (c->mode[i] < CRANE__STOP_LO)
+                continue;
+            if ((cand >> i) & 1)
+                ok = ok && inward * alpha[i] > 0;
+            else
+                ok = ok && inward * (M[i] * alpha[0] + M[i + 1] * alpha[1] - b[i]) >= 0;
+        }
+        if (ok) {
+            for (i = 0; i < 2; ++i)
+                if ((cand >> i) & 1)
+                    c->mode[i] = CRANE__FREE;
+            return;
+        }
+    }
 }
 
 /* One step of size h from t, cut at end-stop events. Each event piece normally stops a joint, so

@@ -606,14 +606,44 @@ class _Prediction:
         return x
 
     def release(self, t: float, x: State4) -> None:
-        """Start of a step: a STOPPED joint whose acceleration (all stopped joints treated as
-        free, omega 0) points back into its range becomes FREE."""
+        """Start of a step: which STOPPED joints leave their stops (docs/model.md, "Release").
+
+        The two unilateral stops form a small complementarity problem. The candidate release
+        sets are tried in the order none, lift, tilt, both; the first is taken in which every
+        released joint accelerates into its range and every joint left on its stop is pressed
+        onto it (its reaction M alpha - (tau - h) points into the range)."""
         if self.stop[0] == 0 and self.stop[1] == 0:
             return
-        alpha = self.acceleration(t, x, self.held)
+        theta, omega = (x[0], x[1]), (x[2], x[3])
+        m = self.model
+        h = m.bias(theta, omega)
+        tau = [0.0, 0.0]
         for j in (LIFT, TILT):
-            if (self.stop[j] == -1 and alpha[j] > 0.0) or (self.stop[j] == +1 and alpha[j] < 0.0):
-                self.stop[j] = 0
+            if not self.held[j]:
+                p_a, p_b = self.drives[j].pressures(t)  # type: ignore[union-attr]
+                tau[j] = m.joint_torque(j, theta[j], omega[j], p_a, p_b)
+        mass = m.mass_matrix(theta)
+        net = (tau[0] - h[0], tau[1] - h[1])
+        stopped = [self.stop[j] != 0 for j in (LIFT, TILT)]
+        for released in ((), (LIFT,), (TILT,), (LIFT, TILT)):
+            if any(not stopped[j] for j in released):
+                continue
+            locked = tuple(self.held[j] or (stopped[j] and j not in released) for j in (LIFT, TILT))
+            alpha = m.forward_dynamics(theta, omega, tau, locked)
+            consistent = True
+            for j in (LIFT, TILT):
+                if not stopped[j]:
+                    continue
+                inward = float(-self.stop[j])  # the lower stop (-1) is left with alpha > 0
+                if j in released:
+                    consistent = consistent and inward * alpha[j] > 0.0
+                else:
+                    reaction = mass[j][0] * alpha[0] + mass[j][1] * alpha[1] - net[j]
+                    consistent = consistent and inward * reaction >= 0.0
+            if consistent:
+                for j in released:
+                    self.stop[j] = 0
+                return
 
     @staticmethod
     def crossing_time(th0: float, w0: float, th1: float, w1: float, h: float,
