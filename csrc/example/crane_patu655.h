@@ -1,0 +1,68 @@
+/*
+ * PATU 655: crane parameters for the cranepredict C core.
+ *
+ * GENERATED from src/cranepredict/cranes/patu655.toml by tools/crane2header.py -- do not edit.
+ * Regenerate:  python3 tools/crane2header.py   (CI checks it is current with --check)
+ *
+ * Use:  static const crane_params crane = CRANE_PATU655_INIT;
+ * (C99 designated initializers, so the struct can live in flash). Every field of crane_params is
+ * set; the crane file's pillar and side links are not part of the 2-DOF model (docs/model.md) and
+ * are left out. Literals are the crane file's numbers as exact doubles, rounded by CRANE_R.
+ */
+#ifndef CRANE_PATU655_H
+#define CRANE_PATU655_H
+
+#include "crane.h"
+
+#ifndef CRANE_R
+#define CRANE_R(x) ((crane_real)(x))
+#endif
+
+#define CRANE_PATU655_INIT { \
+    .gravity = CRANE_R(9.81), \
+    .lift_pivot = {.x = CRANE_R(-0.09), .y = CRANE_R(1.4261)}, \
+    .lift_cylinder_base = {.x = CRANE_R(0.17), .y = CRANE_R(0.386113)}, \
+    .lift_cylinder_rod = {.x = CRANE_R(0.3025), .y = CRANE_R(-0.105)}, \
+    .tilt_cylinder_base = {.x = CRANE_R(1.263), .y = CRANE_R(0.206702)}, \
+    .link1_pivot = {.x = CRANE_R(2.69), .y = CRANE_R(-0.006593)}, \
+    .tilt_pivot = {.x = CRANE_R(2.881081), .y = CRANE_R(0.021593)}, \
+    .link_pin = {.x = CRANE_R(-0.457227), .y = CRANE_R(0.0425)}, \
+    .link2_end = {.x = CRANE_R(-0.475), .y = CRANE_R(0.0)}, \
+    .link2_attach = {.x = CRANE_R(-0.095), .y = CRANE_R(0.240432)}, \
+    .extension_mount = {.x = CRANE_R(-0.415), .y = CRANE_R(0.287)}, \
+    .tip_distance = CRANE_R(2.45), \
+    .extension_min = CRANE_R(0.0), \
+    .extension_max = CRANE_R(1.0), \
+    .lift_boom.mass = CRANE_R(143.66), \
+    .lift_boom.com = {.x = CRANE_R(1.229248), .y = CRANE_R(0.055596)}, \
+    .lift_boom.izz = CRANE_R(67.0537), \
+    .outer_boom.mass = CRANE_R(141.943), \
+    .outer_boom.com = {.x = CRANE_R(0.659935), .y = CRANE_R(0.251085)}, \
+    .outer_boom.izz = CRANE_R(67.05), \
+    .extension_boom.mass = CRANE_R(15.928), \
+    .extension_boom.com = {.x = CRANE_R(1.225), .y = CRANE_R(0.0)}, \
+    .extension_boom.izz = CRANE_R(7.97), \
+    .load_mass = CRANE_R(200.0), \
+    .cylinder[CRANE_LIFT].bore = CRANE_R(0.1), \
+    .cylinder[CRANE_LIFT].rod = CRANE_R(0.056), \
+    .cylinder[CRANE_LIFT].length_retracted = CRANE_R(0.82), \
+    .cylinder[CRANE_LIFT].stroke_min = CRANE_R(0.0), \
+    .cylinder[CRANE_LIFT].stroke_max = CRANE_R(0.535), \
+    .cylinder[CRANE_LIFT].friction.coulomb = CRANE_R(210.0), \
+    .cylinder[CRANE_LIFT].friction.static_ = CRANE_R(300.0), \
+    .cylinder[CRANE_LIFT].friction.viscous = CRANE_R(330.0), \
+    .cylinder[CRANE_LIFT].friction.stribeck_velocity = CRANE_R(0.005), \
+    .cylinder[CRANE_LIFT].friction.tanh_velocity = CRANE_R(0.001), \
+    .cylinder[CRANE_TILT].bore = CRANE_R(0.1), \
+    .cylinder[CRANE_TILT].rod = CRANE_R(0.056), \
+    .cylinder[CRANE_TILT].length_retracted = CRANE_R(1.05), \
+    .cylinder[CRANE_TILT].stroke_min = CRANE_R(0.0), \
+    .cylinder[CRANE_TILT].stroke_max = CRANE_R(0.78), \
+    .cylinder[CRANE_TILT].friction.coulomb = CRANE_R(210.0), \
+    .cylinder[CRANE_TILT].friction.static_ = CRANE_R(300.0), \
+    .cylinder[CRANE_TILT].friction.viscous = CRANE_R(330.0), \
+    .cylinder[CRANE_TILT].friction.stribeck_velocity = CRANE_R(0.005), \
+    .cylinder[CRANE_TILT].friction.tanh_velocity = CRANE_R(0.001), \
+}
+
+#endif

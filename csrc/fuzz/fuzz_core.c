@@ -1,0 +1,373 @@
+/*
+ * Fuzz target of the cranepredict C core (libFuzzer entry point LLVMFuzzerTestOneInput; also
+ * driven without libFuzzer by replay.c over the files of fuzz/corpus/).
+ *
+ * The bytes become the values of the public structs and arguments; the pointers in them are built
+ * here and are always valid for their stated sizes (the API contract): every buffer is malloc'd at
+ * exactly its stated size, so ASan catches any access outside it. The checks, each an abort():
+ *   - every call returns a status in [CRANE_OK, CRANE_STATUS_LAST] with a non-empty message;
+ *   - on an error nothing is written to the outputs (canary-filled buffers stay as they were);
+ *   - on success crane_predict writes exactly crane_sample_count() samples, none past them,
+ *     with times 0 .. horizon increasing, stop flags in {-1, 0, 1} and, when every output is
+ *     finite, strokes inside [stroke_min, stroke_max];
+ *   - the inputs (const) are not modified.
+ * Crashes, out-of-bounds accesses and undefined behaviour are caught by the sanitizers.
+ *
+ * Input format. Byte 0 bit 0 selects how the rest is read:
+ *   0 (patch):  start from the paper's scenario on the PATU 655 (short horizon) and apply records
+ *               [field index: 1 byte][value: sizeof(crane_real) bytes, native]: index < N_REAL
+ *               sets a real field (table below), index >= N_REAL sets an integer field from the
+ *               first value byte(s). Short inputs stay close to valid ones.
+ *   1 (raw):    the bytes are copied over crane_params, crane_state, crane_inputs (pointers then
+ *               replaced by our buffers, n_samples capped), then horizon, dt, extension, slew,
+ *               the sample arrays and the poses, then the integers; missing bytes are zero.
+ */
+#include <stdint.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include "crane.h"
+#include "crane_patu655.h"
+
+#define CRANE_STATUS_LAST CRANE_E_ANGLE
+#define MAX_SAMPLES 16   /* pressure samples per cylinder */
+#define MAX_CAPACITY 600 /* output samples (bounds the work per input) */
+#define MAX_POSES 4      /* crane_points poses */
+
+typedef struct {
+    crane_params params;
+    crane_state state;
+    crane_inputs inputs;
+    crane_real horizon, dt, extension, slew;
+    crane_real t[2][MAX_SAMPLES], pa[2][MAX_SAMPLES], pb[2][MAX_SAMPLES];
+    crane_real theta[MAX_POSES * 2];
+    crane_real omega[2], alpha[2], stroke_arg, theta_arg, rate_arg, p_a_arg, p_b_arg;
+    unsigned capacity, n_poses;
+    int joint;
+} universe;
+
+enum { N_INT = 7 }; /* mode[0], mode[1], n_samples[0], n_samples[1], capacity, n_poses, joint */
+
+static void fail(const char *what)
+{
+    fprintf(stderr, "fuzz_core: contract violated: %s\n", what);
+    abort();
+}
+
+static void check_status(crane_status st, const char *what)
+{
+    const char *msg;
+    if ((int)st < (int)CRANE_OK || (int)st > (int)CRANE_STATUS_LAST)
+        fail(what);
+    msg = crane_status_message(st);
+    if (!msg || !msg[0])
+        fail("empty status message");
+}
+
+static int finite_r(crane_real x) { return x - x == 0; }
+
+/* The real-valued fields that patch records address, in a fixed order. */
+static size_t real_fields(universe *u, crane_real **f)
+{
+    crane_params *p = &u->params;
+    size_t n = 0;
+    int i, k;
+    f[n++] = &p->gravity;
+#define V2(v) (f[n++] = &(v).x, f[n++] = &(v).y)
+    V2(p->lift_pivot); V2(p->lift_cylinder_base); V2(p->lift_cylinder_rod);
+    V2(p->tilt_cylinder_base); V2(p->link1_pivot); V2(p->tilt_pivot); V2(p->link_pin);
+    V2(p->link2_end); V2(p->link2_attach); V2(p->extension_mount);
+    f[n++] = &p->tip_distance; f[n++] = &p->extension_min; f[n++] = &p->extension_max;
+#define BODY(b) (f[n++] = &(b).mass, V2((b).com), f[n++] = &(b).izz)
+    BODY(p->lift_boom); BODY(p->outer_boom); BODY(p->extension_boom);
+    f[n++] = &p->load_mass;
+    for (i = 0; i < 2; ++i) {
+        crane_cylinder *c = &p->cylinder[i];
+        f[n++] = &c->bore; f[n++] = &c->rod; f[n++] = &c->length_retracted;
+        f[n++] = &c->stroke_min; f[n++] = &c->stroke_max;
+        f[n++] = &c->friction.coulomb; f[n++] = &c->friction.static_;
+        f[n++] = &c->friction.viscous; f[n++] = &c->friction.stribeck_velocity;
+        f[n++] = &c->friction.tanh_velocity;
+    }
+    for (i = 0; i < 2; ++i) {
+        f[n++] = &u->state.stroke[i]; f[n++] = &u->state.stroke_rate[i];
+        f[n++] = &u->inputs.drive[i].p_a; f[n++] = &u->inputs.drive[i].p_b;
+    }
+    f[n++] = &u->state.slew; f[n++] = &u->state.extension;
+    f[n++] = &u->horizon; f[n++] = &u->dt; f[n++] = &u->extension; f[n++] = &u->slew;
+    for (i = 0; i < 2; ++i)
+        for (k = 0; k < MAX_SAMPLES; ++k) {
+            f[n++] = &u->t[i][k]; f[n++] = &u->pa[i][k]; f[n++] = &u->pb[i][k];
+        }
+    for (k = 0; k < MAX_POSES * 2; ++k)
+        f[n++] = &u->theta[k];
+    f[n++] = &u->omega[0]; f[n++] = &u->omega[1]; f[n++] = &u->alpha[0]; f[n++] = &u->alpha[1];
+    f[n++] = &u->stroke_arg; f[n++] = &u->theta_arg; f[n++] = &u->rate_arg;
+    f[n++] = &u->p_a_arg; f[n++] = &u->p_b_arg;
+#undef V2
+#undef BODY
+    return n;
+}
+
+enum { MAX_FIELDS = 256 };
+
+static void set_int(universe *u, unsigned which, const uint8_t *v)
+{
+    const int8_t s = (int8_t)v[0];
+    const unsigned w = (unsigned)v[0] | ((unsigned)v[1] << 8);
+    switch (which % N_INT) {
+    case 0: u->inputs.drive[0].mode = s; break;
+    case 1: u->inputs.drive[1].mode = s; break;
+    case 2: u->inputs.drive[0].n_samples = (size_t)(v[0] % (MAX_SAMPLES + 1)); break;
+    case 3: u->inputs.drive[1].n_samples = (size_t)(v[0] % (MAX_SAMPLES + 1)); break;
+    case 4: u->capacity = w % (MAX_CAPACITY + 1); break;
+    case 5: u->n_poses = v[0] % (MAX_POSES + 1); break;
+    default: u->joint = s; break;
+    }
+}
+
+/* The paper's scenario, 0.2 s at 1 ms; the samples a ramp over [-0.1, 0.2 + ...]. */
+static void defaults(universe *u)
+{
+    static const crane_params patu = CRANE_PATU655_INIT;
+    int i, k;
+
+    memset(u, 0, sizeof *u);
+    u->params = patu;
+    u->state.stroke[0] = (crane_real)0.116;
+    u->state.stroke[1] = (crane_real)0.32;
+    u->inputs.drive[0].mode = CRANE_DRIVE_PRESSURE;
+    u->inputs.drive[0].p_a = (crane_real)175e5;
+    u->inputs.drive[1].mode = CRANE_DRIVE_HOLD;
+    u->horizon = (crane_real)0.2;
+    u->dt = (crane_real)1e-3;
+    u->capacity = 201;
+    u->n_poses = 1;
+    for (i = 0; i < 2; ++i)
+        for (k = 0; k < MAX_SAMPLES; ++k) {
+            u->t[i][k] = (crane_real)(-0.1 + 0.05 * k);
+            u->pa[i][k] = (crane_real)(1e6 * (k % 5));
+            u->pb[i][k] = (crane_real)(5e5 * (k % 3));
+        }
+    for (k = 0; k < MAX_POSES * 2; ++k)
+        u->theta[k] = (crane_real)(k % 2 ? -1.0 : 0.5);
+    u->stroke_arg = (crane_real)0.2;
+    u->theta_arg = (crane_real)0.3;
+    u->rate_arg = (crane_real)0.01;
+    u->p_a_arg = (crane_real)1e7;
+    u->p_b_arg = (crane_real)1e6;
+}
+
+static void decode(universe *u, const uint8_t *data, size_t size)
+{
+    defaults(u);
+    if (size == 0)
+        return;
+    if ((data[0] & 1) == 0) {
+        crane_real *f[MAX_FIELDS];
+        const size_t nf = real_fields(u, f);
+        size_t pos = 1;
+        while (pos + 1 + sizeof(crane_real) <= size) {
+            const unsigned idx = data[pos];
+            const uint8_t *v = data + pos + 1;
+            if (idx < nf)
+                memcpy(f[idx], v, sizeof(crane_real));
+            else
+                set_int(u, idx - (unsigned)nf, v);
+            pos += 1 + sizeof(crane_real);
+        }
+    } else {
+        /* raw: arbitrary bytes over the structs, in order; missing bytes are zero */
+        uint8_t *buf = (uint8_t *)calloc(1, sizeof *u + 16);
+        size_t n = size - 1;
+        if (!buf)
+            abort();
+        if (n > sizeof *u + 16)
+            n = sizeof *u + 16;
+        memcpy(buf, data + 1, n);
+        memcpy(u, buf, sizeof *u);
+        free(buf);
+        /* the pointers are ours (set in run_predict); the sizes are capped */
+        for (n = 0; n < 2; ++n) {
+            u->inputs.drive[n].n_samples %= (MAX_SAMPLES + 1);
+            u->inputs.drive[n].t = NULL;
+            u->inputs.drive[n].p_a_samples = NULL;
+            u->inputs.drive[n].p_b_samples = NULL;
+        }
+        u->capacity %= (MAX_CAPACITY + 1);
+        u->n_poses %= (MAX_POSES + 1);
+    }
+}
+
+/* a malloc'd copy of n reals (n may be 0: a 1-byte block, never dereferenced as a real) */
+static crane_real *copy_reals(const crane_real *src, size_t n)
+{
+    crane_real *p = (crane_real *)malloc(n ? n * sizeof *p : 1);
+    if (!p)
+        abort();
+    if (n)
+        memcpy(p, src, n * sizeof *p);
+    return p;
+}
+
+static void run_predict(const universe *u)
+{
+    crane_params params = u->params;
+    crane_state state = u->state;
+    crane_inputs inputs = u->inputs;
+    crane_real *ts[2], *pas[2], *pbs[2];
+    crane_sample *out, *ref;
+    const size_t cap = u->capacity;
+    size_t n_written = 0xdeadbeef, count = 0, k;
+    crane_status st, stc;
+    unsigned char pcopy[sizeof params], scopy[sizeof state], icopy[sizeof inputs];
+    int i;
+
+    for (i = 0; i < 2; ++i) {
+        const size_t ns = inputs.drive[i].n_samples;
+        ts[i] = copy_reals(u->t[i], ns);
+        pas[i] = copy_reals(u->pa[i], ns);
+        pbs[i] = copy_reals(u->pb[i], ns);
+        inputs.drive[i].t = ts[i];
+        inputs.drive[i].p_a_samples = pas[i];
+        inputs.drive[i].p_b_samples = pbs[i];
+    }
+    /* exactly cap samples (one byte if cap is 0), canary-filled */
+    out = (crane_sample *)malloc(cap ? cap * sizeof *out : 1);
+    ref = (crane_sample *)malloc(cap ? cap * sizeof *out : 1);
+    if (!out || !ref)
+        abort();
+    memset(out, 0xa5, cap ? cap * sizeof *out : 1);
+    memcpy(ref, out, cap ? cap * sizeof *out : 1);
+    memcpy(pcopy, &params, sizeof params);
+    memcpy(scopy, &state, sizeof state);
+    memcpy(icopy, &inputs, sizeof inputs);
+
+    st = crane_predict(&params, &state, &inputs, u->horizon, u->dt, out, cap, &n_written);
+    check_status(st, "crane_predict status");
+    if (memcmp(pcopy, &params, sizeof params) || memcmp(scopy, &state, sizeof state) ||
+        memcmp(icopy, &inputs, sizeof inputs))
+        fail("crane_predict modified its inputs");
+    stc = crane_sample_count(u->horizon, u->dt, &count);
+    check_status(stc, "crane_sample_count status");
+    if (st != CRANE_OK) {
+        if (n_written != 0xdeadbeef || memcmp(out, ref, cap ? cap * sizeof *out : 1))
+            fail("crane_predict wrote outputs on an error");
+    } else {
+        int all_finite = 1;
+        if (stc != CRANE_OK || n_written != count || n_written > cap || n_written < 2)
+            fail("crane_predict: sample count");
+        if (memcmp(out + n_written, ref + n_written, (cap - n_written) * sizeof *out))
+            fail("crane_predict wrote past n_written");
+        if (out[0].t != 0 || out[n_written - 1].t != u->horizon)
+            fail("crane_predict: sample times do not run from 0 to horizon");
+        for (k = 0; k < n_written; ++k) {
+            const crane_sample *s = &out[k];
+            if (k > 0 && !(s->t > out[k - 1].t))
+                fail("crane_predict: sample times not increasing");
+            for (i = 0; i < 2; ++i) {
+                if (s->stop[i] < -1 || s->stop[i] > 1)
+                    fail("crane_predict: stop flag");
+                if (!finite_r(s->stroke[i]) || !finite_r(s->theta[i]) || !finite_r(s->omega[i]))
+                    all_finite = 0;
+            }
+            for (i = 0; i < 3; ++i)
+                if (!finite_r(s->tip[i]))
+                    all_finite = 0;
+        }
+        if (all_finite)
+            for (k = 0; k < n_written; ++k)
+                for (i = 0; i < 2; ++i)
+                    if (!(out[k].stroke[i] >= params.cylinder[i].stroke_min &&
+                          out[k].stroke[i] <= params.cylinder[i].stroke_max))
+                        fail("crane_predict: a stroke left [stroke_min, stroke_max]");
+#ifdef FUZZ_STRICT_FINITE
+        if (!all_finite)
+            fail("crane_predict: CRANE_OK with a non-finite output");
+#endif
+    }
+    for (i = 0; i < 2; ++i) {
+        free(ts[i]);
+        free(pas[i]);
+        free(pbs[i]);
+    }
+    free(out);
+    free(ref);
+}
+
+static void run_model(const universe *u)
+{
+    const crane_params params = u->params;
+    crane_model model, mref;
+    crane_status st;
+    int j;
+
+    memset(&model, 0x3c, sizeof model);
+    memcpy(&mref, &model, sizeof model);
+    st = crane_model_init(&model, &params, u->extension);
+    check_status(st, "crane_model_init status");
+    if (st != CRANE_OK) {
+        if (memcmp(&model, &mref, sizeof model))
+            fail("crane_model_init wrote the model on an error");
+        return;
+    }
+    {
+        /* crane_points: n poses, buffers of exactly the stated sizes */
+        const size_t n = u->n_poses;
+        const size_t nxyz = n * CRANE_N_POINTS * 3;
+        crane_real *theta = copy_reals(u->theta, 2 * n);
+        crane_real *xyz = (crane_real *)malloc(nxyz ? nxyz * sizeof *xyz : 1);
+        crane_real *xref = (crane_real *)malloc(nxyz ? nxyz * sizeof *xyz : 1);
+        if (!xyz || !xref)
+            abort();
+        memset(xyz, 0x77, nxyz ? nxyz * sizeof *xyz : 1);
+        memcpy(xref, xyz, nxyz ? nxyz * sizeof *xyz : 1);
+        st = crane_points(&model, u->slew, n, theta, xyz);
+        check_status(st, "crane_points status");
+        if (st != CRANE_OK && memcmp(xyz, xref, nxyz ? nxyz * sizeof *xyz : 1))
+            fail("crane_points wrote on an error");
+        free(theta);
+        free(xyz);
+        free(xref);
+    }
+    for (j = -1; j <= 2; ++j) {
+        const int joint = j == 2 ? u->joint : j;
+        crane_real th = (crane_real)11, ds = (crane_real)12, s = (crane_real)13, f = (crane_real)14;
+        st = crane_joint_angle(&model, joint, u->stroke_arg, &th, &ds);
+        check_status(st, "crane_joint_angle status");
+        if (st != CRANE_OK && (th != 11 || ds != 12))
+            fail("crane_joint_angle wrote on an error");
+        st = crane_joint_stroke(&model, joint, u->theta_arg, &s);
+        check_status(st, "crane_joint_stroke status");
+        if (st != CRANE_OK && s != 13)
+            fail("crane_joint_stroke wrote on an error");
+        st = crane_cylinder_force(&model, joint, u->p_a_arg, u->p_b_arg, u->rate_arg, &f);
+        check_status(st, "crane_cylinder_force status");
+        if (st != CRANE_OK && f != 14)
+            fail("crane_cylinder_force wrote on an error");
+    }
+    {
+        crane_real tau[2] = {(crane_real)21, (crane_real)22};
+        const crane_real th[2] = {u->theta[0], u->theta[1]};
+        st = crane_inverse_dynamics(&model, th, u->omega, u->alpha, tau);
+        check_status(st, "crane_inverse_dynamics status");
+        if (st != CRANE_OK && (tau[0] != 21 || tau[1] != 22))
+            fail("crane_inverse_dynamics wrote on an error");
+    }
+}
+
+int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size);
+
+int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
+{
+    universe *u = (universe *)malloc(sizeof *u);
+    if (!u)
+        abort();
+    decode(u, data, size);
+    if (!crane_status_message((crane_status)(12345 + (size ? data[0] : 0))))
+        fail("no status message for an unknown code");
+    run_predict(u);
+    run_model(u);
+    free(u);
+    return 0;
+}

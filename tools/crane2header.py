@@ -1,0 +1,192 @@
+#!/usr/bin/env python3
+"""Generate a C header with a crane's parameters from its crane file (TOML).
+
+The crane file is the one source of the parameters; the C example and embedded users compile the
+generated header instead of parsing TOML on the target. The generated header is committed, so the
+C build needs no Python; CI runs this script with --check to prove it is up to date.
+
+    python3 tools/crane2header.py                       # PATU 655 -> csrc/example/crane_patu655.h
+    python3 tools/crane2header.py --check               # exit 1 if the committed header is stale
+    python3 tools/crane2header.py CRANE.toml -o OUT.h --name my_crane
+
+Needs Python >= 3.11 (tomllib) and nothing else.
+"""
+import argparse
+import difflib
+import math
+import os
+import re
+import sys
+import tomllib
+
+ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+DEFAULT_TOML = os.path.join(ROOT, "src", "cranepredict", "cranes", "patu655.toml")
+DEFAULT_OUT = os.path.join(ROOT, "csrc", "example", "crane_patu655.h")
+
+# crane_params field <- dotted key in the crane file
+VEC2 = [
+    ("lift_pivot", "geometry.lift_pivot"),
+    ("lift_cylinder_base", "geometry.lift_cylinder_base"),
+    ("lift_cylinder_rod", "geometry.lift_cylinder_rod"),
+    ("tilt_cylinder_base", "geometry.tilt_cylinder_base"),
+    ("link1_pivot", "geometry.link1_pivot"),
+    ("tilt_pivot", "geometry.tilt_pivot"),
+    ("link_pin", "geometry.link_pin"),
+    ("link2_end", "geometry.link2_end"),
+    ("link2_attach", "geometry.link2_attach"),
+    ("extension_mount", "geometry.extension_mount"),
+]
+SCALARS = [
+    ("tip_distance", "geometry.tip_distance"),
+    ("extension_min", "geometry.extension_min"),
+    ("extension_max", "geometry.extension_max"),
+]
+BODIES = [("lift_boom", "lift_boom"), ("outer_boom", "outer_boom"),
+          ("extension_boom", "extension_boom")]
+CYLINDERS = [("CRANE_LIFT", "lift_cylinder"), ("CRANE_TILT", "tilt_cylinder")]
+CYL_FIELDS = ["bore", "rod", "length_retracted", "stroke_min", "stroke_max"]
+FRICTION = [("coulomb", "coulomb"), ("static_", "static"), ("viscous", "viscous"),
+            ("stribeck_velocity", "stribeck_velocity"), ("tanh_velocity", "tanh_velocity")]
+# keys of the crane file that the 2-DOF C model does not use (docs/model.md neglects them)
+UNUSED = {"name", "estimates", "pillar", "side_link1", "side_link2"}
+
+
+def lookup(data, dotted, used):
+    node = data
+    for part in dotted.split("."):
+        if not isinstance(node, dict) or part not in node:
+            raise SystemExit(f"crane file: missing {dotted}")
+        node = node[part]
+    used.add(dotted)
+    return node
+
+
+def num(x, what):
+    if isinstance(x, bool) or not isinstance(x, (int, float)) or not math.isfinite(x):
+        raise SystemExit(f"crane file: {what} must be a finite number, got {x!r}")
+    return float(x)
+
+
+def lit(x):
+    """A C double literal that round-trips exactly (repr is the shortest such string)."""
+    s = repr(float(x))
+    if "e" not in s and "." not in s:
+        s += ".0"
+    return f"CRANE_R({s})"
+
+
+def leaves(data, prefix=""):
+    for k, v in data.items():
+        key = f"{prefix}{k}"
+        if isinstance(v, dict):
+            yield from leaves(v, key + ".")
+        else:
+            yield key
+
+
+def generate(toml_path, name):
+    with open(toml_path, "rb") as f:
+        data = tomllib.load(f)
+    used = set()
+    L = []
+
+    def vec(field, key):
+        v = lookup(data, key, used)
+        if not isinstance(v, list) or len(v) != 2:
+            raise SystemExit(f"crane file: {key} must be [x, y]")
+        L.append(f"    .{field} = {{.x = {lit(num(v[0], key))}, .y = {lit(num(v[1], key))}}}, \\")
+
+    def sca(field, key):
+        L.append(f"    .{field} = {lit(num(lookup(data, key, used), key))}, \\")
+
+    sca("gravity", "gravity")
+    for field, key in VEC2:
+        vec(field, key)
+    for field, key in SCALARS:
+        sca(field, key)
+    for field, key in BODIES:
+        sca(f"{field}.mass", f"{key}.mass")
+        vec(f"{field}.com", f"{key}.com")
+        sca(f"{field}.izz", f"{key}.izz")
+    sca("load_mass", "load_mass")
+    for idx, key in CYLINDERS:
+        for fld in CYL_FIELDS:
+            sca(f"cylinder[{idx}].{fld}", f"{key}.{fld}")
+        for fld, tkey in FRICTION:
+            sca(f"cylinder[{idx}].friction.{fld}", f"{key}.friction.{tkey}")
+
+    unknown = [k for k in leaves(data) if k not in used and k.split(".")[0] not in UNUSED]
+    if unknown:
+        raise SystemExit("crane file: keys this generator does not map (extend tools/"
+                         "crane2header.py): " + ", ".join(unknown))
+
+    crane_name = data.get("name", name)
+    guard = re.sub(r"[^A-Z0-9]", "_", f"CRANE_{name.upper()}_H")
+    macro = re.sub(r"[^A-Z0-9]", "_", f"CRANE_{name.upper()}_INIT")
+    rel = os.path.relpath(os.path.abspath(toml_path), ROOT).replace(os.sep, "/")
+    head = f"""/*
+ * {crane_name}: crane parameters for the cranepredict C core.
+ *
+ * GENERATED from {rel} by tools/crane2header.py -- do not edit.
+ * Regenerate:  python3 tools/crane2header.py   (CI checks it is current with --check)
+ *
+ * Use:  static const crane_params crane = {macro};
+ * (C99 designated initializers, so the struct can live in flash). Every field of crane_params is
+ * set; the crane file's pillar and side links are not part of the 2-DOF model (docs/model.md) and
+ * are left out. Literals are the crane file's numbers as exact doubles, rounded by CRANE_R.
+ */
+#ifndef {guard}
+#define {guard}
+
+#include "crane.h"
+
+#ifndef CRANE_R
+#define CRANE_R(x) ((crane_real)(x))
+#endif
+
+#define {macro} {{ \\
+"""
+    tail = """}
+
+#endif
+"""
+    return head + "\n".join(L) + "\n" + tail
+
+
+def main(argv=None):
+    ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    ap.add_argument("toml", nargs="?", default=DEFAULT_TOML)
+    ap.add_argument("-o", "--output", default=None)
+    ap.add_argument("--name", default=None, help="C identifier: the macro is CRANE_<NAME>_INIT")
+    ap.add_argument("--check", action="store_true",
+                    help="compare with the existing output instead of writing; exit 1 if stale")
+    a = ap.parse_args(argv)
+    name = a.name or os.path.splitext(os.path.basename(a.toml))[0]
+    if not re.fullmatch(r"[A-Za-z_][A-Za-z0-9_]*", name):
+        raise SystemExit(f"--name {name!r} is not a C identifier")
+    out = a.output or (DEFAULT_OUT if a.toml == DEFAULT_TOML
+                       else os.path.join(ROOT, "csrc", "example", f"crane_{name}.h"))
+    text = generate(a.toml, name)
+    if a.check:
+        try:
+            with open(out) as f:
+                old = f.read()
+        except FileNotFoundError:
+            old = ""
+        if old != text:
+            sys.stdout.writelines(difflib.unified_diff(
+                old.splitlines(True), text.splitlines(True), out + " (committed)",
+                out + " (from the crane file)"))
+            print(f"STALE: {out} differs from {a.toml}; run: python3 tools/crane2header.py",
+                  file=sys.stderr)
+            return 1
+        print(f"up to date: {os.path.relpath(out, ROOT)}")
+        return 0
+    with open(out, "w") as f:
+        f.write(text)
+    print(f"wrote {os.path.relpath(out, ROOT)}")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
