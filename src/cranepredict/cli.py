@@ -53,6 +53,73 @@ def _scenarios(args: argparse.Namespace) -> int:
     return 0
 
 
+def _validate(args: argparse.Namespace) -> int:
+    import json
+
+    from . import reference, scenarios
+
+    if not reference.available():
+        print("cranepredict: error: validate needs Exudyn: pip install 'cranepredict[reference]'",
+              file=sys.stderr)
+        return 2
+    names = args.scenario or scenarios.names()
+    rows = [reference.compare(scenarios.get(n), dt_ref=args.dt_ref) for n in names]
+    if args.plot:
+        _plots(rows, args.plot)
+    public = [{k: v for k, v in r.items() if not k.startswith("_")} for r in rows]
+    if args.json:
+        print(json.dumps(public, indent=2))
+        return 0
+
+    def f(v, fmt):
+        return "-" if v is None else format(v, fmt)
+
+    print(f"{'scenario':22s} {'max mm':>8s} {'rms mm':>8s} {'pre-stop':>9s} {'post-stop':>9s} "
+          f"{'stop s':>6s} {'fast ms':>8s} {'ref s':>6s} {'ratio':>6s}")
+    for r in public:
+        print(f"{r['name']:22s} {r['max_error_mm']:8.2f} {r['rms_error_mm']:8.2f} "
+              f"{f(r['max_error_before_stop_mm'], '9.2f'):>9s} {f(r['max_error_after_stop_mm'], '9.2f'):>9s} "
+              f"{f(r['first_stop_time_s'], '6.3f'):>6s} {r['wall_fast_s'] * 1e3:8.3f} "
+              f"{r['wall_reference_s']:6.2f} {r['speed_ratio']:6.0f}")
+    print("targets per scenario: max <= 20 mm, RMS <= 10 mm, ratio >= 100 (see docs/validation.md)")
+    return 0
+
+
+def _plots(rows, out_dir: str) -> None:
+    import os
+
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    os.makedirs(out_dir, exist_ok=True)
+    for r in rows:
+        fast, ref, err = r["_fast"], r["_ref"], r["_err"]
+        fig, (ax, ax2) = plt.subplots(1, 2, figsize=(11, 4.5))
+        for traj, style, label in ((fast, "-", "fast model (C)"), (ref, "--", "reference (Exudyn)")):
+            radial = np.hypot(traj.tip[:, 0], traj.tip[:, 1])
+            ax.plot(radial, traj.tip[:, 2], style, label=label)
+        ax.plot(*[np.hypot(fast.tip[0, 0], fast.tip[0, 1]), fast.tip[0, 2]], "ko", label="start")
+        ax.set_xlabel("horizontal reach in the boom plane, m")
+        ax.set_ylabel("height, m")
+        ax.set_aspect("equal", adjustable="datalim")
+        ax.grid(True)
+        ax.legend()
+        ax.set_title(f"{r['name']}: tip path")
+        ax2.plot(fast.t, err * 1e3)
+        if r["first_stop_time_s"] is not None:
+            ax2.axvline(r["first_stop_time_s"], color="r", ls=":", label="first end stop")
+            ax2.legend()
+        ax2.set_xlabel("t, s")
+        ax2.set_ylabel("tip error |fast - reference|, mm")
+        ax2.grid(True)
+        ax2.set_title(f"max {r['max_error_mm']:.1f} mm, RMS {r['rms_error_mm']:.1f} mm")
+        fig.tight_layout()
+        fig.savefig(os.path.join(out_dir, f"{r['name']}.png"), dpi=90)
+        plt.close(fig)
+
+
 def main(argv: Optional[List[str]] = None) -> int:
     parser = argparse.ArgumentParser(
         prog="cranepredict",
@@ -63,6 +130,15 @@ def main(argv: Optional[List[str]] = None) -> int:
     demo.add_argument("--dt", type=float, default=None, help="RK4 step, s (default: the package default)")
     demo.add_argument("--repeat", type=int, default=201, help="timed repetitions (default: 201)")
     demo.set_defaults(func=_demo)
+    val = sub.add_parser("validate", help="run the scenario suite on the fast model and the Exudyn "
+                                          "reference and compare the tip (needs the [reference] extra)")
+    val.add_argument("--json", action="store_true", help="print the results as JSON")
+    val.add_argument("--plot", metavar="DIR", default=None,
+                     help="write a tip-path and error plot per scenario (needs the [plot] extra)")
+    val.add_argument("--scenario", action="append", default=None,
+                     help="run only this scenario (repeatable; default: all)")
+    val.add_argument("--dt-ref", type=float, default=2.5e-4, help="reference step, s (default 2.5e-4)")
+    val.set_defaults(func=_validate)
     lst = sub.add_parser("scenarios", help="list the named scenarios")
     lst.set_defaults(func=_scenarios)
     args = parser.parse_args(argv)

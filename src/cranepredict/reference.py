@@ -300,8 +300,8 @@ def simulate(crane: Crane, initial: State, inputs: Inputs, horizon: float, *,
     ss.timeIntegration.verboseMode = 0
     ss.timeIntegration.generalizedAlpha.spectralRadius = spectral_radius
     ss.timeIntegration.newton.useModifiedNewton = False
-    ss.timeIntegration.newton.relativeTolerance = 1e-10
-    ss.timeIntegration.newton.absoluteTolerance = 1e-12
+    ss.timeIntegration.newton.relativeTolerance = 1e-8
+    ss.timeIntegration.newton.absoluteTolerance = 1e-10
     ss.timeIntegration.newton.maxIterations = 25
     ss.solutionSettings.writeSolutionToFile = False
     ss.solutionSettings.sensorsWritePeriod = 0.0      # every step
@@ -386,3 +386,45 @@ def predict_reference(crane: Crane, initial: State, inputs: Inputs, horizon: flo
     """The reference model's :class:`Trajectory` (same arguments as :func:`cranepredict.predict`)."""
     return simulate(crane, initial, inputs, horizon,
                     dt=DEFAULT_REFERENCE_DT if dt is None else dt).trajectory
+
+
+# -- comparison with the fast model --------------------------------------------------------------
+
+def compare(scenario, *, dt_ref: float = DEFAULT_REFERENCE_DT, dt_fast: Optional[float] = None,
+            repeat_fast: int = 21) -> dict:
+    """Runs a scenario on the fast model (C) and on the reference; the tip error (m) is measured at
+    the fast model's samples (the reference tip linearly interpolated onto them). "Before/after
+    the stop" splits at the first sample where either model is at an end stop (None: no stop)."""
+    from . import api
+
+    sc = scenario
+    fast = api.predict(sc.crane, sc.initial, sc.inputs, sc.horizon, dt=dt_fast)
+    walls = []
+    for _ in range(repeat_fast):
+        t0 = time.perf_counter()
+        api.predict(sc.crane, sc.initial, sc.inputs, sc.horizon, dt=dt_fast)
+        walls.append(time.perf_counter() - t0)
+    wall_fast = float(np.median(walls))
+    run = simulate(sc.crane, sc.initial, sc.inputs, sc.horizon, dt=dt_ref)
+    ref = run.trajectory
+    tip_ref = np.stack([np.interp(fast.t, ref.t, ref.tip[:, i]) for i in range(3)], 1)
+    err = np.linalg.norm(tip_ref - fast.tip, axis=1)
+    stops = [x for x in (fast.t[np.flatnonzero(fast.stop.any(1))[:1]].tolist()
+                         + ref.t[np.flatnonzero(ref.stop.any(1))[:1]].tolist())]
+    t_stop = min(stops) if stops else None
+    before = err if t_stop is None else err[fast.t < t_stop]
+    after = None if t_stop is None else err[fast.t >= t_stop]
+
+    def mx(a):
+        return None if a is None or a.size == 0 else float(a.max())
+
+    return {"name": sc.name, "tags": list(sc.tags), "horizon": sc.horizon,
+            "max_error_mm": float(err.max()) * 1e3, "rms_error_mm": float(np.sqrt(np.mean(err**2))) * 1e3,
+            "max_error_before_stop_mm": None if mx(before) is None else mx(before) * 1e3,
+            "max_error_after_stop_mm": None if mx(after) is None else mx(after) * 1e3,
+            "first_stop_time_s": t_stop,
+            "stop_time_fast_s": stops[0] if fast.stop.any() else None,
+            "wall_fast_s": wall_fast, "wall_reference_s": run.wall,
+            "speed_ratio": run.wall / wall_fast,
+            "constraint_residual_m": run.residual_max,
+            "_fast": fast, "_ref": ref, "_err": err}
