@@ -42,7 +42,8 @@ typedef enum {
     CRANE_E_DT = 15,            /* dt <= 0 or dt > horizon */
     CRANE_E_HORIZON = 16,       /* horizon <= 0, or more steps than fit in a long */
     CRANE_E_CAPACITY = 17,      /* output buffer smaller than the number of samples */
-    CRANE_E_ANGLE = 18          /* an angle outside the range reachable by the cylinder */
+    CRANE_E_ANGLE = 18,         /* an angle outside the range reachable by the cylinder */
+    CRANE_E_SAMPLE_EVERY = 19   /* sample_every is 0 (or does not fit a long) */
 } crane_status;
 
 enum { CRANE_LIFT = 0, CRANE_TILT = 1 };
@@ -156,6 +157,33 @@ crane_status crane_sample_count(crane_real horizon, crane_real dt, size_t *count
 crane_status crane_predict(const crane_params *params, const crane_state *state0,
                            const crane_inputs *inputs, crane_real horizon, crane_real dt,
                            crane_sample *out, size_t capacity, size_t *n_written);
+
+/* crane_predict with a model from crane_model_init: the crane's checks and derived constants
+ * (which depend only on the crane file and the extension) are done once by the caller instead of
+ * on every call. state0->extension must equal the model's extension (else CRANE_E_EXTENSION).
+ * The results are identical to crane_predict's. */
+crane_status crane_predict_model(const crane_model *model, const crane_state *state0,
+                                 const crane_inputs *inputs, crane_real horizon, crane_real dt,
+                                 crane_sample *out, size_t capacity, size_t *n_written);
+
+/* Number of samples a prediction writes when it keeps only the sample at t = 0, the one after
+ * every sample_every-th step (sample_every >= 1) and the one after the last step: with
+ * n = ceil(horizon/dt - 1e-9) steps, floor(n / sample_every) + (n % sample_every != 0) + 1. */
+crane_status crane_sample_count_every(crane_real horizon, crane_real dt, size_t sample_every,
+                                      size_t *count);
+
+/* Many futures of one crane in one call: future k starts from states[k] under inputs[k]; all share
+ * horizon, dt and sample_every (1 = every step, as crane_predict). Its samples go to
+ * out[k * stride .. k * stride + count), count = crane_sample_count_every(horizon, dt,
+ * sample_every), which must be <= stride. Every future is validated before anything is written;
+ * on an error *failed is the index of the first bad future (n_futures for an error in the shared
+ * arguments) and nothing is written. No heap, no threads: to use several cores, call it on
+ * disjoint slices of the batch from several threads (it touches nothing but its arguments).
+ * The samples of each future are identical to crane_predict's (at the kept steps). */
+crane_status crane_predict_many(const crane_params *params, size_t n_futures,
+                                const crane_state *states, const crane_inputs *inputs,
+                                crane_real horizon, crane_real dt, size_t sample_every,
+                                crane_sample *out, size_t stride, size_t *failed);
 
 /* Kinematics of one joint (joint = CRANE_LIFT or CRANE_TILT). */
 crane_status crane_joint_angle(const crane_model *model, int joint, crane_real stroke,

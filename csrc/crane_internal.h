@@ -115,8 +115,16 @@ crane_status crane__check_params(const crane_params *p);
 /* ---- integrator.c ---- */
 
 /* Runs a validated prediction: the model, state, inputs, horizon, dt, step count and capacity
- * have all been checked by crane_predict. Writes n_steps + 1 samples. */
+ * have all been checked by crane_predict. Writes the sample at t = 0, one after every
+ * sample_every-th step (>= 1) and one after the last step: crane__decimated_count samples. */
 void crane__integrate(const crane_model *m, const crane_state *s0, const crane_inputs *in,
-                      crane_real horizon, crane_real dt, long n_steps, crane_sample *out);
+                      crane_real horizon, crane_real dt, long n_steps, long sample_every,
+                      crane_sample *out);
+
+/* Samples written for n_steps steps, keeping every sample_every-th step and the last. */
+static inline size_t crane__decimated_count(long n_steps, long sample_every)
+{
+    return (size_t)(n_steps / sample_every) + (n_steps % sample_every != 0) + 1;
+}
 
 #endif /* CRANE_INTERNAL_H */

@@ -19,6 +19,14 @@ typedef struct {
     crane_real stroke_at[2][2]; /* stroke at [joint][lower, upper angle limit] */
     int flag_at[2][2];          /* reported stop flag there: -1 stroke_min, +1 stroke_max */
     crane_real stroke0[2];      /* initial strokes, reported for held joints */
+    /* Kinematics at the state of the last sample (trig of both angles, ds/dtheta and stroke of
+     * the joints that were free): the next step's release check and first RK4 stage are at the
+     * same angles, so they reuse it instead of evaluating the same trig and four-bar again. */
+    int kin_valid;
+    crane_real kin_th[2];
+    crane_real kin_c0, kin_s0, kin_c1, kin_s1;
+    int kin_has[2];
+    crane_real kin_ds[2];
 } ctx_t;
 
 /* Pressures of a pressure-driven joint at time t: linear interpolation, with a cursor that walks
@@ -61,12 +69,21 @@ static void forces(ctx_t *c, crane_real t, const xstate *x, const int act[2], cr
     crane_real c0, s0, c1, s1, c01, s01, h[2];
     crane_vec2 C1, C2, r12;
     int i;
+    const int cached = c->kin_valid && x->th[0] == c->kin_th[0] && x->th[1] == c->kin_th[1];
 
-    /* One sin/cos per joint angle; the absolute outer boom angle by the angle-sum formulas. */
-    c0 = crane__cos(x->th[0]);
-    s0 = crane__sin(x->th[0]);
-    c1 = crane__cos(x->th[1]);
-    s1 = crane__sin(x->th[1]);
+    /* One sin/cos per joint angle (or none, at the last sample's angles); the absolute outer
+     * boom angle by the angle-sum formulas. */
+    if (cached) {
+        c0 = c->kin_c0;
+        s0 = c->kin_s0;
+        c1 = c->kin_c1;
+        s1 = c->kin_s1;
+    } else {
+        c0 = crane__cos(x->th[0]);
+        s0 = crane__sin(x->th[0]);
+        c1 = crane__cos(x->th[1]);
+        s1 = crane__sin(x->th[1]);
+    }
     c01 = c0 * c1 - s0 * s1;
     s01 = s0 * c1 + c0 * s1;
     C1 = crane__rot(c0, s0, m->c1);
@@ -80,7 +97,9 @@ static void forces(ctx_t *c, crane_real t, const xstate *x, const int act[2], cr
         b[i] = -h[i];
         if (!act[i])
             continue;
-        if (i == CRANE_LIFT)
+        if (cached && c->kin_has[i])
+            ds = c->kin_ds[i];
+        else if (i == CRANE_LIFT)
             crane__lift_from_angle(m, c0, s0, NULL, &ds);
         else
             crane__tilt_from_angle(m, c1, s1, NULL, &ds, NULL, NULL);
@@ -319,8 +338,8 @@ static void step(ctx_t *c, crane_real t, xstate *x, crane_real h)
     }
 }
 
-static void put_sample(const ctx_t *c, crane_real t, const xstate *x, crane_real cpsi,
-                       crane_real spsi, crane_sample *o)
+static void put_sample(ctx_t *c, crane_real t, const xstate *x, crane_real cpsi, crane_real spsi,
+                       crane_sample *o)
 {
     const crane_model *m = c->m;
     const crane_real c0 = crane__cos(x->th[0]), s0 = crane__sin(x->th[0]);
@@ -330,18 +349,28 @@ static void put_sample(const ctx_t *c, crane_real t, const xstate *x, crane_real
         crane__rot(c0, s0, crane__add(m->p.tilt_pivot, crane__rot(c1, s1, m->tip))));
     int i;
 
+    c->kin_valid = 1;
+    c->kin_th[0] = x->th[0];
+    c->kin_th[1] = x->th[1];
+    c->kin_c0 = c0;
+    c->kin_s0 = s0;
+    c->kin_c1 = c1;
+    c->kin_s1 = s1;
     o->t = t;
     for (i = 0; i < 2; ++i) {
         crane_real s;
+        c->kin_has[i] = 0;
         switch (c->mode[i]) {
         case CRANE__STOP_LO: s = c->stroke_at[i][0]; break;
         case CRANE__STOP_HI: s = c->stroke_at[i][1]; break;
         case CRANE__HELD: s = c->stroke0[i]; break;
         default:
+            /* The stroke and ds/dtheta share the same kinematics: both at once, ds cached. */
             if (i == CRANE_LIFT)
-                crane__lift_from_angle(m, c0, s0, &s, NULL);
+                crane__lift_from_angle(m, c0, s0, &s, &c->kin_ds[i]);
             else
-                crane__tilt_from_angle(m, c1, s1, &s, NULL, NULL, NULL);
+                crane__tilt_from_angle(m, c1, s1, &s, &c->kin_ds[i], NULL, NULL);
+            c->kin_has[i] = 1;
             break;
         }
         o->stroke[i] = s;
@@ -358,16 +387,19 @@ static void put_sample(const ctx_t *c, crane_real t, const xstate *x, crane_real
 }
 
 void crane__integrate(const crane_model *m, const crane_state *s0, const crane_inputs *in,
-                      crane_real horizon, crane_real dt, long n_steps, crane_sample *out)
+                      crane_real horizon, crane_real dt, long n_steps, long sample_every,
+                      crane_sample *out)
 {
     const crane_real cpsi = crane__cos(s0->slew), spsi = crane__sin(s0->slew);
     ctx_t c;
     xstate x;
     long k;
+    size_t next;
     int i;
 
     c.m = m;
     c.in = in;
+    c.kin_valid = 0;
     for (i = 0; i < 2; ++i) {
         const crane_cylinder *cyl = &m->p.cylinder[i];
         crane_real ds;
@@ -405,7 +437,9 @@ void crane__integrate(const crane_model *m, const crane_state *s0, const crane_i
     }
 
     put_sample(&c, 0, &x, cpsi, spsi, &out[0]);
-    for (k = 0; k < n_steps; ++k) {
+    /* Samples after every sample_every-th step and after the last one. The kinematic cache is
+     * keyed by the angles themselves, so it stays valid whatever happens in between. */
+    for (k = 0, next = 1; k < n_steps; ++k) {
         const crane_real t = (crane_real)k * dt;
         const int last = k == n_steps - 1;
         const crane_real h = last ? horizon - t : dt;
@@ -413,6 +447,7 @@ void crane__integrate(const crane_model *m, const crane_state *s0, const crane_i
         release(&c, t, &x);
         if (h > 0)
             step(&c, t, &x, h);
-        put_sample(&c, last ? horizon : (crane_real)(k + 1) * dt, &x, cpsi, spsi, &out[k + 1]);
+        if (last || (k + 1) % sample_every == 0)
+            put_sample(&c, last ? horizon : (crane_real)(k + 1) * dt, &x, cpsi, spsi, &out[next++]);
     }
 }

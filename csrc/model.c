@@ -234,6 +234,7 @@ const char *crane_status_message(crane_status status)
     case CRANE_E_HORIZON: return "horizon <= 0, or too many steps";
     case CRANE_E_CAPACITY: return "the output buffer is smaller than the number of samples";
     case CRANE_E_ANGLE: return "an angle is outside the range reachable by the cylinder";
+    case CRANE_E_SAMPLE_EVERY: return "sample_every must be >= 1";
     }
     return "unknown status";
 }

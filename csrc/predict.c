@@ -83,23 +83,13 @@ static crane_status check_drive(const crane_drive *d, crane_real stroke_rate, cr
     return CRANE_OK;
 }
 
-crane_status crane_predict(const crane_params *params, const crane_state *state0,
-                           const crane_inputs *inputs, crane_real horizon, crane_real dt,
-                           crane_sample *out, size_t capacity, size_t *n_written)
+/* The checks of one future against a model that holds its extension (docs/model.md, "Bad input"),
+ * in the order crane_predict has always made them. */
+static crane_status check_future(const crane_params *params, const crane_state *state0,
+                                 const crane_inputs *inputs, crane_real horizon)
 {
-    crane_model model;
     crane_status st;
-    long n_steps;
     int i;
-
-    if (!params || !state0 || !inputs || !out || !n_written)
-        return CRANE_E_NULL;
-    st = crane_model_init(&model, params, state0->extension);
-    if (st != CRANE_OK)
-        return st;
-    st = step_count(horizon, dt, &n_steps);
-    if (st != CRANE_OK)
-        return st;
 
     for (i = 0; i < 2; ++i)
         if (!crane__finite(state0->stroke[i]) || !crane__finite(state0->stroke_rate[i]))
@@ -116,10 +106,115 @@ crane_status crane_predict(const crane_params *params, const crane_state *state0
         if (st != CRANE_OK)
             return st;
     }
+    return CRANE_OK;
+}
+
+crane_status crane_predict(const crane_params *params, const crane_state *state0,
+                           const crane_inputs *inputs, crane_real horizon, crane_real dt,
+                           crane_sample *out, size_t capacity, size_t *n_written)
+{
+    crane_model model;
+    crane_status st;
+
+    if (!params || !state0 || !inputs || !out || !n_written)
+        return CRANE_E_NULL;
+    st = crane_model_init(&model, params, state0->extension);
+    if (st != CRANE_OK)
+        return st;
+    return crane_predict_model(&model, state0, inputs, horizon, dt, out, capacity, n_written);
+}
+
+crane_status crane_predict_model(const crane_model *model, const crane_state *state0,
+                                 const crane_inputs *inputs, crane_real horizon, crane_real dt,
+                                 crane_sample *out, size_t capacity, size_t *n_written)
+{
+    crane_status st;
+    long n_steps;
+
+    if (!model || !state0 || !inputs || !out || !n_written)
+        return CRANE_E_NULL;
+    if (!crane__finite(state0->extension))
+        return CRANE_E_NONFINITE;
+    if (state0->extension != model->extension)
+        return CRANE_E_EXTENSION;
+    st = step_count(horizon, dt, &n_steps);
+    if (st != CRANE_OK)
+        return st;
+    st = check_future(&model->p, state0, inputs, horizon);
+    if (st != CRANE_OK)
+        return st;
     if ((size_t)n_steps + 1 > capacity)
         return CRANE_E_CAPACITY;
 
-    crane__integrate(&model, state0, inputs, horizon, dt, n_steps, out);
+    crane__integrate(model, state0, inputs, horizon, dt, n_steps, 1, out);
     *n_written = (size_t)n_steps + 1;
+    return CRANE_OK;
+}
+
+crane_status crane_sample_count_every(crane_real horizon, crane_real dt, size_t sample_every,
+                                      size_t *count)
+{
+    long n;
+    crane_status st;
+
+    if (!count)
+        return CRANE_E_NULL;
+    if (sample_every == 0 || sample_every > (size_t)LONG_MAX)
+        return CRANE_E_SAMPLE_EVERY;
+    st = step_count(horizon, dt, &n);
+    if (st != CRANE_OK)
+        return st;
+    *count = crane__decimated_count(n, (long)sample_every);
+    return CRANE_OK;
+}
+
+crane_status crane_predict_many(const crane_params *params, size_t n_futures,
+                                const crane_state *states, const crane_inputs *inputs,
+                                crane_real horizon, crane_real dt, size_t sample_every,
+                                crane_sample *out, size_t stride, size_t *failed)
+{
+    crane_model model;
+    crane_status st;
+    size_t k, count;
+    long n_steps;
+
+    if (!failed)
+        return CRANE_E_NULL;
+    *failed = n_futures;
+    if (!params || (n_futures > 0 && (!states || !inputs || !out)))
+        return CRANE_E_NULL;
+    st = crane__check_params(params);
+    if (st != CRANE_OK)
+        return st;
+    st = crane_sample_count_every(horizon, dt, sample_every, &count);
+    if (st != CRANE_OK)
+        return st;
+    (void)step_count(horizon, dt, &n_steps);
+    if (count > stride || (n_futures > 0 && stride > SIZE_MAX / n_futures))
+        return CRANE_E_CAPACITY;
+
+    /* Validate every future before the first write. The model depends on the extension only
+     * through the lumped outer boom, so it is derived again only when the extension changes. */
+    for (k = 0; k < n_futures; ++k) {
+        const crane_state *s = &states[k];
+        if (k == 0 || !(s->extension == states[k - 1].extension)) {
+            st = crane_model_init(&model, params, s->extension);
+            if (st != CRANE_OK) {
+                *failed = k;
+                return st;
+            }
+        }
+        st = check_future(params, s, &inputs[k], horizon);
+        if (st != CRANE_OK) {
+            *failed = k;
+            return st;
+        }
+    }
+    for (k = 0; k < n_futures; ++k) {
+        if (k == 0 || !(states[k].extension == states[k - 1].extension))
+            (void)crane_model_init(&model, params, states[k].extension);
+        crane__integrate(&model, &states[k], &inputs[k], horizon, dt, n_steps, (long)sample_every,
+                         out + k * stride);
+    }
     return CRANE_OK;
 }

@@ -8,6 +8,7 @@ user's fields happens in api.py before the core is called; the core checks every
 from __future__ import annotations
 
 import functools
+import threading
 from typing import TYPE_CHECKING, Any, Sequence, Tuple
 
 import numpy as np
@@ -135,30 +136,125 @@ def _drive(dst: Any, drive: Any, keep: list) -> None:
     dst.n_samples = len(drive.t)
 
 
+# predict()'s per-call cache: a Crane is immutable, so its params struct and its models (one per
+# extension) are built once. Keyed by identity: hashing a Crane (nested frozen dataclasses) costs
+# microseconds on every call, more than the rest of the call's Python layer.
+_BY_ID: dict = {}
+_BY_ID_MAX = 64
+
+
+def _cached(crane: "Crane", extension: float) -> Tuple[Any, Any]:
+    """(crane_params *, crane_model *) of a crane at an extension, without hashing the crane."""
+    entry = _BY_ID.get(id(crane))
+    if entry is None or entry[0] is not crane:
+        if len(_BY_ID) >= _BY_ID_MAX:
+            _BY_ID.clear()
+        entry = (crane, params(crane), {})
+        _BY_ID[id(crane)] = entry
+    models = entry[2]
+    m = models.get(extension)
+    if m is None:
+        m = ffi.new("crane_model *")
+        ensure(lib.crane_model_init(m, entry[1], extension), "crane")
+        if len(models) < _BY_ID_MAX:
+            models[extension] = m
+    return entry[1], m
+
+
 def sample_count(horizon: float, dt: float) -> int:
     n = ffi.new("size_t *")
     ensure(lib.crane_sample_count(horizon, dt, n), "horizon/dt")
     return int(n[0])
 
 
+def _state(dst: Any, state: "State") -> None:
+    dst.stroke = (state.lift_stroke, state.tilt_stroke)
+    dst.stroke_rate = (state.lift_stroke_rate, state.tilt_stroke_rate)
+    dst.slew, dst.extension = state.slew, state.extension
+
+
+def _inputs(dst: Any, inputs: "Inputs", keep: list) -> None:
+    _drive(dst.drive[lib.CRANE_LIFT], inputs.lift, keep)
+    _drive(dst.drive[lib.CRANE_TILT], inputs.tilt, keep)
+
+
 def predict(crane: "Crane", state: "State", inputs: "Inputs", horizon: float,
             dt: float) -> np.ndarray:
-    """Runs crane_predict; returns the samples as a structured array (SAMPLE_DTYPE)."""
+    """Runs crane_predict (through crane_predict_model with the cached model, which gives the
+    same samples without re-deriving the crane on every call); returns the samples as a
+    structured array (SAMPLE_DTYPE)."""
+    _, m = _cached(crane, state.extension)
     s = ffi.new("crane_state *")
-    s.stroke = (state.lift_stroke, state.tilt_stroke)
-    s.stroke_rate = (state.lift_stroke_rate, state.tilt_stroke_rate)
-    s.slew, s.extension = state.slew, state.extension
+    _state(s, state)
     inp = ffi.new("crane_inputs *")
     keep: list = []
-    _drive(inp.drive[lib.CRANE_LIFT], inputs.lift, keep)
-    _drive(inp.drive[lib.CRANE_TILT], inputs.tilt, keep)
+    _inputs(inp, inputs, keep)
     n = sample_count(horizon, dt)
     out = np.empty(n, dtype=SAMPLE_DTYPE)
     written = ffi.new("size_t *")
-    ensure(lib.crane_predict(params(crane), s, inp, horizon, dt,
-                             ffi.cast("crane_sample *", ffi.from_buffer(out)), n, written),
+    ensure(lib.crane_predict_model(m, s, inp, horizon, dt,
+                                   ffi.cast("crane_sample *", ffi.from_buffer(out)), n, written),
            "predict")
     return out[: written[0]]
+
+
+def sample_count_every(horizon: float, dt: float, sample_every: int) -> int:
+    n = ffi.new("size_t *")
+    ensure(lib.crane_sample_count_every(horizon, dt, sample_every, n), "horizon/dt/sample_every")
+    return int(n[0])
+
+
+def predict_many(crane: "Crane", states: Sequence["State"], inputs: Sequence["Inputs"],
+                 horizon: float, dt: float, sample_every: int, threads: int) -> np.ndarray:
+    """Runs crane_predict_many; returns the samples as a (F, N) structured array (SAMPLE_DTYPE).
+
+    With threads > 1 the batch is cut into that many contiguous slices, each run by one
+    crane_predict_many call in its own thread: cffi releases the GIL during the call, so the
+    slices run on separate cores. All futures are validated (in C) before any thread starts.
+    """
+    p, _ = _cached(crane, states[0].extension if len(states) else 0.0)
+    f = len(states)
+    st = ffi.new("crane_state[]", max(f, 1))
+    inp = ffi.new("crane_inputs[]", max(f, 1))
+    keep: list = []
+    for k in range(f):
+        _state(st[k], states[k])
+        _inputs(inp[k], inputs[k], keep)
+    n = sample_count_every(horizon, dt, sample_every)
+    out = np.empty((f, n), dtype=SAMPLE_DTYPE)
+    if f == 0:
+        return out
+    base = ffi.cast("crane_sample *", ffi.from_buffer(out))
+    failed = ffi.new("size_t *")
+    threads = max(1, min(int(threads), f))
+    if threads == 1:
+        status = lib.crane_predict_many(p, f, st, inp, horizon, dt, sample_every, base, n, failed)
+        _ensure_many(status, int(failed[0]), f)
+        return out
+    bounds = [f * i // threads for i in range(threads + 1)]
+    results: list = [None] * threads
+
+    def run(i: int) -> None:
+        lo, hi = bounds[i], bounds[i + 1]
+        fl = ffi.new("size_t *")
+        status = lib.crane_predict_many(p, hi - lo, st + lo, inp + lo, horizon, dt, sample_every,
+                                        base + lo * n, n, fl)
+        k = int(fl[0])
+        results[i] = (status, lo + k if k < hi - lo else f)
+
+    workers = [threading.Thread(target=run, args=(i,)) for i in range(1, threads)]
+    for w in workers:
+        w.start()
+    run(0)
+    for w in workers:
+        w.join()
+    for status, k in results:
+        _ensure_many(status, k, f)
+    return out
+
+
+def _ensure_many(status: int, failed: int, n_futures: int) -> None:
+    ensure(status, f"predict_many (future {failed})" if failed < n_futures else "predict_many")
 
 
 def points(crane: "Crane", extension: float, slew: float, theta: np.ndarray) -> np.ndarray:

@@ -3,31 +3,41 @@
 from __future__ import annotations
 
 import math
-from typing import Optional
+import os
+from typing import Optional, Sequence
 
 import numpy as np
 
 from . import _core
 from .crane import Crane
-from .types import Hold, Inputs, PressureSeries, State, Trajectory
+from .types import Hold, Inputs, PressureSeries, State, Trajectory, TrajectoryBatch
 
-__all__ = ["predict", "DEFAULT_DT", "BACKENDS"]
+__all__ = ["predict", "predict_many", "DEFAULT_DT", "BACKENDS"]
 
 #: Default RK4 step, s. Chosen by measured accuracy: see README ("Accuracy of the default step").
 DEFAULT_DT = 1e-3
 
 BACKENDS = ("c", "python")
 
+# Trajectory array name -> field of the core's crane_sample.
+_FIELDS = (("t", "t"), ("strokes", "stroke"), ("theta", "theta"), ("omega", "omega"),
+           ("tip", "tip"), ("stop", "stop"))
+
+#: Batches smaller than this run in one thread (a thread costs more than it saves).
+MIN_FUTURES_PER_THREAD = 8
+
 
 def _check(crane: Crane, initial: State, inputs: Inputs, horizon: float, dt: float,
            backend: str) -> None:
     """Checks that need more than one argument, naming the field and the allowed range."""
+    _check_shared(crane, horizon, dt, backend)
+    _check_future(crane, initial, inputs, horizon)
+
+
+def _check_shared(crane: Crane, horizon: float, dt: float, backend: str) -> None:
+    """The checks of the arguments a batch of futures shares."""
     if not isinstance(crane, Crane):
         raise TypeError(f"crane must be a cranepredict.Crane, got {type(crane).__name__}")
-    if not isinstance(initial, State):
-        raise TypeError(f"initial must be a cranepredict.State, got {type(initial).__name__}")
-    if not isinstance(inputs, Inputs):
-        raise TypeError(f"inputs must be a cranepredict.Inputs, got {type(inputs).__name__}")
     if backend not in BACKENDS:
         raise ValueError(f"backend must be one of {BACKENDS}, got {backend!r}")
     for name, value in (("horizon", horizon), ("dt", dt)):
@@ -37,6 +47,14 @@ def _check(crane: Crane, initial: State, inputs: Inputs, horizon: float, dt: flo
             raise ValueError(f"{name} must be finite and > 0 s, got {value}")
     if dt > horizon:
         raise ValueError(f"dt must be in (0, horizon] = (0, {horizon}] s, got {dt}")
+
+
+def _check_future(crane: Crane, initial: State, inputs: Inputs, horizon: float) -> None:
+    """The checks of one future: its initial state and inputs against the crane and horizon."""
+    if not isinstance(initial, State):
+        raise TypeError(f"initial must be a cranepredict.State, got {type(initial).__name__}")
+    if not isinstance(inputs, Inputs):
+        raise TypeError(f"inputs must be a cranepredict.Inputs, got {type(inputs).__name__}")
     for joint, cyl, stroke, rate, drive in (
             ("lift", crane.lift_cylinder, initial.lift_stroke, initial.lift_stroke_rate, inputs.lift),
             ("tilt", crane.tilt_cylinder, initial.tilt_stroke, initial.tilt_stroke_rate, inputs.tilt)):
@@ -67,9 +85,8 @@ def predict(crane: Crane, initial: State, inputs: Inputs, horizon: float, *,
     _check(crane, initial, inputs, horizon, dt, backend)
     if backend == "c":
         s = _core.predict(crane, initial, inputs, float(horizon), float(dt))
-        arrays = {k: np.ascontiguousarray(s[f]) for k, f in
-                  (("t", "t"), ("strokes", "stroke"), ("theta", "theta"), ("omega", "omega"),
-                   ("tip", "tip"), ("stop", "stop"))}
+        # Field views of the core's sample array: no copy (the arrays are made read-only below).
+        arrays = {k: s[f] for k, f in _FIELDS}
 
         def points(theta: np.ndarray) -> np.ndarray:
             return _core.points(crane, initial.extension, initial.slew, theta)
@@ -86,3 +103,58 @@ def predict(crane: Crane, initial: State, inputs: Inputs, horizon: float, *,
                       omega=arrays["omega"], tip=arrays["tip"], stop=arrays["stop"],
                       slew=initial.slew, extension=initial.extension, backend=backend,
                       _points=points)
+
+
+def predict_many(crane: Crane, initials: Sequence[State], inputs_list: Sequence[Inputs],
+                 horizon: float, *, dt: Optional[float] = None, sample_every: int = 1,
+                 threads: Optional[int] = None) -> TrajectoryBatch:
+    """Predicts many futures of one crane in one C call: future k from ``initials[k]`` under
+    ``inputs_list[k]``, all over the same ``horizon`` with the same ``dt``.
+
+    Returns a :class:`TrajectoryBatch` (arrays of shape (F, N, ...)); ``batch[k]`` equals
+    ``predict(crane, initials[k], inputs_list[k], horizon, dt=dt)`` exactly at the kept samples.
+    ``sample_every = m`` keeps only t = 0, every m-th step and the last step (the integration
+    still takes every step of size dt; only the output is thinned), which saves the memory and
+    time of writing F x N samples when a coarser output is enough. ``threads`` (default: 2 on a
+    machine with 2 or more cores, for batches of at least 2 x MIN_FUTURES_PER_THREAD futures)
+    splits the batch into contiguous slices run in parallel; the C core itself stays
+    single-threaded. Validation is predict()'s, per future; an error names the future's index.
+    """
+    dt = DEFAULT_DT if dt is None else dt
+    _check_shared(crane, horizon, dt, "c")
+    if isinstance(sample_every, bool) or not isinstance(sample_every, (int, np.integer)) \
+            or sample_every < 1:
+        raise ValueError(f"sample_every must be an int >= 1, got {sample_every!r}")
+    initials = list(initials)
+    inputs_list = list(inputs_list)
+    if len(initials) != len(inputs_list):
+        raise ValueError(f"initials and inputs_list must have the same length, got "
+                         f"{len(initials)} and {len(inputs_list)}")
+    for k, (initial, inputs) in enumerate(zip(initials, inputs_list)):
+        try:
+            _check_future(crane, initial, inputs, horizon)
+        except (TypeError, ValueError) as e:
+            raise type(e)(f"future {k} (initials[{k}], inputs_list[{k}]): {e}") from None
+    f = len(initials)
+    if threads is None:
+        threads = min(2, os.cpu_count() or 1) if f >= 2 * MIN_FUTURES_PER_THREAD else 1
+    if isinstance(threads, bool) or not isinstance(threads, (int, np.integer)) or threads < 1:
+        raise ValueError(f"threads must be an int >= 1, got {threads!r}")
+    s = _core.predict_many(crane, initials, inputs_list, float(horizon), float(dt),
+                           int(sample_every), int(threads))
+    arrays = {k: s[fld] for k, fld in _FIELDS}
+    arrays["t"] = arrays["t"][0] if f else np.zeros(0)
+    for a in arrays.values():
+        a.setflags(write=False)
+    slew = np.array([x.slew for x in initials], dtype=float)
+    extension = np.array([x.extension for x in initials], dtype=float)
+    slew.setflags(write=False)
+    extension.setflags(write=False)
+
+    def points(k: int, theta: np.ndarray) -> np.ndarray:
+        return _core.points(crane, float(extension[k]), float(slew[k]), theta)
+
+    return TrajectoryBatch(t=arrays["t"], strokes=arrays["strokes"], theta=arrays["theta"],
+                           omega=arrays["omega"], tip=arrays["tip"], stop=arrays["stop"],
+                           slew=slew, extension=extension, backend="c",
+                           sample_every=int(sample_every), _points=points)

@@ -13,7 +13,7 @@ from typing import Callable, Dict, Optional, Sequence, Tuple, Union
 import numpy as np
 
 __all__ = ["State", "Pressure", "PressureSeries", "Hold", "Drive", "Inputs", "Trajectory",
-           "POINT_NAMES", "PRESSURE_MAX"]
+           "TrajectoryBatch", "POINT_NAMES", "PRESSURE_MAX"]
 
 from ._core import PRESSURE_MAX  # Pa: the largest pressure accepted (the C core's CRANE_PRESSURE_MAX)
 
@@ -187,3 +187,42 @@ class Trajectory:
         """Time (s) of the first sample at the given end stop of a joint, or None."""
         hits = np.flatnonzero(self.stop[:, joint] == side)
         return float(self.t[hits[0]]) if hits.size else None
+
+
+@dataclass(frozen=True, eq=False)
+class TrajectoryBatch:
+    """Many predicted futures of one crane (``predict_many``), stacked: future k is row k.
+
+    t (N,) s, shared by all futures; strokes, theta, omega (F, N, 2); tip (F, N, 3); stop
+    (F, N, 2); slew, extension (F,). Units and conventions as in :class:`Trajectory`.
+    ``batch[k]`` is future k as a Trajectory (views, no copy); ``len(batch)`` is F. With
+    ``sample_every = m`` the samples are t = 0, every m-th step and the last step.
+    """
+
+    t: np.ndarray
+    strokes: np.ndarray
+    theta: np.ndarray
+    omega: np.ndarray
+    tip: np.ndarray
+    stop: np.ndarray
+    slew: np.ndarray
+    extension: np.ndarray
+    backend: str
+    sample_every: int
+    _points: Callable[[int, np.ndarray], np.ndarray] = field(repr=False)
+
+    def __len__(self) -> int:
+        return int(self.tip.shape[0])
+
+    def __getitem__(self, k: int) -> Trajectory:
+        n = len(self)
+        if not isinstance(k, (int, np.integer)) or isinstance(k, bool):
+            raise TypeError(f"a TrajectoryBatch is indexed by an int, got {type(k).__name__}")
+        if not -n <= k < n:
+            raise IndexError(f"future index {k} out of range for {n} futures")
+        k = int(k) % n
+        return Trajectory(t=self.t, strokes=self.strokes[k], theta=self.theta[k],
+                          omega=self.omega[k], tip=self.tip[k], stop=self.stop[k],
+                          slew=float(self.slew[k]), extension=float(self.extension[k]),
+                          backend=self.backend,
+                          _points=lambda theta, _k=k: self._points(_k, theta))

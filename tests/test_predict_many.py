@@ -1,0 +1,125 @@
+"""predict_many: the batch equals predict() future by future (exactly), and bad input is rejected
+with the index of the bad future."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+import cranepredict as cp
+
+from conftest import random_drive
+
+HORIZON = 0.4
+DT = 2e-3
+
+
+def _futures(crane: cp.Crane, n: int, seed: int = 4, horizon: float = HORIZON):
+    rng = np.random.default_rng(seed)
+    lift, tilt, g = crane.lift_cylinder, crane.tilt_cylinder, crane.geometry
+    initials, inputs = [], []
+    for k in range(n):
+        li, ti = random_drive(rng, horizon), random_drive(rng, horizon)
+        # Some futures start on a stroke limit (end stops at t = 0), some at an extension.
+        ls = lift.stroke_min if k % 7 == 3 else float(rng.uniform(lift.stroke_min, lift.stroke_max))
+        ts = tilt.stroke_max if k % 5 == 2 else float(rng.uniform(tilt.stroke_min, tilt.stroke_max))
+        ext = float(rng.uniform(g.extension_min, g.extension_max)) if k % 3 == 0 else 0.0
+        initials.append(cp.State(lift_stroke=ls, tilt_stroke=ts, slew=float(rng.uniform(-3, 3)),
+                                 extension=ext))
+        inputs.append(cp.Inputs(lift=li, tilt=ti))
+    return initials, inputs
+
+
+FIELDS = ("t", "strokes", "theta", "omega", "tip", "stop")
+
+
+@pytest.mark.parametrize("threads", [1, 2, 3])
+def test_equals_predict(crane, threads):
+    initials, inputs = _futures(crane, 24)
+    batch = cp.predict_many(crane, initials, inputs, HORIZON, dt=DT, threads=threads)
+    assert len(batch) == 24
+    n = int(np.ceil(HORIZON / DT - 1e-9)) + 1
+    assert batch.tip.shape == (24, n, 3) and batch.theta.shape == (24, n, 2) and batch.t.shape == (n,)
+    for k in range(24):
+        one = cp.predict(crane, initials[k], inputs[k], HORIZON, dt=DT)
+        for name in FIELDS:
+            assert np.array_equal(getattr(batch[k], name), getattr(one, name)), (k, name)
+        assert batch[k].slew == one.slew and batch[k].extension == one.extension
+
+
+@pytest.mark.parametrize("every", [1, 3, 7, 200, 1000])
+def test_sample_every_keeps_every_mth_step_and_the_last(crane, every):
+    horizon, dt = 0.411, 2e-3         # 206 steps, the last one short
+    initials, inputs = _futures(crane, 5, seed=9, horizon=horizon)
+    batch = cp.predict_many(crane, initials, inputs, horizon, dt=dt, sample_every=every)
+    n_steps = int(np.ceil(horizon / dt - 1e-9))
+    keep = list(range(0, n_steps + 1, every))
+    if keep[-1] != n_steps:
+        keep.append(n_steps)
+    assert batch.sample_every == every
+    for k in range(5):
+        one = cp.predict(crane, initials[k], inputs[k], horizon, dt=dt)
+        for name in FIELDS:
+            assert np.array_equal(getattr(batch[k], name), getattr(one, name)[keep]), (k, name)
+
+
+def test_empty_and_single(crane):
+    initials, inputs = _futures(crane, 1)
+    assert len(cp.predict_many(crane, [], [], HORIZON, dt=DT)) == 0
+    one = cp.predict_many(crane, initials, inputs, HORIZON, dt=DT)
+    assert np.array_equal(one.tip[0], cp.predict(crane, initials[0], inputs[0], HORIZON, dt=DT).tip)
+
+
+def test_points_and_read_only(crane):
+    initials, inputs = _futures(crane, 3)
+    batch = cp.predict_many(crane, initials, inputs, HORIZON, dt=DT)
+    pts = batch[2].points()
+    assert np.allclose(pts["tip"], batch.tip[2], atol=1e-12)
+    with pytest.raises(ValueError):
+        batch.tip[0, 0, 0] = 1.0
+    with pytest.raises(IndexError):
+        batch[3]
+
+
+def test_mismatched_lengths(crane):
+    initials, inputs = _futures(crane, 4)
+    with pytest.raises(ValueError, match="same length.*4 and 3"):
+        cp.predict_many(crane, initials, inputs[:3], HORIZON, dt=DT)
+
+
+@pytest.mark.parametrize("k", [0, 5, 11])
+def test_bad_future_names_its_index(crane, k):
+    initials, inputs = _futures(crane, 12)
+    lift = crane.lift_cylinder
+    bad = list(initials)
+    bad[k] = cp.State(lift_stroke=lift.stroke_max + 0.01, tilt_stroke=0.3)
+    with pytest.raises(ValueError, match=rf"future {k} .*lift_stroke"):
+        cp.predict_many(crane, bad, inputs, HORIZON, dt=DT)
+    bad_inputs = list(inputs)
+    bad_inputs[k] = cp.Inputs(lift=cp.PressureSeries(t=[0.0, HORIZON / 2], p_a=[1e5, 1e5],
+                                                     p_b=[0.0, 0.0]), tilt=cp.Hold())
+    with pytest.raises(ValueError, match=rf"future {k} .*cover"):
+        cp.predict_many(crane, initials, bad_inputs, HORIZON, dt=DT)
+    wrong_type = list(inputs)
+    wrong_type[k] = "not inputs"
+    with pytest.raises(TypeError, match=rf"future {k} "):
+        cp.predict_many(crane, initials, wrong_type, HORIZON, dt=DT)
+
+
+def test_bad_shared_arguments(crane):
+    initials, inputs = _futures(crane, 2)
+    with pytest.raises(ValueError, match="dt"):
+        cp.predict_many(crane, initials, inputs, HORIZON, dt=-1.0)
+    with pytest.raises(ValueError, match="sample_every"):
+        cp.predict_many(crane, initials, inputs, HORIZON, dt=DT, sample_every=0)
+    with pytest.raises(ValueError, match="threads"):
+        cp.predict_many(crane, initials, inputs, HORIZON, dt=DT, threads=0)
+    with pytest.raises(TypeError, match="Crane"):
+        cp.predict_many("patu", initials, inputs, HORIZON, dt=DT)
+
+
+def test_inputs_not_modified(crane):
+    initials, inputs = _futures(crane, 4)
+    before = (list(initials), list(inputs))
+    cp.predict_many(crane, initials, inputs, HORIZON, dt=DT)
+    assert (initials, inputs) == before
