@@ -1,0 +1,243 @@
+"""Faster-than-real-time benchmarks: predict() (C core and twin), the bare C core, predict_many,
+and the peers (MuJoCo, scipy DOP853) on the same model. Each records in extra_info its ratio
+(simulated s / wall s, from the median round; ratio_best from the fastest) and its tip error
+against the converged run (conftest.DT_REF).
+
+    pytest benchmarks --benchmark-only        the table of docs/benchmarks.md, in one run
+    pytest benchmarks --benchmark-disable     each once, as a test (CI)
+"""
+
+from __future__ import annotations
+
+import os
+import re
+import shutil
+import subprocess
+
+import numpy as np
+import pytest
+
+import cranepredict as cp
+from cranepredict import _core, twin
+
+from conftest import TOL, benchmarks_enabled, case, largest_dt, reference, tip_error
+
+ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+CSRC = os.path.join(ROOT, "csrc")
+SCENARIOS = ("paper-fig4", "both-cylinders")
+
+
+def _dt(name: str, which: str) -> float:
+    return cp.DEFAULT_DT if which == "default" else largest_dt(name)[0]
+
+
+def _record_error(benchmark, name: str, err: float) -> None:
+    dt, errors = largest_dt(name)
+    benchmark.extra_info["tip_error_mm"] = round(err * 1e3, 6)
+    benchmark.extra_info["largest_dt_within_1mm"] = dt
+    benchmark.extra_info["tip_error_mm_by_dt"] = {f"{k:g}": round(v * 1e3, 5)
+                                                  for k, v in errors.items()}
+
+
+# -- predict(): C backend and twin -----------------------------------------------------------
+
+@pytest.mark.parametrize("which", ["default", "largest"])
+@pytest.mark.parametrize("name", SCENARIOS)
+@pytest.mark.parametrize("backend", ["c", "python"])
+def test_predict(benchmark, ratio, name, which, backend):
+    c = case(name)
+    dt = _dt(name, which)
+    tr = ratio(lambda: cp.predict(*c.args(), dt=dt, backend=backend), c.horizon,
+               scenario=name, backend=backend, dt=dt, dt_choice=which)
+    err = tip_error(name, tr.t, tr.tip)
+    _record_error(benchmark, name, err)
+    if which == "largest":
+        assert err <= TOL
+
+
+def test_reference_is_converged():
+    """The converged run agrees with one at half its step to far below the 1 mm tolerance."""
+    for name in SCENARIOS:
+        ref, half = reference(name), cp.predict(*case(name).args(), dt=2.5e-5)
+        assert np.max(np.linalg.norm(ref.tip - half.tip[::2], axis=1)) < 1e-6
+
+
+# -- the bare C core (csrc/bench/bench_core.c, no Python) ------------------------------------
+
+def _drive_arg(d) -> str:
+    if isinstance(d, cp.Hold):
+        return "hold"
+    if isinstance(d, cp.Pressure):
+        return f"{d.p_a!r},{d.p_b!r}"
+    raise NotImplementedError("bench_core takes constant pressures or hold")
+
+
+@pytest.fixture(scope="session")
+def bench_core():
+    if shutil.which("make") is None or shutil.which(os.environ.get("CC", "cc")) is None:
+        pytest.skip("the bare C benchmark needs make and a C compiler")
+    build = os.path.join(CSRC, "build")
+    r = subprocess.run(["make", "-s", "-C", CSRC, "build/bench_core"], capture_output=True, text=True)
+    if r.returncode != 0:
+        pytest.fail(f"make build/bench_core failed:\n{r.stdout}\n{r.stderr}")
+    return os.path.join(build, "bench_core")
+
+
+@pytest.mark.parametrize("which", ["default", "largest"])
+@pytest.mark.parametrize("name", SCENARIOS)
+def test_bare_c(benchmark, bench_core, request, name, which):
+    """The C program times crane_predict itself (best and mean over >= 0.5 s of calls, monotonic
+    clock); pytest-benchmark only runs the program once. Its final tip must be predict()'s."""
+    c = case(name)
+    if c.crane != cp.scenarios.get("paper-fig4").crane:
+        pytest.skip("bench_core has the PATU 655 with 200 kg built in")
+    dt = _dt(name, which)
+    seconds = 0.5 if benchmarks_enabled(request.config) else 0.02
+    args = [bench_core, repr(dt), repr(c.horizon), repr(c.initial.lift_stroke),
+            repr(c.initial.tilt_stroke), _drive_arg(c.inputs.lift), _drive_arg(c.inputs.tilt),
+            repr(seconds)]
+    out = benchmark.pedantic(lambda: subprocess.run(args, capture_output=True, text=True,
+                                                    check=True).stdout, rounds=1, iterations=1)
+    kv = dict(re.findall(r"(\w+)=(\S+)", out))
+    tip = np.array([float(kv["tip_x"]), float(kv["tip_y"]), float(kv["tip_z"])])
+    tr = cp.predict(*c.args(), dt=dt)
+    assert np.allclose(tip, tr.tip[-1], rtol=0, atol=1e-12), "bench_core and predict() differ"
+    benchmark.extra_info.update(scenario=name, backend="bare C", dt=dt, dt_choice=which,
+                                simulated_s=c.horizon, ratio=float(kv["ratio_mean"]),
+                                ratio_best=float(kv["ratio_best"]), calls=int(kv["reps"]))
+    _record_error(benchmark, name, tip_error(name, tr.t, tr.tip))
+
+
+# -- predict_many ------------------------------------------------------------------------------
+
+def _futures(n: int):
+    """n candidate operator commands around the both-cylinders case, from the same pose."""
+    c = case("both-cylinders")
+    rng = np.random.default_rng(1)
+    inputs = [cp.Inputs(lift=cp.Pressure(p_a=float(rng.uniform(60e5, 90e5)), p_b=0.0),
+                        tilt=cp.Pressure(p_a=0.0, p_b=float(rng.uniform(20e5, 40e5))))
+              for _ in range(n)]
+    inputs[0] = c.inputs
+    return c, [c.initial] * n, inputs
+
+
+@pytest.mark.parametrize("threads", [1, 2])
+@pytest.mark.parametrize("which,every", [("largest", 1), ("default", 1), ("default", 25)])
+def test_predict_many(benchmark, ratio, request, which, every, threads):
+    n = 1000 if benchmarks_enabled(request.config) else 20
+    c, initials, inputs = _futures(n)
+    dt = _dt("both-cylinders", which)
+    batch = ratio(lambda: cp.predict_many(c.crane, initials, inputs, c.horizon, dt=dt,
+                                          sample_every=every, threads=threads),
+                  n * c.horizon, scenario="both-cylinders", backend="predict_many", futures=n,
+                  dt=dt, dt_choice=which, sample_every=every, threads=threads)
+    one = cp.predict(*c.args(), dt=dt)
+    step = every
+    assert np.array_equal(batch[0].tip[:-1], one.tip[::step][: batch.tip.shape[1] - 1])
+    benchmark.extra_info["wall_ms_per_batch"] = round(1e3 * n * c.horizon
+                                                      / benchmark.extra_info["ratio"], 3)
+    _record_error(benchmark, "both-cylinders", tip_error("both-cylinders", one.t, one.tip))
+
+
+# -- peers: MuJoCo on the equivalent open chain, scipy DOP853 on the twin's right-hand side -------
+
+def _chain_xml(crane: cp.Crane, extension: float, integrator: str, dt: float) -> str:
+    """The 2-link open chain of the lumped model in MJCF: the boom plane (x, y) is MuJoCo's
+    (x, z); the hinges turn about -y so that a positive angle is counterclockwise in the boom
+    plane; qpos = (theta0, theta1) with the bodies' frames at zero angle. Masses, centres of mass
+    and Izz are the C core's (crane_model: m1, c1, i1 and the lumped m2, c2, i2)."""
+    m = _core.model(crane, extension)
+    g = crane.geometry
+    o1, o2 = g.lift_pivot, g.tilt_pivot
+
+    def inertial(mass, com, izz):
+        return (f'<inertial pos="{com.x!r} 0 {com.y!r}" mass="{mass!r}" '
+                f'diaginertia="{izz!r} {izz!r} {izz!r}"/>')
+
+    return f"""
+<mujoco>
+  <option timestep="{dt!r}" integrator="{integrator}" gravity="0 0 {-crane.gravity!r}"/>
+  <worldbody>
+    <body name="lift" pos="{o1[0]!r} 0 {o1[1]!r}">
+      <joint name="lift" type="hinge" axis="0 -1 0" damping="0"/>
+      {inertial(m.m1, m.c1, m.i1)}
+      <body name="outer" pos="{o2[0]!r} 0 {o2[1]!r}">
+        <joint name="tilt" type="hinge" axis="0 -1 0" damping="0"/>
+        {inertial(m.m2, m.c2, m.i2)}
+      </body>
+    </body>
+  </worldbody>
+  <actuator>
+    <motor joint="lift" gear="1" ctrllimited="false"/>
+    <motor joint="tilt" gear="1" ctrllimited="false"/>
+  </actuator>
+</mujoco>"""
+
+
+def _joint_torques(c, tr: cp.Trajectory) -> np.ndarray:
+    """tau_i = F_i(v) ds_i/dtheta at every sample of our run (the cylinder model, C core)."""
+    tau = np.zeros((tr.t.size, 2))
+    drives = (c.inputs.lift, c.inputs.tilt)
+    for k in range(tr.t.size):
+        for j in (0, 1):
+            _, ds = _core.joint_angle(c.crane, j, float(tr.strokes[k, j]), c.initial.extension)
+            d = drives[j]
+            tau[k, j] = _core.cylinder_force(c.crane, j, d.p_a, d.p_b,
+                                             ds * float(tr.omega[k, j])) * ds
+    return tau
+
+
+@pytest.mark.parametrize("integrator", ["RK4", "Euler"])
+def test_mujoco(benchmark, ratio, integrator):
+    mujoco = pytest.importorskip("mujoco", reason="MuJoCo is a peer: pip install '.[bench]'")
+    rollout = pytest.importorskip("mujoco.rollout", reason="mujoco.rollout missing (mujoco >= 3.2)")
+    c, dt = case("both-cylinders"), cp.DEFAULT_DT
+    ours = cp.predict(*c.args(), dt=dt)
+    model = mujoco.MjModel.from_xml_string(_chain_xml(c.crane, c.initial.extension, integrator, dt))
+    data = mujoco.MjData(model)
+    data.qpos[:] = ours.theta[0]
+    data.qvel[:] = ours.omega[0]
+    mujoco.mj_forward(model, data)
+    spec = mujoco.mjtState.mjSTATE_FULLPHYSICS
+    state0 = np.empty(mujoco.mj_stateSize(model, spec))
+    mujoco.mj_getState(model, data, state0, spec)
+    # The same joint torques, evaluated from our cylinder model along our run and held over
+    # each step (open loop: the rollout runs entirely in MuJoCo's C code).
+    ctrl = _joint_torques(c, ours)[:-1][None, :, :]
+    nstep = ctrl.shape[1]
+    state, _ = ratio(lambda: rollout.rollout(model, data, state0[None, :], ctrl, nstep=nstep),
+                     nstep * dt, scenario="both-cylinders", backend=f"MuJoCo {integrator}",
+                     dt=dt, mujoco=mujoco.__version__)
+    qpos = state[0, :, 1:3]   # FULLPHYSICS: time, qpos, qvel, ...
+    tip = _core.points(c.crane, c.initial.extension, c.initial.slew, qpos)[:, -1, :]
+    err = tip_error("both-cylinders", ours.t[1:], tip)
+    _record_error(benchmark, "both-cylinders", err)
+    assert err < 0.05, "the chain is not the same model"
+
+
+def test_scipy_dop853(benchmark, ratio):
+    integrate = pytest.importorskip("scipy.integrate", reason="scipy is a peer: pip install '.[bench]'")
+    c = case("both-cylinders")
+    model = twin.TwinModel(c.crane, c.initial.extension)
+    drives = (c.inputs.lift, c.inputs.tilt)
+    free = (False, False)
+
+    def rhs(t, y):
+        theta, omega = (y[0], y[1]), (y[2], y[3])
+        tau = [model.joint_torque(j, theta[j], omega[j], drives[j].p_a, drives[j].p_b)
+               for j in (0, 1)]
+        alpha = model.forward_dynamics(theta, omega, tau, free)
+        return [y[2], y[3], alpha[0], alpha[1]]
+
+    ref = reference("both-cylinders")
+    y0 = [ref.theta[0, 0], ref.theta[0, 1], ref.omega[0, 0], ref.omega[0, 1]]
+    t_eval = np.round(np.arange(0, 2001) * 1e-3, 12)
+    sol = ratio(lambda: integrate.solve_ivp(rhs, (0.0, c.horizon), y0, method="DOP853",
+                                            t_eval=t_eval, rtol=1e-8, atol=1e-10),
+                c.horizon, scenario="both-cylinders", backend="scipy DOP853 (twin RHS)",
+                rtol=1e-8, atol=1e-10)
+    tip = _core.points(c.crane, c.initial.extension, c.initial.slew, sol.y[:2].T)[:, -1, :]
+    err = tip_error("both-cylinders", t_eval, tip)
+    benchmark.extra_info["rhs_evaluations"] = int(sol.nfev)
+    _record_error(benchmark, "both-cylinders", err)
+    assert err <= TOL
