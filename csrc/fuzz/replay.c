@@ -4,7 +4,11 @@
  * violation aborts (nonzero exit); the sanitizers, when built in, catch the rest.
  * Prints "N passed, 0 failed" at the end.
  */
+/* 64-bit inode numbers: else readdir fails with EOVERFLOW on 32-bit targets (armhf under qemu). */
+#define _FILE_OFFSET_BITS 64
+#define _POSIX_C_SOURCE 200809L
 #include <dirent.h>
+#include <errno.h>
 #include <stdint.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -61,6 +65,7 @@ int main(int argc, char **argv)
                 bad = 1;
                 continue;
             }
+            errno = 0;
             while ((e = readdir(d)) != NULL) {
                 char path[4096];
                 struct stat fst;
@@ -69,6 +74,11 @@ int main(int argc, char **argv)
                 snprintf(path, sizeof path, "%s/%s", argv[i], e->d_name);
                 if (stat(path, &fst) == 0 && S_ISREG(fst.st_mode))
                     bad |= run_file(path);
+                errno = 0;
+            }
+            if (errno != 0) {
+                perror(argv[i]);
+                bad = 1;
             }
             closedir(d);
         } else {

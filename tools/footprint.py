@@ -1,0 +1,275 @@
+#!/usr/bin/env python3
+"""Footprint of the cranepredict C core on a bare-metal ARM target, checked against a budget.
+
+    make -C csrc footprint          (builds csrc/build-m4 first; the usual way)
+    python3 tools/footprint.py --build csrc/build-m4 --cflags '-mcpu=cortex-m4 ...'
+
+Prints and checks:
+  * text / data / bss of the core: the library objects only (arm-none-eabi-size, Berkeley
+    format: text includes read-only data);
+  * the worst-case stack depth of crane_predict (and of the other entry points): the frames of
+    every function along the deepest path of the call graph, the core's from -fstack-usage (.su
+    files) and everything else (libm, libc) from the prologues of the linked code, summed from
+    the entry point to the deepest leaf. Needs no recursion and no indirect calls on the way (both
+    are reported as errors);
+  * for information, the flash of everything crane_predict pulls in from the C library (libm).
+
+The objects must be compiled with -fstack-usage (csrc/Makefile's m4 target does). The probe
+program linked here (with --specs=nosys.specs) only gives the call graph; it is not run.
+Exit status 1 if a budget is exceeded or the analysis is incomplete.
+"""
+import argparse
+import glob
+import os
+import re
+import subprocess
+import sys
+import tempfile
+
+BUDGET = {"data+bss": 1024, "stack": 1024, "text": 16 * 1024}
+ENTRY_POINTS = ["crane_predict", "crane_model_init", "crane_points", "crane_sample_count",
+                "crane_joint_angle", "crane_joint_stroke", "crane_inverse_dynamics",
+                "crane_cylinder_force", "crane_status_message"]
+
+PROBE = r"""
+#include "crane.h"
+/* Keeps every entry point in the image; values come from volatile memory so nothing folds. */
+volatile crane_real v;
+static crane_params params;
+static crane_state state;
+static crane_inputs inputs;
+static crane_model model;
+static crane_sample out[4];
+static crane_real buf[4 * CRANE_N_POINTS * 3], th[2], w[2], a[2], t[2];
+int main(void)
+{
+    size_t n;
+    int s = 0;
+    s += (int)crane_predict(&params, &state, &inputs, v, v, out, 4, &n);
+    s += (int)crane_model_init(&model, &params, v);
+    s += (int)crane_points(&model, v, 1, th, buf);
+    s += (int)crane_sample_count(v, v, &n);
+    s += (int)crane_joint_angle(&model, s, v, th, w);
+    s += (int)crane_joint_stroke(&model, s, v, th);
+    s += (int)crane_inverse_dynamics(&model, th, w, a, t);
+    s += (int)crane_cylinder_force(&model, s, v, v, v, th);
+    return s + (int)crane_status_message((crane_status)s)[0];
+}
+"""
+
+
+def run(cmd, **kw):
+    r = subprocess.run(cmd, capture_output=True, text=True, **kw)
+    if r.returncode != 0:
+        sys.exit(f"footprint: {' '.join(cmd)} failed:\n{r.stdout}{r.stderr}")
+    return r.stdout
+
+
+def sizes(size_tool, objs):
+    out = run([size_tool] + objs)
+    tot = {"text": 0, "data": 0, "bss": 0}
+    rows = []
+    for line in out.splitlines()[1:]:
+        f = line.split()
+        if len(f) >= 6:
+            rows.append((os.path.basename(f[5]), int(f[0]), int(f[1]), int(f[2])))
+            tot["text"] += int(f[0])
+            tot["data"] += int(f[1])
+            tot["bss"] += int(f[2])
+    return rows, tot
+
+
+def su_frames(build):
+    """-fstack-usage: function -> (bytes, qualifier)."""
+    frames = {}
+    for path in glob.glob(os.path.join(build, "*.su")):
+        for line in open(path):
+            parts = line.rstrip("\n").split("\t")
+            if len(parts) != 3:
+                continue
+            name = parts[0].rsplit(":", 1)[-1]
+            frames[name] = (int(parts[1]), parts[2])
+    return frames
+
+
+REGLIST = re.compile(r"\{([^}]*)\}")
+BRANCH = re.compile(r"b(eq|ne|cs|cc|hs|lo|mi|pl|vs|vc|hi|ls|ge|lt|gt|le|al)?")
+
+
+def count_regs(lst):
+    n = 0
+    for item in lst.split(","):
+        item = item.strip()
+        m = re.fullmatch(r"([a-z]+)(\d+)-[a-z]+(\d+)", item)
+        if m:
+            width = 8 if m.group(1) == "d" else 4
+            n += (int(m.group(3)) - int(m.group(2)) + 1) * width
+        elif item:
+            n += 8 if item.startswith("d") and item[1:].isdigit() else 4
+    return n
+
+
+def parse_objdump(text):
+    """function -> {'frame': bytes pushed/allocated (sum: an upper bound), 'calls': set,
+    'indirect': bool, 'size': bytes}"""
+    funcs = {}
+    cur = None
+    start = None
+    last_addr = None
+    head = re.compile(r"^([0-9a-f]+) <([^>]+)>:$")
+    ins = re.compile(r"^\s*([0-9a-f]+):\s+(?:[0-9a-f]{4}\s?){1,2}\s+(\S+)\s*(.*)$")
+    for line in text.splitlines():
+        m = head.match(line)
+        if m:
+            if cur is not None and last_addr is not None:
+                funcs[cur]["size"] = last_addr - start + 2
+            cur = m.group(2)
+            start = int(m.group(1), 16)
+            last_addr = None
+            funcs[cur] = {"frame": 0, "calls": set(), "indirect": False, "size": 0}
+            continue
+        if cur is None:
+            continue
+        m = ins.match(line)
+        if not m:
+            continue
+        last_addr = int(m.group(1), 16)
+        op, args = m.group(2), m.group(3)
+        args = args.split(";")[0].split("@")[0].strip()
+        f = funcs[cur]
+        opb = op.split(".")[0]
+        if opb in ("push", "vpush") or (opb in ("stmdb", "vstmdb", "stmfd") and
+                                          args.startswith("sp!")):
+            r = REGLIST.search(args)
+            if r:
+                f["frame"] += count_regs(r.group(1))
+        elif opb in ("sub", "subw") and re.match(r"sp,\s*(sp,\s*)?#", args):
+            f["frame"] += int(re.search(r"#(-?\d+)", args).group(1))
+        elif opb in ("str", "strd") and re.search(r"\[sp,\s*#-(\d+)\]!", args):
+            f["frame"] += int(re.search(r"\[sp,\s*#-(\d+)\]!", args).group(1))
+        elif opb in ("bl", "blx") or (BRANCH.fullmatch(opb) and "<" in m.group(0)):
+            t = re.search(r"<([^>+]+)(\+0x[0-9a-f]+)?>", m.group(0))
+            if t is None:
+                if opb in ("bl", "blx"):
+                    f["indirect"] = True
+            elif t.group(2) is None and t.group(1) != cur:
+                f["calls"].add(t.group(1))
+        elif opb == "bx" and not args.startswith("lr"):
+            f["indirect"] = True
+    if cur is not None and last_addr is not None:
+        funcs[cur]["size"] = last_addr - start + 2
+    return funcs
+
+
+def main(argv=None):
+    ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    ap.add_argument("--build", required=True, help="directory with the objects and .su files")
+    ap.add_argument("--cross", default="arm-none-eabi-")
+    ap.add_argument("--cflags", default="-mcpu=cortex-m4 -mthumb -mfpu=fpv4-sp-d16 "
+                                        "-mfloat-abi=hard -Os")
+    ap.add_argument("--float", dest="flt", action="store_true", default=True)
+    a = ap.parse_args(argv)
+    csrc = os.path.join(os.path.dirname(os.path.dirname(os.path.abspath(__file__))), "csrc")
+    objs = sorted(p for p in glob.glob(os.path.join(a.build, "*.o")))
+    if not objs:
+        sys.exit(f"footprint: no objects in {a.build}")
+    lib = os.path.join(a.build, "libcranepredict.a")
+    ok = True
+
+    rows, tot = sizes(a.cross + "size", objs)
+    print(f"cranepredict core on {a.cflags}  (objects in {a.build})")
+    print(f"  {'object':<16}{'text':>8}{'data':>8}{'bss':>8}")
+    for r in rows:
+        print(f"  {r[0]:<16}{r[1]:>8}{r[2]:>8}{r[3]:>8}")
+    print(f"  {'total':<16}{tot['text']:>8}{tot['data']:>8}{tot['bss']:>8}")
+
+    # link the probe for the call graph
+    with tempfile.TemporaryDirectory() as tmp:
+        probe = os.path.join(tmp, "probe.c")
+        elf = os.path.join(tmp, "probe.elf")
+        with open(probe, "w") as f:
+            f.write(PROBE)
+        cflags = a.cflags.split() + (["-DCRANE_FLOAT"] if a.flt else [])
+        run([a.cross + "gcc", "-std=c99"] + cflags + ["-I", csrc, probe, lib,
+             "--specs=nosys.specs", "-Wl,--gc-sections", "-lm", "-o", elf])
+        dis = run([a.cross + "objdump", "-d", elf])
+    funcs = parse_objdump(dis)
+    su = su_frames(a.build)
+
+    def frame(name):
+        f = funcs[name]["frame"]
+        if name in su:
+            return max(su[name][0], f), "su"
+        return f, "asm"
+
+    core_funcs = set(su)
+    memo, stackpath = {}, []
+
+    def depth(name):
+        if name in memo:
+            return memo[name]
+        if name in stackpath:
+            raise RuntimeError("recursion: " + " -> ".join(stackpath + [name]))
+        if name not in funcs:
+            raise RuntimeError(f"no code for {name}")
+        if funcs[name]["indirect"]:
+            raise RuntimeError(f"indirect call in {name}: stack depth unknown")
+        if name in su and su[name][1] not in ("static",):
+            raise RuntimeError(f"{name}: -fstack-usage says '{su[name][1]}'")
+        stackpath.append(name)
+        best, path = 0, []
+        for c in sorted(funcs[name]["calls"]):
+            d, p = depth(c)
+            if d > best:
+                best, path = d, p
+        stackpath.pop()
+        fr = frame(name)[0]
+        memo[name] = (fr + best, [(name, fr)] + path)
+        return memo[name]
+
+    def reach(name, seen):
+        if name in seen or name not in funcs:
+            return
+        seen.add(name)
+        for c in funcs[name]["calls"]:
+            reach(c, seen)
+
+    print("\nworst-case stack depth (bytes) by entry point:")
+    stack = None
+    for e in ENTRY_POINTS:
+        try:
+            d, path = depth(e)
+        except RuntimeError as err:
+            print(f"  {e}: ERROR {err}")
+            ok = False
+            continue
+        print(f"  {e:<24}{d:>6}")
+        if e == "crane_predict":
+            stack = d
+            print("    deepest path: " + " -> ".join(f"{n} ({fr})" for n, fr in path))
+    mism = [(n, su[n][0], funcs[n]["frame"]) for n in su if n in funcs and
+            su[n][0] != funcs[n]["frame"]]
+    if mism:
+        print("  (frames where the prologue sum differs from -fstack-usage; the larger is used: " +
+              ", ".join(f"{n} su {s} asm {f}" for n, s, f in mism) + ")")
+
+    seen = set()
+    reach("crane_predict", seen)
+    libc = sorted(n for n in seen if n not in core_funcs)
+    libc_text = sum(funcs[n]["size"] for n in libc)
+    print(f"\nC library code reached from crane_predict: {libc_text} bytes of text in "
+          f"{len(libc)} functions ({', '.join(libc)})")
+
+    print("\nbudget (Cortex-M4F float build):")
+    checks = [("text", tot["text"]), ("data+bss", tot["data"] + tot["bss"]),
+              ("stack", stack if stack is not None else 10**9)]
+    for k, v in checks:
+        good = v <= BUDGET[k]
+        ok &= good
+        print(f"  {k:<10}{v:>8} <= {BUDGET[k]:<6} {'ok' if good else 'OVER BUDGET'}")
+    print("footprint: " + ("within budget" if ok else "FAILED"))
+    return 0 if ok else 1
+
+
+if __name__ == "__main__":
+    sys.exit(main())
