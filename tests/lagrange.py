@@ -2,21 +2,27 @@
 
 Lagrange's equations  tau = M(q) qdd + (dM/dt) qd - 1/2 d(qd' M qd)/dq + dV/dq  built from the
 kinetic and potential energy of each body separately: the lift boom, the outer boom, the extension
-boom and the load (point mass) - the fast model lumps the last three into one body, so this checks
-the lumping too. Jacobians are geometric (a point of body b moves with perp(p - pivot) per joint
-rate); derivatives of M and V with respect to q are taken by the complex step, which is exact to
-machine precision (no subtraction), so the comparison can be made at 1e-9 relative.
+boom, the load (point mass) and the two side links of the four-bar. The fast model lumps the outer
+boom, extension boom and load into one body and carries the side links through velocity ratios
+and virtual work; here every body is a function p(q) of the joint angles and nothing else:
+
+* positions p(q) are computed from the geometry (the side links from the four-bar closure), with
+  arithmetic that also works for complex q;
+* Jacobians dp/dq by the complex step (exact to machine precision, no subtraction);
+* dM/dq by a five-point central difference (about 1e-9 relative), dV/dq by the complex step.
+
 It shares no code with the C core or the twin; it reads the crane's parameters only.
 """
 
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import List, Tuple
+from typing import Callable, List, Tuple
 
 import numpy as np
 
-H = 1e-30  # complex step
+H = 1e-30      # complex step
+H_FD = 1e-3    # five-point stencil for dM/dq
 
 
 def _rot(a):
@@ -24,82 +30,132 @@ def _rot(a):
     return np.array([[c, -s], [s, c]])
 
 
-def _perp(v):
-    return np.array([-v[1], v[0]])
+def _dir_rot(v):
+    """The rotation taking the x axis to the direction of v (complex-safe, no atan2)."""
+    n = np.sqrt(v[0] ** 2 + v[1] ** 2)
+    return np.array([[v[0], -v[1]], [v[1], v[0]]]) / n
+
+
+def _circle(c0, r0, c1, r1, sign):
+    d = c1 - c0
+    dist = np.sqrt(d[0] ** 2 + d[1] ** 2)
+    a = (r0 ** 2 - r1 ** 2 + dist ** 2) / (2 * dist)
+    u = d / dist
+    return c0 + a * u + sign * np.sqrt(r0 ** 2 - a ** 2) * np.array([-u[1], u[0]])
 
 
 @dataclass
-class _PointMass:
-    frame: int           # 1: lift boom frame (origin O1), 2: outer boom frame (origin O2)
-    r: np.ndarray        # centre of mass in that frame
+class _Body:
     mass: float
     izz: float
+    position: Callable      # q -> centre of mass in the boom plane
+    spin: Callable          # real q -> d(body angle)/dq, shape (2,)
 
 
 class Lagrange:
-    def __init__(self, crane, extension: float = 0.0) -> None:
+    def __init__(self, crane, extension: float = 0.0, side_links: bool = False) -> None:
         g = crane.geometry
         self.gravity = crane.gravity
-        self.o1 = np.array(g.lift_pivot, dtype=float)
-        self.o2_local = np.array(g.tilt_pivot, dtype=float)
-        mount = np.array(g.extension_mount, dtype=float)
-        ext_origin = mount + np.array([extension, 0.0])
-        self.bodies: List[_PointMass] = [
-            _PointMass(1, np.array(crane.lift_boom.com, float), crane.lift_boom.mass, crane.lift_boom.izz),
-            _PointMass(2, np.array(crane.outer_boom.com, float), crane.outer_boom.mass, crane.outer_boom.izz),
-            _PointMass(2, ext_origin + np.array(crane.extension_boom.com, float),
-                       crane.extension_boom.mass, crane.extension_boom.izz),
-            _PointMass(2, ext_origin + np.array([g.tip_distance, 0.0]), crane.load_mass, 0.0),
+        o1 = np.array(g.lift_pivot, float)
+        o2 = np.array(g.tilt_pivot, float)
+        p1 = np.array(g.link1_pivot, float)
+        pin = np.array(g.link_pin, float)
+        end2 = np.array(g.link2_end, float)
+        attach = np.array(g.link2_attach, float)
+        l1, l2 = np.hypot(*pin), np.hypot(*end2)
+        ext_origin = np.array(g.extension_mount, float) + np.array([extension, 0.0])
+
+        def lift_point(r):
+            return lambda q: o1 + _rot(q[0]) @ r
+
+        def outer_point(r):
+            return lambda q: o1 + _rot(q[0]) @ (o2 + _rot(q[1]) @ r)
+
+        def pins(q):   # Q and A in the lift boom frame
+            a = o2 + _rot(q[1]) @ attach
+            return _circle(p1, l1, a, l2, +1.0), a
+
+        def link1_com(q):
+            qq, _ = pins(q)
+            local = p1 + _dir_rot(qq - p1) @ np.linalg.solve(_dir_rot(pin).real, np.asarray(crane.side_link1.com, float))
+            return o1 + _rot(q[0]) @ local
+
+        def link2_com(q):
+            qq, a = pins(q)
+            local = qq + _dir_rot(a - qq) @ np.linalg.solve(_dir_rot(end2).real, np.asarray(crane.side_link2.com, float))
+            return o1 + _rot(q[0]) @ local
+
+        def link_spin(which):
+            def spin(q):
+                # d(angle of the link's line)/dq2 = cross(v, dv/dq2) / |v|^2, dv by the complex step
+                qc = np.array(q, dtype=complex)
+                qc[1] += 1j * H
+                qq, a = pins(qc)
+                v = (qq - p1) if which == 1 else (a - qq)
+                dv, v = np.imag(v) / H, np.real(v)
+                return np.array([1.0, (v[0] * dv[1] - v[1] * dv[0]) / (v @ v)])
+            return spin
+
+        fixed1 = lambda q: np.array([1.0, 0.0])  # noqa: E731
+        fixed2 = lambda q: np.array([1.0, 1.0])  # noqa: E731
+        self.bodies: List[_Body] = [
+            _Body(crane.lift_boom.mass, crane.lift_boom.izz, lift_point(np.array(crane.lift_boom.com, float)), fixed1),
+            _Body(crane.outer_boom.mass, crane.outer_boom.izz, outer_point(np.array(crane.outer_boom.com, float)), fixed2),
+            _Body(crane.extension_boom.mass, crane.extension_boom.izz,
+                  outer_point(ext_origin + np.array(crane.extension_boom.com, float)), fixed2),
+            _Body(crane.load_mass, 0.0, outer_point(ext_origin + np.array([g.tip_distance, 0.0])), fixed2),
         ]
+        if side_links:
+            self.bodies += [
+                _Body(crane.side_link1.mass, crane.side_link1.izz, link1_com, link_spin(1)),
+                _Body(crane.side_link2.mass, crane.side_link2.izz, link2_com, link_spin(2)),
+            ]
+        self._tip = outer_point(ext_origin + np.array([g.tip_distance, 0.0]))
 
-    # positions in the boom plane, valid for complex q (complex step)
-    def _position(self, b: _PointMass, q):
-        r1 = _rot(q[0])
-        if b.frame == 1:
-            return self.o1 + r1 @ b.r
-        return self.o1 + r1 @ (self.o2_local + _rot(q[1]) @ b.r)
+    def _jacobian(self, b: _Body, q) -> np.ndarray:
+        cols = []
+        for k in range(2):
+            qc = np.array(q, dtype=complex)
+            qc[k] += 1j * H
+            cols.append(np.imag(b.position(qc)) / H)
+        return np.stack(cols, axis=1)
 
-    def _jacobian(self, b: _PointMass, q):
-        p = self._position(b, q)
-        jq1 = _perp(p - self.o1)
-        if b.frame == 1:
-            return np.stack([jq1, np.zeros(2, dtype=jq1.dtype)], axis=1), np.array([1.0, 0.0])
-        o2 = self.o1 + _rot(q[0]) @ self.o2_local
-        return np.stack([jq1, _perp(p - o2)], axis=1), np.array([1.0, 1.0])
-
-    def mass_matrix(self, q):
-        q = np.asarray(q)
-        m = np.zeros((2, 2), dtype=q.dtype)
+    def mass_matrix(self, q) -> np.ndarray:
+        q = np.asarray(q, dtype=float)
+        m = np.zeros((2, 2))
         for b in self.bodies:
-            j, jw = self._jacobian(b, q)
-            m = m + b.mass * (j.T @ j) + b.izz * np.outer(jw, jw)
+            j = self._jacobian(b, q)
+            w = b.spin(q)
+            m += b.mass * (j.T @ j) + b.izz * np.outer(w, w)
         return m
 
     def potential(self, q):
-        return sum(b.mass * self.gravity * self._position(b, q)[1] for b in self.bodies)
-
-    def kinetic(self, q, qd):
-        qd = np.asarray(qd, dtype=float)
-        return 0.5 * qd @ self.mass_matrix(np.asarray(q, dtype=float)) @ qd
+        return sum(b.mass * self.gravity * b.position(q)[1] for b in self.bodies)
 
     def energy(self, q, qd) -> float:
-        return float(self.kinetic(q, qd) + self.potential(np.asarray(q, dtype=float)))
+        qd = np.asarray(qd, dtype=float)
+        return float(0.5 * qd @ self.mass_matrix(q) @ qd + np.real(self.potential(np.asarray(q, float))))
 
-    def _dq(self, f, q, k):
-        qc = np.array(q, dtype=complex)
-        qc[k] += 1j * H
-        return np.imag(f(qc)) / H
+    def _dm(self, q, k) -> np.ndarray:
+        e = np.zeros(2)
+        e[k] = H_FD
+        f = self.mass_matrix
+        return (-f(q + 2 * e) + 8 * f(q + e) - 8 * f(q - e) + f(q - 2 * e)) / (12 * H_FD)
 
     def torques(self, q, qd, qdd) -> Tuple[float, float]:
         """tau = M qdd + dM/dt qd - 1/2 d(qd' M qd)/dq + dV/dq."""
         q, qd, qdd = (np.asarray(v, dtype=float) for v in (q, qd, qdd))
         m = self.mass_matrix(q)
-        dm = [self._dq(self.mass_matrix, q, k) for k in range(2)]
+        dm = [self._dm(q, k) for k in range(2)]
         mdot = dm[0] * qd[0] + dm[1] * qd[1]
         dT = np.array([0.5 * qd @ dm[k] @ qd for k in range(2)])
-        dV = np.array([self._dq(self.potential, q, k) for k in range(2)])
-        tau = m @ qdd + mdot @ qd - dT + dV
+        dV = []
+        for k in range(2):
+            qc = np.array(q, dtype=complex)
+            qc[k] += 1j * H
+            dV.append(np.imag(self.potential(qc)) / H)
+        tau = m @ qdd + mdot @ qd - dT + np.array(dV)
         return float(tau[0]), float(tau[1])
 
     def tip(self, q) -> np.ndarray:
-        return np.real(self._position(self.bodies[3], np.asarray(q, dtype=float)))
+        return np.real(self._tip(np.asarray(q, dtype=float)))
