@@ -84,7 +84,7 @@ footprint() {
     return $rc
 }
 step footprint footprint
-sed -n '/^cranepredict core/,$p' "$LOG/footprint.log"
+[ "${FAILED_STEPS[*]:-}" = "${FAILED_STEPS[*]/footprint/}" ] && sed -n '/^cranepredict core/,$p' "$LOG/footprint.log"
 
 # ---- 5. foreign CPUs under qemu-user ----
 compare() {   # compare FILE_A FILE_B TOL: max |tip difference| over all samples <= TOL

@@ -205,7 +205,11 @@ def main(argv=None):
     core_funcs = set(su)
     memo, stackpath = {}, []
 
+    excluded = set()
+
     def depth(name):
+        if name in excluded:
+            return 0, []
         if name in memo:
             return memo[name]
         if name in stackpath:
@@ -247,6 +251,14 @@ def main(argv=None):
         if e == "crane_predict":
             stack = d
             print("    deepest path: " + " -> ".join(f"{n} ({fr})" for n, fr in path))
+    if stack is not None and "__kernel_rem_pio2f" in funcs:
+        excluded.add("__kernel_rem_pio2f")
+        memo.clear()
+        print(f"  (crane_predict without newlib's large-argument reduction __kernel_rem_pio2f, "
+              f"only entered by sinf/cosf for |x| > 201 rad: {depth('crane_predict')[0]}; "
+              f"not used for the budget)")
+        excluded.clear()
+        memo.clear()
     mism = [(n, su[n][0], funcs[n]["frame"]) for n in su if n in funcs and
             su[n][0] != funcs[n]["frame"]]
     if mism:
