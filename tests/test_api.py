@@ -33,9 +33,9 @@ def test_predict_returns_arrays_of_the_documented_shapes(crane):
 
 
 @pytest.mark.parametrize("kwargs, exc, words", [
-    (dict(horizon=0.0), ValueError, "horizon must be finite and > 0"),
+    (dict(horizon=0.0), ValueError, "horizon must be > 0 s"),
     (dict(horizon=math.inf), ValueError, "horizon must be finite"),
-    (dict(dt=-1e-3), ValueError, "dt must be finite and > 0"),
+    (dict(dt=-1e-3), ValueError, "dt must be > 0 s"),
     (dict(dt=3.0), ValueError, r"dt must be in \(0, horizon\]"),
     (dict(dt="1ms"), TypeError, "dt must be a number"),
     (dict(backend="fortran"), ValueError, "backend must be one of"),

@@ -7,7 +7,6 @@ import math
 
 import pytest
 
-import cranepredict as cp
 from cranepredict.crane import Crane
 
 

@@ -2,13 +2,13 @@
 
 from __future__ import annotations
 
-import math
 import os
 from typing import Optional, Sequence
 
 import numpy as np
 
 from . import _core
+from ._checks import number as _number
 from .crane import Crane
 from .types import Hold, Inputs, PressureSeries, State, Trajectory, TrajectoryBatch
 
@@ -41,10 +41,8 @@ def _check_shared(crane: Crane, horizon: float, dt: float, backend: str) -> None
     if backend not in BACKENDS:
         raise ValueError(f"backend must be one of {BACKENDS}, got {backend!r}")
     for name, value in (("horizon", horizon), ("dt", dt)):
-        if isinstance(value, bool) or not isinstance(value, (int, float, np.floating, np.integer)):
-            raise TypeError(f"{name} must be a number, got {type(value).__name__}")
-        if not (math.isfinite(value) and value > 0):
-            raise ValueError(f"{name} must be finite and > 0 s, got {value}")
+        if not _number(value, name) > 0:
+            raise ValueError(f"{name} must be > 0 s, got {value}")
     if dt > horizon:
         raise ValueError(f"dt must be in (0, horizon] = (0, {horizon}] s, got {dt}")
 

@@ -10,16 +10,13 @@ from __future__ import annotations
 
 import dataclasses
 import math
-import sys
 from dataclasses import dataclass, field
 from importlib import resources
 from pathlib import Path
 from typing import Any, Mapping, Tuple, Union
 
-if sys.version_info >= (3, 11):
-    import tomllib
-else:  # pragma: no cover - exercised on Python 3.10 only
-    import tomli as tomllib
+from ._checks import number as _number
+from ._checks import tomllib
 
 Vec2 = Tuple[float, float]
 
@@ -148,15 +145,6 @@ class Crane:
 
 
 # -- loading ----------------------------------------------------------------------------------
-
-def _number(value: Any, name: str) -> float:
-    if isinstance(value, bool) or not isinstance(value, (int, float)):
-        raise TypeError(f"{name} must be a number, got {type(value).__name__}")
-    x = float(value)
-    if not math.isfinite(x):
-        raise ValueError(f"{name} must be finite, got {x}")
-    return x
-
 
 def _vec2(value: Any, name: str) -> Vec2:
     if isinstance(value, (str, bytes)) or not hasattr(value, "__len__") or len(value) != 2:

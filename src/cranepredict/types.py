@@ -6,15 +6,15 @@ Index 0 of every (N, 2) array is the lift cylinder/joint, index 1 the tilt cylin
 
 from __future__ import annotations
 
-import math
 from dataclasses import dataclass, field
-from typing import Callable, Dict, Optional, Sequence, Tuple, Union
+from typing import Callable, Dict, Optional, Tuple, Union
 
 import numpy as np
 
 __all__ = ["State", "Pressure", "PressureSeries", "Hold", "Drive", "Inputs", "Trajectory",
            "TrajectoryBatch", "POINT_NAMES", "PRESSURE_MAX"]
 
+from ._checks import number as _number
 from ._core import PRESSURE_MAX  # Pa: the largest pressure accepted (the C core's CRANE_PRESSURE_MAX)
 
 #: Names of the points in ``Trajectory.points`` (the C core's and the twin's order).
@@ -23,17 +23,8 @@ POINT_NAMES = ("pillar_base", "lift_pivot", "lift_cylinder_base", "lift_cylinder
                "extension_mount", "tip")
 
 
-def _finite(value: object, name: str) -> float:
-    if isinstance(value, bool) or not isinstance(value, (int, float, np.floating, np.integer)):
-        raise TypeError(f"{name} must be a number, got {type(value).__name__}")
-    x = float(value)
-    if not math.isfinite(x):
-        raise ValueError(f"{name} must be finite, got {x}")
-    return x
-
-
 def _pressure(value: object, name: str) -> float:
-    p = _finite(value, name)
+    p = _number(value, name)
     if not 0.0 <= p <= PRESSURE_MAX:
         raise ValueError(f"{name} must be in [0, {PRESSURE_MAX:g}] Pa, got {p:g}")
     return p
@@ -58,7 +49,7 @@ class State:
     def __post_init__(self) -> None:
         for name in ("lift_stroke", "tilt_stroke", "slew", "extension",
                      "lift_stroke_rate", "tilt_stroke_rate"):
-            object.__setattr__(self, name, _finite(getattr(self, name), f"State.{name}"))
+            object.__setattr__(self, name, _number(getattr(self, name), f"State.{name}"))
 
 
 @dataclass(frozen=True)
@@ -119,7 +110,7 @@ class PressureSeries:
     def ramp(cls, t0: float, t1: float, start: Tuple[float, float], end: Tuple[float, float],
              horizon: float) -> "PressureSeries":
         """(p_a, p_b) held at ``start`` until t0, linear to ``end`` at t1, then held to horizon."""
-        t0, t1, horizon = (_finite(v, n) for v, n in ((t0, "t0"), (t1, "t1"), (horizon, "horizon")))
+        t0, t1, horizon = (_number(v, n) for v, n in ((t0, "t0"), (t1, "t1"), (horizon, "horizon")))
         if not 0.0 <= t0 < t1 <= horizon:
             raise ValueError(f"ramp times must satisfy 0 <= t0 < t1 <= horizon, got {t0}, {t1}, {horizon}")
         ts = [0.0, t0, t1, horizon] if t0 > 0 else [0.0, t1, horizon]

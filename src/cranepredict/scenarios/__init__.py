@@ -20,18 +20,13 @@ overrides its load, and gives the initial state, the drive of each cylinder and 
 
 from __future__ import annotations
 
-import sys
 from dataclasses import dataclass
 from importlib import resources
 from typing import Any, Dict, List, Mapping, Tuple
 
+from .._checks import tomllib
 from ..crane import Crane
 from ..types import Drive, Hold, Inputs, Pressure, PressureSeries, State
-
-if sys.version_info >= (3, 11):
-    import tomllib
-else:  # pragma: no cover
-    import tomli as tomllib
 
 __all__ = ["Scenario", "get", "names", "all_scenarios", "from_dict"]
 
