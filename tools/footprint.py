@@ -27,7 +27,7 @@ import sys
 import tempfile
 
 BUDGET = {"data+bss": 1024, "stack": 1024, "text": 16 * 1024}
-ENTRY_POINTS = ["crane_predict", "crane_model_init", "crane_points", "crane_sample_count",
+ENTRY_POINTS = ["crane_predict", "crane_predict_model", "crane_model_init", "crane_points", "crane_sample_count",
                 "crane_joint_angle", "crane_joint_stroke", "crane_inverse_dynamics",
                 "crane_cylinder_force", "crane_status_message"]
 
@@ -46,6 +46,7 @@ int main(void)
     size_t n;
     int s = 0;
     s += (int)crane_predict(&params, &state, &inputs, v, v, out, 4, &n);
+    s += (int)crane_predict_model(&model, &state, &inputs, v, v, out, 4, &n);
     s += (int)crane_model_init(&model, &params, v);
     s += (int)crane_points(&model, v, 1, th, buf);
     s += (int)crane_sample_count(v, v, &n);
