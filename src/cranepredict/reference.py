@@ -10,12 +10,16 @@ a Simscape Multibody model. What this model keeps that the fast one does not:
 * the cylinders are **force elements** between their pins (``ObjectConnectorSpringDamper`` with a
   force user function): ``F = p_a A_a - p_b A_b - F_friction(v)`` along the pin-to-pin line, with
   the same friction law and the same pressure inputs as the fast model;
-* the **end stops** are compliant contacts on the cylinder stroke: when the stroke passes a limit,
-  a unilateral penalty spring-damper acts along the cylinder (stiffness ``STOP_STIFFNESS``, damping
-  ``STOP_DAMPING``: overcritical for the booms' effective mass, so the impact is practically
-  plastic; the contact can only push, never pull, so the boom leaves the stop when the net force
-  pulls it off). This is the physical picture of a piston hitting its cylinder head, without the
-  rigid-plastic idealisation of the fast model.
+* the **end stops** are rigid unilateral contacts with a perfectly plastic impact, handled
+  event-driven: while a cylinder is off its stops its stroke is free; when it reaches a limit
+  (Exudyn's step is shortened until the step ends within ``STOP_TOLERANCE`` of the limit) the
+  piece of motion ends, the impact takes away the cylinder's stroke rate (the impulse acts along
+  that cylinder only; a free other cylinder keeps the momentum the impulse does not take), and the
+  next piece holds the stroke at the limit with a distance constraint (``ObjectConnectorDistance``)
+  while the cylinder's force element keeps acting. The stop is released when its constraint force
+  would have to pull (located to ``RELEASE_TOLERANCE``): the stop can only push. This is the
+  physics of the fast model's stops (docs/model.md "End stops") without penalty parameters: no
+  penetration, no rebound, and each piece is a smooth DAE, so the integrator converges at its order.
 * a **held** cylinder (closed valve) is a fixed pin-to-pin distance constraint
   (``ObjectConnectorDistance``).
 
@@ -43,21 +47,19 @@ from .crane import Crane
 from .types import POINT_NAMES, Hold, Inputs, Pressure, PressureSeries, State, Trajectory
 
 __all__ = ["predict_reference", "simulate", "ReferenceRun", "DEFAULT_REFERENCE_DT",
-           "STOP_STIFFNESS", "STOP_DAMPING", "available"]
+           "STOP_TOLERANCE", "available"]
 
 #: Default step of the reference integrator, s (convergence: docs/validation.md).
 DEFAULT_REFERENCE_DT = 2.5e-4
-#: End-stop contact stiffness along the cylinder, N/m (steel-on-steel stop, far stiffer than the
-#: booms: 137 kN of cylinder force presses it in by 0.014 mm).
-STOP_STIFFNESS = 1e10
-#: End-stop contact damping, N s/m (overcritical for an effective mass up to ~1e5 kg at the
-#: cylinder: the impact is practically plastic, as in the fast model).
-STOP_DAMPING = 2e9
-#: The contact damping grows linearly over the first STOP_ONSET of penetration (m), so that the
-#: contact force is continuous (a Hunt-Crossley-like regularisation; Newton needs it).
-STOP_ONSET = 1e-6
-#: Samples count as "at the stop" when the stroke is within this distance of the limit, m.
-STOP_TOLERANCE = 1e-5
+#: An impact is located when the step ends no more than this past the stroke limit, m (the stroke
+#: is then put on the limit).
+STOP_TOLERANCE = 1e-8
+#: A release is located when the step ends with the stop pulling no more than this, N.
+RELEASE_TOLERANCE = 1.0
+#: Smallest step Exudyn is asked for while it locates an event, s.
+EVENT_MIN_STEP = 1e-7
+#: More end-stop events than this in one run means the stops chatter (an error).
+MAX_PIECES = 64
 
 
 def available() -> bool:
@@ -153,28 +155,80 @@ def _pressure_fn(drive):
     raise TypeError(f"not a pressure drive: {drive!r}")
 
 
-def _cylinder_law(cyl, drive, stop_k: float, stop_d: float):
+def _cylinder_law(cyl, drive, t_offset: float):
     """Exudyn spring-damper user function: returns the connector's tension (positive pulls the pins
-    together) = -(cylinder force) + end-stop contact forces."""
+    together) = -(cylinder force). ``t`` is the segment's time; the inputs run on absolute time."""
     pfun = _pressure_fn(drive)
     Aa, Ab = cyl.area_a, cyl.area_b
     fr = cyl.friction
     Fc, dFs, sig, vS, vT = fr.coulomb, fr.static - fr.coulomb, fr.viscous, fr.stribeck_velocity, fr.tanh_velocity
-    smin, smax = cyl.stroke_min, cyl.stroke_max
 
     def law(mbs, t, itemNumber, stroke, rate, stiffness, damping, force):
-        pa, pb = pfun(t)
+        pa, pb = pfun(t + t_offset)
         ffric = (Fc + dFs * math.exp(-(rate / vS) ** 2)) * math.tanh(rate / vT) + sig * rate
-        tension = -(pa * Aa - pb * Ab - ffric)
-        if stroke > smax:        # piston on the cylinder head: pushes the pins together
-            pen = stroke - smax
-            tension += max(0.0, stop_k * pen + stop_d * min(1.0, pen / STOP_ONSET) * rate)
-        elif stroke < smin:      # piston on the cylinder bottom: pushes the pins apart
-            pen = smin - stroke
-            tension -= max(0.0, stop_k * pen - stop_d * min(1.0, pen / STOP_ONSET) * rate)
-        return tension
+        return -(pa * Aa - pb * Ab - ffric)
 
     return law
+
+
+# -- bodies and assembly poses -------------------------------------------------------------------
+
+_ORDER = ("lift", "outer", "link1", "link2")
+
+
+def _bodies(crane: Crane, extension: float) -> Dict[str, Tuple[float, np.ndarray, float]]:
+    """(mass, centre of mass in the body's frame, Izz about it) of the four moving bodies."""
+    m2, c2, i2 = _lumped_outer(crane, extension)
+    return {"lift": (crane.lift_boom.mass, np.array(crane.lift_boom.com), crane.lift_boom.izz),
+            "outer": (m2, c2, i2),
+            "link1": (crane.side_link1.mass, np.array(crane.side_link1.com), crane.side_link1.izz),
+            "link2": (crane.side_link2.mass, np.array(crane.side_link2.com), crane.side_link2.izz)}
+
+
+def _node_coords(crane: Crane, bodies, lift_stroke: float, tilt_stroke: float) -> Dict[str, np.ndarray]:
+    """Node coordinates (x, y of the centre of mass, frame angle) of each body at given strokes."""
+    g = crane.geometry
+    p = _pose(crane, lift_stroke, tilt_stroke)
+    O1 = np.array(g.lift_pivot)
+    R = _rot(p.th_lift)
+    frames = {"lift": (O1, p.th_lift),
+              "outer": (O1 + R @ np.array(g.tilt_pivot), p.th_outer),
+              "link1": (O1 + R @ np.array(g.link1_pivot), p.ph_link1),
+              "link2": (p.o_link2, p.ph_link2)}
+    return {k: np.array([*(o + _rot(a) @ bodies[k][1]), a]) for k, (o, a) in frames.items()}
+
+
+def _stroke_jacobians(crane: Crane, bodies, s: Tuple[float, float]) -> Dict[str, np.ndarray]:
+    """d(node coordinates)/d(lift stroke, tilt stroke) per body, (3, 2), by central differences."""
+    h = 1e-6
+    cols = {k: np.zeros((3, 2)) for k in _ORDER}
+    for j in range(2):
+        dp, dm = list(s), list(s)
+        dp[j] += h
+        dm[j] -= h
+        qp, qm = _node_coords(crane, bodies, *dp), _node_coords(crane, bodies, *dm)
+        for k in _ORDER:
+            cols[k][:, j] = (qp[k] - qm[k]) / (2 * h)
+    return cols
+
+
+def _stroke_mass_matrix(crane: Crane, bodies, s: Tuple[float, float]) -> np.ndarray:
+    """The 2x2 mass matrix of the crane in stroke coordinates (side links included)."""
+    J = _stroke_jacobians(crane, bodies, s)
+    return sum(J[k].T @ np.diag([bodies[k][0], bodies[k][0], bodies[k][2]]) @ J[k] for k in _ORDER)
+
+
+def _plastic_impact(crane: Crane, bodies, s, rates, j: int, others_free: bool) -> list:
+    """Stroke rates after a perfectly plastic impact of cylinder j on its stop: the stop's impulse
+    acts along cylinder j only (a generalised force on stroke j) and ends its stroke rate; a free
+    other cylinder keeps the momentum the impulse does not take (M dv = P e_j, dv_j = -v_j)."""
+    out = list(rates)
+    if others_free:
+        Minv = np.linalg.inv(_stroke_mass_matrix(crane, bodies, tuple(s)))
+        o = 1 - j
+        out[o] = rates[o] - rates[j] * Minv[o, j] / Minv[j, j]
+    out[j] = 0.0
+    return out
 
 
 # -- the model -----------------------------------------------------------------------------------
@@ -188,63 +242,33 @@ class ReferenceRun:
     residual_max: float           #: largest joint-constraint violation over the run, m
     held_length_error: float      #: largest drift of a held cylinder's pin-to-pin length, m
     dt: float
+    events: list                  #: (t, "impact" | "release", cylinder 0/1, side -1/+1) in order
 
 
-def simulate(crane: Crane, initial: State, inputs: Inputs, horizon: float, *,
-             dt: float = DEFAULT_REFERENCE_DT, stop_stiffness: float = STOP_STIFFNESS,
-             stop_damping: float = STOP_DAMPING, spectral_radius: float = 0.5) -> ReferenceRun:
-    """Runs the Exudyn reference model; see the module text for what it contains."""
-    from . import api
-
-    api._check(crane, initial, inputs, horizon, dt, "c")  # the same input checks as predict()
+def _segment(crane: Crane, bodies, inputs: Inputs, modes, s, rates, held, t0: float, t_end: float,
+             dt: float, spectral_radius: float):
+    """Integrates one smooth piece of the motion with Exudyn, from (strokes s, stroke rates) at t0,
+    with each cylinder "held", free (0) or on its stop (-1/+1, a distance constraint at the
+    limit), until t_end or the first event: a free cylinder reaching a stop (located to
+    STOP_TOLERANCE of stroke) or a stopped one whose stop would have to pull (its constraint force
+    changes sign, located to RELEASE_TOLERANCE). Returns the samples and the events found."""
     import exudyn as exu
     from exudyn.itemInterface import (MarkerBodyMass, MarkerBodyPosition, LoadMassProportional,
                                       NodeRigidBody2D, ObjectConnectorDistance,
                                       ObjectConnectorSpringDamper, ObjectGround,
                                       ObjectJointRevolute2D, ObjectRigidBody2D, SensorNode)
-
-    wall0 = time.perf_counter()
     g = crane.geometry
-    e = initial.extension
-    pose = _pose(crane, initial.lift_stroke, initial.tilt_stroke)
-    O1 = np.array(g.lift_pivot)
-    m2, c2, i2 = _lumped_outer(crane, e)
-
-    # frames: (origin, angle) of each body, and the body's (mass, com in its frame, izz)
-    def frames(p: _Pose) -> Dict[str, Tuple[np.ndarray, float]]:
-        R = _rot(p.th_lift)
-        return {"lift": (O1, p.th_lift),
-                "outer": (O1 + R @ np.array(g.tilt_pivot), p.th_outer),
-                "link1": (O1 + R @ np.array(g.link1_pivot), p.ph_link1),
-                "link2": (p.o_link2, p.ph_link2)}
-
-    bodies = {"lift": (crane.lift_boom.mass, np.array(crane.lift_boom.com), crane.lift_boom.izz),
-              "outer": (m2, c2, i2),
-              "link1": (crane.side_link1.mass, np.array(crane.side_link1.com), crane.side_link1.izz),
-              "link2": (crane.side_link2.mass, np.array(crane.side_link2.com), crane.side_link2.izz)}
-    order = ("lift", "outer", "link1", "link2")
-
-    def node_coords(p: _Pose) -> Dict[str, np.ndarray]:
-        out = {}
-        for name, (o, a) in frames(p).items():
-            out[name] = np.array([*(o + _rot(a) @ bodies[name][1]), a])
-        return out
-
-    q0 = node_coords(pose)
-    # initial velocities from the stroke rates (difference of assembly poses)
-    v0 = {k: np.zeros(3) for k in order}
-    if initial.lift_stroke_rate or initial.tilt_stroke_rate:
-        hs = 1e-7
-        rl, rt = initial.lift_stroke_rate, initial.tilt_stroke_rate
-        qp = node_coords(_pose(crane, initial.lift_stroke + hs * rl, initial.tilt_stroke + hs * rt))
-        qm = node_coords(_pose(crane, initial.lift_stroke - hs * rl, initial.tilt_stroke - hs * rt))
-        v0 = {k: (qp[k] - qm[k]) / (2 * hs) for k in order}
+    q0 = _node_coords(crane, bodies, *s)
+    v0 = {k: np.zeros(3) for k in _ORDER}
+    if any(rates):
+        J = _stroke_jacobians(crane, bodies, tuple(s))
+        v0 = {k: J[k] @ np.array(rates, dtype=float) for k in _ORDER}
 
     SC = exu.SystemContainer()
     mbs = SC.AddSystem()
     ground = mbs.AddObject(ObjectGround())
     nodes, objs = {}, {}
-    for name in order:
+    for name in _ORDER:
         m, com, izz = bodies[name]
         nodes[name] = mbs.AddNode(NodeRigidBody2D(referenceCoordinates=list(q0[name]),
                                                   initialVelocities=list(v0[name])))
@@ -254,35 +278,32 @@ def simulate(crane: Crane, initial: State, inputs: Inputs, horizon: float, *,
         mbs.AddLoad(LoadMassProportional(markerNumber=mk, loadVector=[0.0, -crane.gravity, 0.0]))
 
     def marker(name: str, point_in_frame) -> int:
-        """Position marker at a point given in the body's frame (origin at its pivot)."""
         if name == "ground":
             return mbs.AddMarker(MarkerBodyPosition(bodyNumber=ground,
                                                     localPosition=[*point_in_frame, 0.0]))
         local = np.array(point_in_frame, dtype=float) - bodies[name][1]
         return mbs.AddMarker(MarkerBodyPosition(bodyNumber=objs[name], localPosition=[*local, 0.0]))
 
-    # joints: (body a, point in a's frame, body b, point in b's frame)
-    joints = [("ground", g.lift_pivot, "lift", (0.0, 0.0)),
-              ("lift", g.tilt_pivot, "outer", (0.0, 0.0)),
-              ("lift", g.link1_pivot, "link1", (0.0, 0.0)),
-              ("link1", g.link_pin, "link2", (0.0, 0.0)),
-              ("link2", g.link2_end, "outer", g.link2_attach)]
-    for a, pa, b, pb in joints:
+    for a, pa, b, pb in _joints(g):
         mbs.AddObject(ObjectJointRevolute2D(markerNumbers=[marker(a, pa), marker(b, pb)]))
 
-    cylinders = [("lift", crane.lift_cylinder, inputs.lift, ("ground", g.lift_cylinder_base),
-                  ("lift", g.lift_cylinder_rod), initial.lift_stroke),
-                 ("tilt", crane.tilt_cylinder, inputs.tilt, ("lift", g.tilt_cylinder_base),
-                  ("link1", g.link_pin), initial.tilt_stroke)]
-    for _, cyl, drive, base, rod, s0 in cylinders:
+    # watched[j] = (kind, side, object): gap > 0 means the event has happened
+    watched = {}
+    for j, (cyl, drive, base, rod) in enumerate(_cylinders(crane, inputs)):
         mks = [marker(*base), marker(*rod)]
-        if isinstance(drive, Hold):
-            mbs.AddObject(ObjectConnectorDistance(markerNumbers=mks,
-                                                  distance=cyl.length_retracted + s0))
+        if modes[j] == "held":
+            mbs.AddObject(ObjectConnectorDistance(markerNumbers=mks, distance=cyl.length_retracted + held[j]))
+            continue
+        spring = mbs.AddObject(ObjectConnectorSpringDamper(
+            markerNumbers=mks, referenceLength=cyl.length_retracted,
+            springForceUserFunction=_cylinder_law(cyl, drive, t0)))
+        if modes[j] == 0:
+            watched[j] = ("impact", spring, cyl)
         else:
-            mbs.AddObject(ObjectConnectorSpringDamper(
-                markerNumbers=mks, referenceLength=cyl.length_retracted,
-                springForceUserFunction=_cylinder_law(cyl, drive, stop_stiffness, stop_damping)))
+            lim = cyl.stroke_max if modes[j] > 0 else cyl.stroke_min
+            stop = mbs.AddObject(ObjectConnectorDistance(markerNumbers=mks,
+                                                         distance=cyl.length_retracted + lim))
+            watched[j] = ("release", stop, modes[j])
 
     sensors = {name: (mbs.AddSensor(SensorNode(nodeNumber=nodes[name], storeInternal=True,
                                                writeToFile=False,
@@ -290,33 +311,186 @@ def simulate(crane: Crane, initial: State, inputs: Inputs, horizon: float, *,
                       mbs.AddSensor(SensorNode(nodeNumber=nodes[name], storeInternal=True,
                                                writeToFile=False,
                                                outputVariableType=exu.OutputVariableType.Coordinates_t)))
-               for name in order}
+               for name in _ORDER}
+
+    def gap(j: int) -> Tuple[float, int]:
+        """(how far the event is past, side): for a free cylinder the penetration of the nearer
+        stop, m; for a stopped one the pull its stop would have to exert, N."""
+        kind, obj, extra = watched[j]
+        if kind == "impact":
+            stroke = float(mbs.GetObjectOutput(obj, exu.OutputVariableType.Distance)) - extra.length_retracted
+            up, lo = stroke - extra.stroke_max, extra.stroke_min - stroke
+            return (up, +1) if up >= lo else (lo, -1)
+        # the distance constraint's force is its tension: an upper stop (piston on the head) holds
+        # the pins together (tension >= 0), a lower stop pushes them apart (tension <= 0)
+        tension = float(mbs.GetObjectOutput(obj, exu.OutputVariableType.Force))
+        return (-tension if extra > 0 else tension), extra
+
+    tol = {"impact": STOP_TOLERANCE, "release": RELEASE_TOLERANCE}
+    gap_last = {}
+    for j in watched:
+        cyl = _cyl(crane, j)
+        gap_last[j] = max(s[j] - cyl.stroke_max, cyl.stroke_min - s[j]) if watched[j][0] == "impact" else None
+    st = {"t_last": 0.0, "gap_last": gap_last, "events": []}
+
+    def post_newton(mbs_, t):
+        h = t - st["t_last"]
+        st["events"] = []
+        rec = -1.0
+        for j in watched:
+            gj, side = gap(j)
+            if gj <= 0:
+                continue
+            if gj <= tol[watched[j][0]] or h <= 2 * EVENT_MIN_STEP:
+                st["events"].append((watched[j][0], j, side))
+                continue
+            g_prev = st["gap_last"][j]
+            if g_prev is None or g_prev >= 0:
+                hr = EVENT_MIN_STEP
+            else:   # regula falsi between the step's start (gap < 0) and its end (gap > 0)
+                frac = -g_prev / (gj - g_prev)
+                hr = max(EVENT_MIN_STEP, h * (frac + 1e-3 * (1 - frac)))
+            rec = hr if rec < 0 else min(rec, hr)
+        if rec > 0:
+            st["events"] = []
+            return [1.0, rec]   # error > iterationTolerance: the step is redone with size rec
+        return [0.0, -1.0]
+
+    def post_step(mbs_, t):
+        st["t_last"] = t
+        for j in watched:
+            st["gap_last"][j] = gap(j)[0]
+        return not st["events"]
+
+    mbs.SetPostNewtonUserFunction(post_newton)
+    mbs.SetPostStepUserFunction(post_step)
     mbs.Assemble()
 
-    n_steps = int(math.ceil(horizon / dt - 1e-9))
+    span = t_end - t0
     ss = exu.SimulationSettings()
-    ss.timeIntegration.numberOfSteps = n_steps
-    ss.timeIntegration.endTime = float(horizon)
+    ss.timeIntegration.numberOfSteps = int(math.ceil(span / dt - 1e-9))
+    ss.timeIntegration.endTime = float(span)
     ss.timeIntegration.verboseMode = 0
+    ss.timeIntegration.adaptiveStep = True
+    ss.timeIntegration.minimumStepSize = EVENT_MIN_STEP / 10
+    ss.timeIntegration.discontinuous.useRecommendedStepSize = True
+    ss.timeIntegration.discontinuous.iterationTolerance = 0.5
     ss.timeIntegration.generalizedAlpha.spectralRadius = spectral_radius
     ss.timeIntegration.newton.useModifiedNewton = False
     ss.timeIntegration.newton.relativeTolerance = 1e-8
     ss.timeIntegration.newton.absoluteTolerance = 1e-10
     ss.timeIntegration.newton.maxIterations = 25
-    ss.solutionSettings.writeSolutionToFile = False
-    ss.solutionSettings.sensorsWritePeriod = 0.0      # every step
+    ss.solution.file.write = False
+    ss.solution.sensors.writePeriod = 0.0      # every step
     ss.displayStatistics = False
     ss.displayComputationTime = False
     ok = exu.SolveDynamic(mbs, ss, updateInitialValues=False)
     if not ok:
         raise RuntimeError("Exudyn's solver did not converge on the reference model")
-    data = {name: (mbs.GetSensorStoredData(sensors[name][0]), mbs.GetSensorStoredData(sensors[name][1]))
-            for name in order}
-    wall = time.perf_counter() - wall0
+    data = {k: (mbs.GetSensorStoredData(sensors[k][0]), mbs.GetSensorStoredData(sensors[k][1]))
+            for k in _ORDER}
+    t = data["lift"][0][:, 0] + t0
+    q = {k: data[k][0][:, 1:4] + q0[k] for k in _ORDER}   # sensors give displacements
+    qd = {k: data[k][1][:, 1:4] for k in _ORDER}
+    return t, q, qd, st["events"]
 
-    t = data["lift"][0][:, 0].copy()
-    q = {k: data[k][0][:, 1:4] + q0[k] for k in order}   # sensors give displacements
-    qd = {k: data[k][1][:, 1:4] for k in order}
+
+def _joints(g):
+    """Revolute joints: (body a, point in a's frame, body b, point in b's frame)."""
+    return [("ground", g.lift_pivot, "lift", (0.0, 0.0)),
+            ("lift", g.tilt_pivot, "outer", (0.0, 0.0)),
+            ("lift", g.link1_pivot, "link1", (0.0, 0.0)),
+            ("link1", g.link_pin, "link2", (0.0, 0.0)),
+            ("link2", g.link2_end, "outer", g.link2_attach)]
+
+
+def _cyl(crane: Crane, j: int):
+    return crane.lift_cylinder if j == 0 else crane.tilt_cylinder
+
+
+def _cylinders(crane: Crane, inputs: Inputs):
+    """(cylinder, drive, base pin, rod pin) of the lift and the tilt cylinder."""
+    g = crane.geometry
+    return [(crane.lift_cylinder, inputs.lift, ("ground", g.lift_cylinder_base), ("lift", g.lift_cylinder_rod)),
+            (crane.tilt_cylinder, inputs.tilt, ("lift", g.tilt_cylinder_base), ("link1", g.link_pin))]
+
+
+def simulate(crane: Crane, initial: State, inputs: Inputs, horizon: float, *,
+             dt: float = DEFAULT_REFERENCE_DT, spectral_radius: float = 0.5) -> ReferenceRun:
+    """Runs the Exudyn reference model; see the module text for what it contains.
+
+    The motion is integrated in smooth pieces between end-stop events (event-driven): while no
+    stop is touched, or a stopped cylinder is held on it by a distance constraint, Exudyn's
+    generalized-alpha integrates a smooth DAE; at an event the piece ends (Exudyn shortens the step
+    so that it ends at the event), the contact changes, and a new piece starts from that state."""
+    from . import api
+
+    api._check(crane, initial, inputs, horizon, dt, "c")  # the same input checks as predict()
+
+    wall0 = time.perf_counter()
+    g = crane.geometry
+    e = initial.extension
+    bodies = _bodies(crane, e)
+    cyls = _cylinders(crane, inputs)
+    s = [initial.lift_stroke, initial.tilt_stroke]
+    rates = [initial.lift_stroke_rate, initial.tilt_stroke_rate]
+    held = list(s)
+    modes = ["held" if isinstance(c[1], Hold) else 0 for c in cyls]
+    events = []
+    # at t = 0 a free cylinder on a limit whose rate does not point into the range is on its stop
+    for j, (cyl, *_r) in enumerate(cyls):
+        if modes[j] == 0:
+            for side, lim in ((+1, cyl.stroke_max), (-1, cyl.stroke_min)):
+                if abs(s[j] - lim) <= STOP_TOLERANCE and side * rates[j] >= 0:
+                    free_other = modes[1 - j] == 0
+                    rates = _plastic_impact(crane, bodies, s, rates, j, free_other)
+                    s[j], modes[j] = lim, side
+                    events.append((0.0, "impact", j, side))
+                    break
+
+    pieces = []   # (t, q, qd, modes) per piece
+    t0 = 0.0
+    for _ in range(MAX_PIECES):
+        t, q, qd, evs = _segment(crane, bodies, inputs, modes, s, rates, held, t0, horizon, dt,
+                                 spectral_radius)
+        pieces.append((t, q, qd, list(modes)))
+        t0 = float(t[-1])
+        if not evs or horizon - t0 <= 1e-12:
+            break
+        # the state at the event, in strokes and stroke rates
+        s, rates = _strokes_and_rates(crane, bodies, {k: q[k][-1] for k in _ORDER},
+                                      {k: qd[k][-1] for k in _ORDER})
+        for kind, j, side in evs:
+            events.append((t0, kind, j, side))
+            if kind == "impact":
+                cyl = cyls[j][0]
+                s[j] = cyl.stroke_max if side > 0 else cyl.stroke_min
+                rates = _plastic_impact(crane, bodies, s, rates, j, modes[1 - j] == 0)
+                modes[j] = side
+            else:
+                modes[j] = 0
+        for j in range(2):   # a stopped cylinder's stroke rate is zero (within the constraint)
+            if modes[j] != 0:
+                rates[j] = 0.0
+    else:
+        raise RuntimeError(f"more than {MAX_PIECES} end-stop events: the stops chatter")
+
+    # join the pieces: each piece's first sample replaces the previous piece's last (the same
+    # instant, after the event)
+    t = np.concatenate([p[0] if i == len(pieces) - 1 else p[0][:-1] for i, p in enumerate(pieces)])
+    q = {k: np.concatenate([p[1][k] if i == len(pieces) - 1 else p[1][k][:-1]
+                            for i, p in enumerate(pieces)]) for k in _ORDER}
+    qd = {k: np.concatenate([p[2][k] if i == len(pieces) - 1 else p[2][k][:-1]
+                             for i, p in enumerate(pieces)]) for k in _ORDER}
+    mode_rows = np.concatenate([np.tile([[m if m != "held" else 0 for m in p[3]]],
+                                        (p[0].size if i == len(pieces) - 1 else p[0].size - 1, 1))
+                                for i, p in enumerate(pieces)]).astype(np.int32)
+    # pieces may start at the same instant (an impact located at t0 ends a piece of length ~0)
+    keep = np.concatenate([np.diff(t) > 0, [True]])
+    t, mode_rows = t[keep], mode_rows[keep]
+    q = {k: v[keep] for k, v in q.items()}
+    qd = {k: v[keep] for k, v in qd.items()}
+    wall = time.perf_counter() - wall0
 
     def world_point(name: str, point_in_frame) -> np.ndarray:
         """(N, 2) boom-plane positions of a point fixed in a body's frame."""
@@ -324,30 +498,26 @@ def simulate(crane: Crane, initial: State, inputs: Inputs, horizon: float, *,
             return np.broadcast_to(np.array(point_in_frame, dtype=float), (t.size, 2)).copy()
         local = np.array(point_in_frame, dtype=float) - bodies[name][1]
         ph = q[name][:, 2]
-        c, s = np.cos(ph), np.sin(ph)
-        return q[name][:, :2] + np.stack([c * local[0] - s * local[1], s * local[0] + c * local[1]], 1)
+        c, sn = np.cos(ph), np.sin(ph)
+        return q[name][:, :2] + np.stack([c * local[0] - sn * local[1], sn * local[0] + c * local[1]], 1)
 
     # diagnostics: joint residuals and held-cylinder length drift, from the stored coordinates
     res = max(float(np.max(np.hypot(*(world_point(a, pa) - world_point(b, pb)).T)))
-              for a, pa, b, pb in joints)
+              for a, pa, b, pb in _joints(g))
     strokes = np.empty((t.size, 2))
     held_err = 0.0
-    for j, (_, cyl, drive, base, rod, s0) in enumerate(cylinders):
+    for j, (cyl, drive, base, rod) in enumerate(cyls):
         L = np.hypot(*(world_point(*rod) - world_point(*base)).T)
         strokes[:, j] = L - cyl.length_retracted
         if isinstance(drive, Hold):
-            held_err = max(held_err, float(np.max(np.abs(strokes[:, j] - s0))))
+            held_err = max(held_err, float(np.max(np.abs(strokes[:, j] - held[j]))))
     th_lift = q["lift"][:, 2]
     th_tilt = q["outer"][:, 2] - th_lift
     th_tilt = np.where(th_tilt > math.pi / 2, th_tilt - 2 * math.pi, th_tilt)
     th_tilt = np.where(th_tilt <= -1.5 * math.pi, th_tilt + 2 * math.pi, th_tilt)
     theta = np.stack([th_lift, th_tilt], 1)
     omega = np.stack([qd["lift"][:, 2], qd["outer"][:, 2] - qd["lift"][:, 2]], 1)
-    stop = np.zeros((t.size, 2), dtype=np.int32)
-    for j, (_, cyl, drive, *_rest) in enumerate(cylinders):
-        if not isinstance(drive, Hold):
-            stop[strokes[:, j] >= cyl.stroke_max - STOP_TOLERANCE, j] = 1
-            stop[strokes[:, j] <= cyl.stroke_min + STOP_TOLERANCE, j] = -1
+    stop = mode_rows
 
     mount = np.array(g.extension_mount)
     plane = {"pillar_base": np.zeros((t.size, 2)),
@@ -378,7 +548,30 @@ def simulate(crane: Crane, initial: State, inputs: Inputs, horizon: float, *,
         return xyz
 
     traj = Trajectory(slew=initial.slew, extension=e, backend="exudyn", _points=points, **arrays)
-    return ReferenceRun(trajectory=traj, wall=wall, residual_max=res, held_length_error=held_err, dt=dt)
+    return ReferenceRun(trajectory=traj, wall=wall, residual_max=res, held_length_error=held_err,
+                        dt=dt, events=events)
+
+
+def _strokes_and_rates(crane: Crane, bodies, q: Dict[str, np.ndarray], qd: Dict[str, np.ndarray]):
+    """Strokes and stroke rates from the bodies' node coordinates and velocities."""
+    def point(name, p):
+        if name == "ground":
+            return np.array(p, dtype=float), np.zeros(2)
+        local = np.array(p, dtype=float) - bodies[name][1]
+        r = _rot(q[name][2]) @ local
+        w = qd[name][2]
+        return q[name][:2] + r, qd[name][:2] + w * np.array([-r[1], r[0]])
+
+    g = crane.geometry
+    s, rates = [], []
+    for cyl, base, rod in ((crane.lift_cylinder, ("ground", g.lift_cylinder_base), ("lift", g.lift_cylinder_rod)),
+                           (crane.tilt_cylinder, ("lift", g.tilt_cylinder_base), ("link1", g.link_pin))):
+        (pb, vb), (pr, vr) = point(*base), point(*rod)
+        d = pr - pb
+        L = float(np.hypot(*d))
+        s.append(L - cyl.length_retracted)
+        rates.append(float(d @ (vr - vb)) / L)
+    return s, rates
 
 
 def predict_reference(crane: Crane, initial: State, inputs: Inputs, horizon: float, *,
