@@ -18,6 +18,14 @@ from cranepredict import reference as ref  # noqa: E402
 MAX_MM, RMS_MM = 20.0, 10.0
 NAMES = cp.scenarios.names()
 
+#: Scenarios that miss the targets until the fast model carries the side links' mass (docs/model.md
+#: "Side links"; with the side links made massless in the reference the two models agree to
+#: micrometres, test_agreement_with_massless_links). Their target test is xfail(strict=True): it
+#: turns red when they start passing, and then the name is removed from this set.
+EXPECTED_TO_MISS = {"both-driven", "load-0", "load-200", "load-500", "lower-gravity", "paper-fig4",
+                    "pressure-ramps", "slewed-extended", "tilt-alone"}
+MISS_REASON = ("the fast model (C core) does not carry the side links' 19.4 kg yet; docs/validation.md")
+
 
 def massless_links(crane: cp.Crane, scale: float = 1e-6) -> cp.Crane:
     """The crane with (almost) massless side links: what the fast model assumes."""
@@ -44,13 +52,17 @@ def test_reference_constraints_hold(results, name):
     assert results[name]["constraint_residual_m"] < 1e-9
 
 
-@pytest.mark.xfail(strict=False, reason="the fast model neglects the side links' 19.4 kg; with them "
-                   "massless the reference agrees to micrometres (test_agreement_with_massless_links); "
-                   "see docs/validation.md")
-@pytest.mark.parametrize("name", NAMES)
+@pytest.mark.parametrize("name", [
+    pytest.param(n, marks=pytest.mark.xfail(strict=True, reason=MISS_REASON)) if n in EXPECTED_TO_MISS
+    else n for n in NAMES])
 def test_tip_error_within_targets(results, name):
     r = results[name]
-    assert r["max_error_mm"] <= MAX_MM and r["rms_error_mm"] <= RMS_MM, r
+    assert r["max_error_mm"] <= MAX_MM and r["rms_error_mm"] <= RMS_MM, (
+        f"{name}: max {r['max_error_mm']:.2f} mm, RMS {r['rms_error_mm']:.2f} mm")
+
+
+def test_expected_misses_are_scenarios():
+    assert EXPECTED_TO_MISS <= set(NAMES)
 
 
 @pytest.mark.parametrize("name", ["paper-fig4", "both-driven", "tilt-alone", "pressure-ramps",
@@ -110,10 +122,51 @@ def test_static_equilibrium_matches_hand_statics():
     assert np.abs(tip - tip[0]).max() < 1e-4
 
 
-def test_convergence_halving_step():
-    """Halving the reference step changes the tip by < 0.1 mm (paper scenario, 2 s)."""
-    sc = cp.scenarios.get("paper-fig4")
-    a = ref.simulate(sc.crane, sc.initial, sc.inputs, sc.horizon, dt=ref.DEFAULT_REFERENCE_DT).trajectory
+@pytest.mark.parametrize("name", NAMES)
+def test_convergence_halving_step(results, name):
+    """Halving the reference step changes the tip by < 0.1 mm over the whole scenario."""
+    sc = cp.scenarios.get(name)
+    a = results[name]["_ref"]
     b = ref.simulate(sc.crane, sc.initial, sc.inputs, sc.horizon, dt=ref.DEFAULT_REFERENCE_DT / 2).trajectory
     tb = np.stack([np.interp(a.t, b.t, b.tip[:, i]) for i in range(3)], 1)
     assert np.linalg.norm(tb - a.tip, axis=1).max() < 1e-4
+
+
+# -- end stops: rigid, unilateral, plastic -------------------------------------------------------
+
+STOP_SCENARIOS = [("paper-fig4", 0, +1), ("end-stop-lift-lower", 0, -1), ("end-stop-tilt", 1, -1)]
+
+
+@pytest.mark.parametrize("name,joint,side", STOP_SCENARIOS)
+def test_stop_is_plastic_no_bounce(name, joint, side):
+    """The pressure keeps pushing the cylinder onto its stop: after the impact the stroke stays on
+    the limit (no rebound, no penetration) to the end, and it never passes the limit before."""
+    sc = cp.scenarios.get(name)
+    run = ref.simulate(sc.crane, sc.initial, sc.inputs, sc.horizon)
+    tr = run.trajectory
+    cyl = sc.crane.lift_cylinder if joint == 0 else sc.crane.tilt_cylinder
+    lim = cyl.stroke_max if side > 0 else cyl.stroke_min
+    assert [e[1:] for e in run.events] == [("impact", joint, side)]
+    t_hit = run.events[0][0]
+    after = tr.t >= t_hit
+    assert np.all(tr.stop[after, joint] == side) and np.all(tr.stop[~after, joint] == 0)
+    assert np.abs(tr.strokes[after, joint] - lim).max() < 1e-9
+    assert (side * (tr.strokes[~after, joint] - lim)).max() <= ref.STOP_TOLERANCE
+    # the booms are at rest on the stop (the other cylinder is held): plastic impact
+    assert np.abs(tr.omega[after]).max() < 1e-6
+    assert np.abs(tr.tip[after] - tr.tip[after][0]).max() < 1e-9
+
+
+def test_stop_releases_only_when_pulled_away():
+    """Starting on the upper lift stop: pushed onto it the boom stays; pulled off it leaves at once."""
+    crane = cp.Crane.patu655().with_load(200.0)
+    s_max = crane.lift_cylinder.stroke_max
+    on = cp.State(s_max, 0.3)
+    pushed = ref.simulate(crane, on, cp.Inputs(cp.Pressure(175e5, 0.0), cp.Hold()), 0.3)
+    assert np.abs(pushed.trajectory.strokes[:, 0] - s_max).max() < 1e-9
+    assert [e[1] for e in pushed.events] == ["impact"]
+    pulled = ref.simulate(crane, on, cp.Inputs(cp.Pressure(0.0, 60e5), cp.Hold()), 0.3)
+    assert [e[1] for e in pulled.events] == ["impact", "release"]
+    assert pulled.events[1][0] < 1e-6
+    assert pulled.trajectory.strokes[-1, 0] < s_max - 1e-3
+    assert pulled.trajectory.stop[-1, 0] == 0

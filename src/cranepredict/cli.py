@@ -63,7 +63,8 @@ def _validate(args: argparse.Namespace) -> int:
               file=sys.stderr)
         return 2
     names = args.scenario or scenarios.names()
-    rows = [reference.compare(scenarios.get(n), dt_ref=args.dt_ref) for n in names]
+    dt_ref = reference.DEFAULT_REFERENCE_DT if args.dt_ref is None else args.dt_ref
+    rows = [reference.compare(scenarios.get(n), dt_ref=dt_ref) for n in names]
     if args.plot:
         _plots(rows, args.plot)
     public = [{k: v for k, v in r.items() if not k.startswith("_")} for r in rows]
@@ -77,8 +78,8 @@ def _validate(args: argparse.Namespace) -> int:
     print(f"{'scenario':22s} {'max mm':>8s} {'rms mm':>8s} {'pre-stop':>9s} {'post-stop':>9s} "
           f"{'stop s':>6s} {'fast ms':>8s} {'ref s':>6s} {'ratio':>6s}")
     for r in public:
-        print(f"{r['name']:22s} {r['max_error_mm']:8.2f} {r['rms_error_mm']:8.2f} "
-              f"{f(r['max_error_before_stop_mm'], '9.2f'):>9s} {f(r['max_error_after_stop_mm'], '9.2f'):>9s} "
+        print(f"{r['name']:22s} {r['max_error_mm']:8.3f} {r['rms_error_mm']:8.3f} "
+              f"{f(r['max_error_before_stop_mm'], '9.3f'):>9s} {f(r['max_error_after_stop_mm'], '9.3f'):>9s} "
               f"{f(r['first_stop_time_s'], '6.3f'):>6s} {r['wall_fast_s'] * 1e3:8.3f} "
               f"{r['wall_reference_s']:6.2f} {r['speed_ratio']:6.0f}")
     print("targets per scenario: max <= 20 mm, RMS <= 10 mm, ratio >= 100 (see docs/validation.md)")
@@ -137,7 +138,8 @@ def main(argv: Optional[List[str]] = None) -> int:
                      help="write a tip-path and error plot per scenario (needs the [plot] extra)")
     val.add_argument("--scenario", action="append", default=None,
                      help="run only this scenario (repeatable; default: all)")
-    val.add_argument("--dt-ref", type=float, default=2.5e-4, help="reference step, s (default 2.5e-4)")
+    val.add_argument("--dt-ref", type=float, default=None,
+                     help="reference step, s (default: cranepredict.reference.DEFAULT_REFERENCE_DT, 2.5e-4)")
     val.set_defaults(func=_validate)
     lst = sub.add_parser("scenarios", help="list the named scenarios")
     lst.set_defaults(func=_scenarios)

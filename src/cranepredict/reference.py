@@ -380,8 +380,12 @@ def _segment(crane: Crane, bodies, inputs: Inputs, modes, s, rates, held, t0: fl
     ss.timeIntegration.newton.relativeTolerance = 1e-8
     ss.timeIntegration.newton.absoluteTolerance = 1e-10
     ss.timeIntegration.newton.maxIterations = 25
-    ss.solution.file.write = False
-    ss.solution.sensors.writePeriod = 0.0      # every step
+    if hasattr(ss, "solution"):                # Exudyn >= 1.13 names
+        ss.solution.file.write = False
+        ss.solution.sensors.writePeriod = 0.0      # every step
+    else:
+        ss.solutionSettings.writeSolutionToFile = False
+        ss.solutionSettings.sensorsWritePeriod = 0.0
     ss.displayStatistics = False
     ss.displayComputationTime = False
     ok = exu.SolveDynamic(mbs, ss, updateInitialValues=False)
