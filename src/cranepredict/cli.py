@@ -115,7 +115,7 @@ def _plots(rows, out_dir: str) -> None:
         ax2.set_xlabel("t, s")
         ax2.set_ylabel("tip error |fast - reference|, mm")
         ax2.grid(True)
-        ax2.set_title(f"max {r['max_error_mm']:.1f} mm, RMS {r['rms_error_mm']:.1f} mm")
+        ax2.set_title(f"max {r['max_error_mm']:.3f} mm, RMS {r['rms_error_mm']:.3f} mm")
         fig.tight_layout()
         fig.savefig(os.path.join(out_dir, f"{r['name']}.png"), dpi=90)
         plt.close(fig)
