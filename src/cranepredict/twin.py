@@ -2,8 +2,9 @@
 
 The twin exists to validate the C core: it is written from the same specification but shares no
 code with it, so an error in one shows up as a disagreement with the other.  It follows
-docs/model.md step by step (kinematics, iterative Newton-Euler, smooth Stribeck friction, RK4 with
-the end-stop event logic) and is deliberately plain: Python floats and ``math`` in the hot path,
+docs/model.md step by step (kinematics, iterative Newton-Euler with the side links' share by
+virtual work, smooth Stribeck friction, RK4 with impacts and releases located inside a step) and is
+deliberately plain: Python floats and ``math`` in the hot path,
 because for 2x2 algebra they are faster than numpy; numpy only builds the output arrays.
 
 Index 0 is the lift joint/cylinder, index 1 the tilt joint/cylinder.  Angles are in the boom plane
@@ -14,32 +15,23 @@ from __future__ import annotations
 
 import math
 from bisect import bisect_right
-from typing import Any, List, Optional, Sequence, Tuple
+from typing import Any, List, NamedTuple, Optional, Sequence, Tuple
 
 import numpy as np
+
+from .types import POINT_NAMES
 
 __all__ = ["POINT_NAMES", "TwinModel", "simulate", "points", "LIFT", "TILT"]
 
 LIFT = 0
 TILT = 1
 
-#: Names of the points returned by :meth:`TwinModel.points` / :func:`points`, in order.
-POINT_NAMES: Tuple[str, ...] = (
-    "pillar_base",
-    "lift_pivot",
-    "lift_cylinder_base",
-    "lift_cylinder_rod",
-    "tilt_cylinder_base",
-    "link1_pivot",
-    "link_pin",
-    "link2_attach",
-    "tilt_pivot",
-    "extension_mount",
-    "tip",
-)
-
-#: Bisections used to locate an end-stop event inside a step (spec: 60).
+#: Bisections used to locate an end-stop impact inside a step (spec: 60).
 EVENT_BISECTIONS = 60
+#: Bisections used to locate a release from a stop inside a step (spec: 40).
+RELEASE_BISECTIONS = 40
+#: Most pieces (impacts and releases) one step is cut into; the last takes the rest (spec: 8).
+MAX_PIECES = 8
 
 Vec = Tuple[float, float]
 Pair = Tuple[float, float]
@@ -147,10 +139,14 @@ def _world_transform(slew: float) -> Matrix4:
 
 
 def _compose(a: Matrix4, b: Matrix4) -> Matrix4:
-    """a b for 4x4 transforms."""
+    """a b for 4x4 transforms (written out: this runs three times per output sample)."""
+    b0, b1, b2, b3 = b
     return tuple(
-        tuple(sum(a[i][k] * b[k][j] for k in range(4)) for j in range(4)) for i in range(4)
-    )  # type: ignore[return-value]
+        (r[0] * b0[0] + r[1] * b1[0] + r[2] * b2[0] + r[3] * b3[0],
+         r[0] * b0[1] + r[1] * b1[1] + r[2] * b2[1] + r[3] * b3[1],
+         r[0] * b0[2] + r[1] * b1[2] + r[2] * b2[2] + r[3] * b3[2],
+         r[0] * b0[3] + r[1] * b1[3] + r[2] * b2[3] + r[3] * b3[3])
+        for r in a)  # type: ignore[return-value]
 
 
 def _apply(m: Matrix4, p: Vec) -> Tuple[float, float, float]:
@@ -159,6 +155,86 @@ def _apply(m: Matrix4, p: Vec) -> Tuple[float, float, float]:
     return (m[0][0] * x + m[0][1] * y + m[0][3],
             m[1][0] * x + m[1][1] * y + m[1][3],
             m[2][0] * x + m[2][1] * y + m[2][3])
+
+
+# --------------------------------------------------------------------------------------------
+# Poses shared by the kinematics and the dynamics of one configuration
+# --------------------------------------------------------------------------------------------
+
+class _LinkPose(NamedTuple):
+    """The four-bar at one tilt angle, in the lift boom frame (origin O1): everything about the
+    side links and the tilt cylinder that depends on theta1 alone (spec "Side links").
+
+    Kept apart from theta0 so that a held or stopped tilt reuses it for a whole prediction."""
+
+    theta: float     #: the tilt angle this pose is for
+    ratio: float     #: ds/dtheta1, the tilt cylinder's transmission
+    arm_a: Vec       #: A - O2 (A turns about O2 with the outer boom)
+    arm_q: Vec       #: Q - P1 (Q turns about P1 with side link 1)
+    link: Vec        #: A - Q (side link 2, rigid)
+    den1: float      #: perp(Q - P1).(A - Q)
+    den2: float      #: perp(A - Q).(Q - P1)
+    k1: float        #: dphi1 per unit tilt rate
+    k2: float        #: dphi2 per unit tilt rate
+    d1: Vec          #: side link 1's centre of mass, P1 + R(phi1) cL1
+    e1: Vec          #: R(phi1) cL1
+    j1: Vec          #: side link 1's centre-of-mass velocity per unit tilt rate, v1/u
+    d2: Vec          #: side link 2's centre of mass, Q + R(phi2) cL2
+    e2: Vec          #: R(phi2) cL2
+    j2: Vec          #: side link 2's centre-of-mass velocity per unit tilt rate, v2/u
+
+
+class _Configuration(NamedTuple):
+    """One joint configuration theta, with every vector the Newton-Euler pass needs already in
+    the boom plane. The forward dynamics calls ID three times (bias, two mass-matrix columns)
+    at the same theta, so the trigonometry and the four-bar are done once, here.
+
+    Rotating the side links' lift-frame vectors by R(theta0) before the arithmetic instead of
+    after (spec: D = R d, V = R v, Acc = R acc) is the same thing: rotation is linear and keeps
+    dot products, cross products and perp."""
+
+    ratio: Pair      #: (ds/dtheta0, ds/dtheta1)
+    r12: Vec         #: R(theta0) O2
+    cc1: Vec         #: R(theta0) c1
+    cc2: Vec         #: R(theta0 + theta1) c2
+    arm_a: Vec       #: R(theta0) (A - O2)
+    arm_q: Vec       #: R(theta0) (Q - P1)
+    link: Vec        #: R(theta0) (A - Q)
+    den1: float
+    den2: float
+    k1: float
+    k2: float
+    d1: Vec          #: R(theta0) d1, from O1
+    e1: Vec
+    j1: Vec
+    d2: Vec          #: R(theta0) d2, from O1
+    e2: Vec
+    j2: Vec
+
+
+def _link_torques(mass: float, izz: float, k: float, d: Vec, e: Vec, j: Vec, base_v: Vec,
+                  base_acc: Vec, dphi: float, ddphi: float, w1: float, a1: float,
+                  g: float) -> Pair:
+    """One side link's share of (tau0, tau1), by virtual work.
+
+    The link's frame origin moves relative to the lift boom with base_v, base_acc (zero for
+    link 1 on P1, the pin Q's motion for link 2) and the link turns by dphi, ddphi relative to
+    the lift boom; d is its centre of mass from O1, e from its frame origin, j its velocity per
+    unit tilt rate, k its turn rate per unit tilt rate (boom-plane axes). The lift boom frame
+    turns with w1, a1, so the absolute centre-of-mass acceleration picks up the Coriolis term
+    2 w1 perp(V) besides a1 perp(D) - w1^2 D. Gravity is the base acceleration (0, g).
+    """
+    # motion relative to the lift boom: v = base_v + dphi perp(e), acc likewise
+    vx = base_v[0] - dphi * e[1]
+    vy = base_v[1] + dphi * e[0]
+    rel_x = base_acc[0] - ddphi * e[1] - dphi * dphi * e[0]
+    rel_y = base_acc[1] + ddphi * e[0] - dphi * dphi * e[1]
+    # acc_cL = acc_O1 + Acc + 2 w1 perp(V) + a1 perp(D) - w1^2 D
+    fx = mass * (rel_x - 2.0 * w1 * vy - a1 * d[1] - w1 * w1 * d[0])
+    fy = mass * (g + rel_y + 2.0 * w1 * vx + a1 * d[0] - w1 * w1 * d[1])
+    n = izz * (a1 + ddphi)
+    # tau0 += cross(D, F) + N, tau1 += F . j + N k
+    return d[0] * fy - d[1] * fx + n, fx * j[0] + fy * j[1] + n * k
 
 
 # --------------------------------------------------------------------------------------------
@@ -196,6 +272,10 @@ class TwinModel:
         self.tilt_l2 = _norm(_vec(geo.link2_end))
         self.tilt_ra = _norm(self.link2_attach)
         self.tilt_alpha_a = math.atan2(self.link2_attach[1], self.link2_attach[0])
+        link_pin = _vec(geo.link_pin)                               # Q in side link 1's frame
+        link2_end = _vec(geo.link2_end)                             # A in side link 2's frame
+        self.link1_angle0 = math.atan2(link_pin[1], link_pin[0])    # phi1 = angle(Q - P1) - this
+        self.link2_angle0 = math.atan2(link2_end[1], link2_end[0])  # phi2 = angle(A - Q) - this
 
         # --- outer end of the booms ------------------------------------------------------
         self.extension_mount = _vec(geo.extension_mount)            # outer boom frame
@@ -219,6 +299,14 @@ class TwinModel:
         self.c1 = _vec(crane.lift_boom.com)
         self.i1 = float(crane.lift_boom.izz)
         self.m2, self.c2, self.i2 = self._lumped_outer_body(crane)
+        # side link 1's frame has its origin at P1, side link 2's at the pin Q
+        self.link1_mass = float(crane.side_link1.mass)
+        self.link1_com = _vec(crane.side_link1.com)
+        self.link1_izz = float(crane.side_link1.izz)
+        self.link2_mass = float(crane.side_link2.mass)
+        self.link2_com = _vec(crane.side_link2.com)
+        self.link2_izz = float(crane.side_link2.izz)
+        self._pose: Optional[_LinkPose] = None                      # the last four-bar pose
 
         # --- angle limits (spec "End stops") ----------------------------------------------
         # lift: stroke_min -> lower angle; tilt: stroke_max -> lower angle (ds/dtheta1 < 0).
@@ -333,8 +421,39 @@ class TwinModel:
         return _norm(_sub(q, self.tilt_cylinder_base)) - self.length_retracted[TILT]
 
     def _tilt_transmission(self, theta: float) -> float:
+        return self._link_pose(theta).ratio
+
+    def _link_pose(self, theta: float) -> _LinkPose:
+        """The four-bar at tilt angle theta1 (spec "Side links": pose, velocity ratios).
+
+        The last pose is kept: the tilt transmission and the dynamics of one RK4 stage ask for
+        the same angle, and a held or stopped tilt asks for one angle the whole prediction."""
+        pose = self._pose
+        if pose is not None and pose.theta == theta:
+            return pose
         a, q = self._tilt_pins(theta)
-        return self._tilt_ratio(q, a, _norm(_sub(q, self.tilt_cylinder_base)))
+        arm_a = _sub(a, self.tilt_pivot)
+        arm_q = _sub(q, self.link1_pivot)
+        link = _sub(a, q)
+        # closure A - Q = R(phi2) link2_end differentiated: dA - dQ is perpendicular to A - Q
+        den1 = _dot(_perp(arm_q), link)
+        den2 = _dot(_perp(link), arm_q)
+        k1 = _dot(_perp(arm_a), link) / den1
+        k2 = _dot(_perp(arm_a), arm_q) / den2
+        phi1 = math.atan2(arm_q[1], arm_q[0]) - self.link1_angle0
+        phi2 = math.atan2(link[1], link[0]) - self.link2_angle0
+        e1 = _rotate(phi1, self.link1_com)
+        e2 = _rotate(phi2, self.link2_com)
+        d1 = (self.link1_pivot[0] + e1[0], self.link1_pivot[1] + e1[1])
+        d2 = (q[0] + e2[0], q[1] + e2[1])
+        # v1 = dphi1 perp(e1), v2 = dQ + dphi2 perp(e2), dQ = dphi1 perp(Q - P1); per unit u
+        j1 = (-k1 * e1[1], k1 * e1[0])
+        j2 = (-k1 * arm_q[1] - k2 * e2[1], k1 * arm_q[0] + k2 * e2[0])
+        ratio = self._tilt_ratio(q, a, _norm(_sub(q, self.tilt_cylinder_base)))
+        pose = _LinkPose(theta, ratio, arm_a, arm_q, link, den1, den2, k1, k2,
+                         d1, e1, j1, d2, e2, j2)
+        self._pose = pose
+        return pose
 
     # ---------------------------------------------------------------------------------
     # Joint dispatch
@@ -356,22 +475,42 @@ class TwinModel:
     # Dynamics
     # ---------------------------------------------------------------------------------
 
+    def _configuration(self, theta: Sequence[float]) -> _Configuration:
+        """Everything ID needs about the configuration theta, in the boom plane."""
+        th0, th1 = theta
+        c = math.cos(th0)
+        s = math.sin(th0)
+
+        def rot(v: Vec) -> Vec:   # R(theta0) v
+            return (c * v[0] - s * v[1], s * v[0] + c * v[1])
+
+        pose = self._link_pose(th1)
+        return _Configuration(
+            (self._lift_transmission(th0), pose.ratio),
+            rot(self.tilt_pivot), rot(self.c1), _rotate(th0 + th1, self.c2),
+            rot(pose.arm_a), rot(pose.arm_q), rot(pose.link), pose.den1, pose.den2,
+            pose.k1, pose.k2,
+            rot(pose.d1), rot(pose.e1), rot(pose.j1), rot(pose.d2), rot(pose.e2), rot(pose.j2))
+
     def inverse_dynamics(self, theta: Sequence[float], omega: Sequence[float],
                          alpha: Sequence[float], gravity: Optional[float] = None) -> Pair:
-        """Joint torques (tau0, tau1) by the iterative planar Newton-Euler of the spec.
+        """Joint torques (tau0, tau1) by the iterative planar Newton-Euler of the spec, with the
+        side links' share by virtual work.
 
         Gravity enters as a base acceleration (0, +g); ``gravity`` defaults to the crane's and
         is 0 when building the mass matrix.
         """
         g = self.gravity if gravity is None else gravity
-        th0, th1 = theta
+        return self._inverse_dynamics(self._configuration(theta), omega, alpha, g)
+
+    def _inverse_dynamics(self, conf: _Configuration, omega: Sequence[float],
+                          alpha: Sequence[float], g: float) -> Pair:
+        """ID at a prepared configuration: the two booms, then the two side links."""
         w1 = omega[0]
         w2 = omega[0] + omega[1]
         a1 = alpha[0]
         a2 = alpha[0] + alpha[1]
-        r12 = _rotate(th0, self.tilt_pivot)
-        cc1 = _rotate(th0, self.c1)
-        cc2 = _rotate(th0 + th1, self.c2)
+        r12, cc1, cc2 = conf.r12, conf.cc1, conf.cc2
         m1, m2 = self.m1, self.m2
 
         # forward recursion: accelerations (acc = acc_parent + a perp(r) - w^2 r)
@@ -385,33 +524,66 @@ class TwinModel:
         n2 = self.i2 * a2 + _cross(cc2, f2)
         f1c = (m1 * acc_c1[0], m1 * acc_c1[1])
         n1 = self.i1 * a1 + _cross(cc1, f1c) + _cross(r12, f2) + n2
-        return n1, n2
+
+        links = self._side_link_torques(conf, w1, a1, omega[1], alpha[1], g)
+        return n1 + links[0], n2 + links[1]
+
+    def _side_link_torques(self, conf: _Configuration, w1: float, a1: float,
+                           u: float, a: float, g: float) -> Pair:
+        """The side links' share of (tau0, tau1) (spec "Side links"): the four-bar's
+        acceleration analysis gives each link's motion relative to the lift boom, which the
+        lift boom's own motion then carries."""
+        arm_a, arm_q, link = conf.arm_a, conf.arm_q, conf.link
+        dphi1 = conf.k1 * u
+        dphi2 = conf.k2 * u
+        # rhs = ddA + dphi1^2 (Q - P1) + dphi2^2 (A - Q), ddA = a perp(A - O2) - u^2 (A - O2)
+        sq1 = dphi1 * dphi1
+        sq2 = dphi2 * dphi2
+        rhs = (-a * arm_a[1] - u * u * arm_a[0] + sq1 * arm_q[0] + sq2 * link[0],
+               a * arm_a[0] - u * u * arm_a[1] + sq1 * arm_q[1] + sq2 * link[1])
+        ddphi1 = _dot(rhs, link) / conf.den1
+        ddphi2 = _dot(rhs, arm_q) / conf.den2
+        # side link 2 rides on the pin Q, which turns about P1 with side link 1
+        dq = (-dphi1 * arm_q[1], dphi1 * arm_q[0])
+        ddq = (-ddphi1 * arm_q[1] - sq1 * arm_q[0], ddphi1 * arm_q[0] - sq1 * arm_q[1])
+        tau1_0, tau1_1 = _link_torques(self.link1_mass, self.link1_izz, conf.k1, conf.d1, conf.e1,
+                                       conf.j1, (0.0, 0.0), (0.0, 0.0), dphi1, ddphi1, w1, a1, g)
+        tau2_0, tau2_1 = _link_torques(self.link2_mass, self.link2_izz, conf.k2, conf.d2, conf.e2,
+                                       conf.j2, dq, ddq, dphi2, ddphi2, w1, a1, g)
+        return tau1_0 + tau2_0, tau1_1 + tau2_1
 
     def mass_matrix(self, theta: Sequence[float]) -> Matrix2:
         """M with column j = ID(theta, 0, e_j, g=0)."""
-        col0 = self.inverse_dynamics(theta, (0.0, 0.0), (1.0, 0.0), 0.0)
-        col1 = self.inverse_dynamics(theta, (0.0, 0.0), (0.0, 1.0), 0.0)
+        return self._mass_matrix(self._configuration(theta))
+
+    def _mass_matrix(self, conf: _Configuration) -> Matrix2:
+        col0 = self._inverse_dynamics(conf, (0.0, 0.0), (1.0, 0.0), 0.0)
+        col1 = self._inverse_dynamics(conf, (0.0, 0.0), (0.0, 1.0), 0.0)
         return ((col0[0], col1[0]), (col0[1], col1[1]))
 
     def bias(self, theta: Sequence[float], omega: Sequence[float]) -> Pair:
         """h = ID(theta, omega, 0, g): Coriolis, centrifugal and gravity torques."""
-        return self.inverse_dynamics(theta, omega, (0.0, 0.0))
+        return self._inverse_dynamics(self._configuration(theta), omega, (0.0, 0.0), self.gravity)
 
     def forward_dynamics(self, theta: Sequence[float], omega: Sequence[float],
                          tau: Sequence[float], locked: Sequence[bool]) -> Pair:
         """Joint accelerations from M alpha = tau - h; a locked joint has alpha = 0 and the
         other obeys M_ii alpha_i = tau_i - h_i (only column i of M is needed then)."""
+        return self._forward_dynamics(self._configuration(theta), omega, tau, locked)
+
+    def _forward_dynamics(self, conf: _Configuration, omega: Sequence[float],
+                          tau: Sequence[float], locked: Sequence[bool]) -> Pair:
         lock0, lock1 = bool(locked[0]), bool(locked[1])
         if lock0 and lock1:
             return 0.0, 0.0
-        h = self.bias(theta, omega)
+        h = self._inverse_dynamics(conf, omega, (0.0, 0.0), self.gravity)
         if lock0:
-            m11 = self.inverse_dynamics(theta, (0.0, 0.0), (0.0, 1.0), 0.0)[1]
+            m11 = self._inverse_dynamics(conf, (0.0, 0.0), (0.0, 1.0), 0.0)[1]
             return 0.0, (tau[1] - h[1]) / m11
         if lock1:
-            m00 = self.inverse_dynamics(theta, (0.0, 0.0), (1.0, 0.0), 0.0)[0]
+            m00 = self._inverse_dynamics(conf, (0.0, 0.0), (1.0, 0.0), 0.0)[0]
             return (tau[0] - h[0]) / m00, 0.0
-        (m00, m01), (m10, m11) = self.mass_matrix(theta)
+        (m00, m01), (m10, m11) = self._mass_matrix(conf)
         r0 = tau[0] - h[0]
         r1 = tau[1] - h[1]
         det = m00 * m11 - m01 * m10
@@ -442,7 +614,10 @@ class TwinModel:
 
     def joint_torque(self, joint: int, theta: float, omega: float, p_a: float, p_b: float) -> float:
         """tau_i = F_i ds/dtheta_i, with the stroke rate v_i = ds/dtheta_i omega_i."""
-        ratio = self.transmission(joint, theta)
+        return self._joint_torque(joint, self.transmission(joint, theta), omega, p_a, p_b)
+
+    def _joint_torque(self, joint: int, ratio: float, omega: float, p_a: float, p_b: float) -> float:
+        """joint_torque with the transmission ds/dtheta_i already known."""
         return self.cylinder_force(joint, p_a, p_b, ratio * omega) * ratio
 
     # ---------------------------------------------------------------------------------
@@ -532,6 +707,9 @@ class _Prediction:
         #: stop[j]: 0 not stopped, -1 at the lower angle limit, +1 at the upper (angle terms;
         #: the reported flag is converted to cylinder terms by TwinModel.stop_flag)
         self.stop = [0, 0]
+        #: the last release verdict, ((t, x, stop), released): a step that ends on a stop asks
+        #: the rule at its end and the next step asks again at its start, mostly at the same t
+        self._last_release: Optional[Tuple[Tuple[Any, ...], Tuple[int, ...]]] = None
         #: (time, joint, angle side) of every impact, for diagnostics
         self.events: List[Tuple[float, int, int]] = []
 
@@ -542,14 +720,20 @@ class _Prediction:
         """alpha at time t: cylinder torques of the unlocked joints into forward dynamics."""
         if locked[0] and locked[1]:
             return 0.0, 0.0
-        theta = (x[0], x[1])
+        model = self.model
+        conf = model._configuration((x[0], x[1]))
         omega = (x[2], x[3])
+        return model._forward_dynamics(conf, omega, self.torques(t, conf, omega, locked), locked)
+
+    def torques(self, t: float, conf: _Configuration, omega: Pair,
+                locked: Sequence[bool]) -> Pair:
+        """Cylinder torques at time t of the joints that are not locked (0 for the others)."""
         tau = [0.0, 0.0]
         for j in (LIFT, TILT):
             if not locked[j]:
                 p_a, p_b = self.drives[j].pressures(t)  # type: ignore[union-attr]
-                tau[j] = self.model.joint_torque(j, theta[j], omega[j], p_a, p_b)
-        return self.model.forward_dynamics(theta, omega, tau, locked)
+                tau[j] = self.model._joint_torque(j, conf.ratio[j], omega[j], p_a, p_b)
+        return tau[0], tau[1]
 
     def rk4(self, t: float, x: State4, h: float, locked: Tuple[bool, bool]) -> State4:
         """One classical RK4 step of size h on (theta, omega)."""
@@ -606,30 +790,43 @@ class _Prediction:
         return x
 
     def release(self, t: float, x: State4) -> None:
-        """Start of a step: which STOPPED joints leave their stops (docs/model.md, "Release").
+        """Let go of the STOPPED joints that the release rule frees at (t, x)."""
+        for j in self.released(t, x):
+            self.stop[j] = 0
+
+    def released(self, t: float, x: State4) -> Tuple[int, ...]:
+        """The STOPPED joints that leave their stops at (t, x) (docs/model.md, "Release").
 
         The two unilateral stops form a small complementarity problem. The candidate release
         sets are tried in the order none, lift, tilt, both; the first is taken in which every
         released joint accelerates into its range and every joint left on its stop is pressed
-        onto it (its reaction M alpha - (tau - h) points into the range)."""
+        onto it (its reaction M alpha - (tau - h) points into the range). Changes nothing, so
+        that the release search inside a step can ask it at trial times."""
         if self.stop[0] == 0 and self.stop[1] == 0:
-            return
-        theta, omega = (x[0], x[1]), (x[2], x[3])
+            return ()
+        key = (t, x, self.stop[0], self.stop[1])
+        last = self._last_release
+        if last is not None and last[0] == key:
+            return last[1]
+        released = self._release_rule(t, x)
+        self._last_release = (key, released)
+        return released
+
+    def _release_rule(self, t: float, x: State4) -> Tuple[int, ...]:
+        """The complementarity rule itself, for released()."""
         m = self.model
-        h = m.bias(theta, omega)
-        tau = [0.0, 0.0]
-        for j in (LIFT, TILT):
-            if not self.held[j]:
-                p_a, p_b = self.drives[j].pressures(t)  # type: ignore[union-attr]
-                tau[j] = m.joint_torque(j, theta[j], omega[j], p_a, p_b)
-        mass = m.mass_matrix(theta)
+        conf = m._configuration((x[0], x[1]))
+        omega = (x[2], x[3])
+        h = m._inverse_dynamics(conf, omega, (0.0, 0.0), m.gravity)
+        tau = self.torques(t, conf, omega, self.held)
         net = (tau[0] - h[0], tau[1] - h[1])
+        mass: Optional[Matrix2] = None   # only a candidate that moves a joint needs M
         stopped = [self.stop[j] != 0 for j in (LIFT, TILT)]
         for released in ((), (LIFT,), (TILT,), (LIFT, TILT)):
             if any(not stopped[j] for j in released):
                 continue
             locked = tuple(self.held[j] or (stopped[j] and j not in released) for j in (LIFT, TILT))
-            alpha = m.forward_dynamics(theta, omega, tau, locked)
+            alpha = m._forward_dynamics(conf, omega, tau, locked)
             consistent = True
             for j in (LIFT, TILT):
                 if not stopped[j]:
@@ -638,12 +835,16 @@ class _Prediction:
                 if j in released:
                     consistent = consistent and inward * alpha[j] > 0.0
                 else:
-                    reaction = mass[j][0] * alpha[0] + mass[j][1] * alpha[1] - net[j]
+                    if alpha[0] == 0.0 and alpha[1] == 0.0:
+                        reaction = -net[j]
+                    else:
+                        if mass is None:
+                            mass = m._mass_matrix(conf)
+                        reaction = mass[j][0] * alpha[0] + mass[j][1] * alpha[1] - net[j]
                     consistent = consistent and inward * reaction >= 0.0
             if consistent:
-                for j in released:
-                    self.stop[j] = 0
-                return
+                return released
+        return ()
 
     @staticmethod
     def crossing_time(th0: float, w0: float, th1: float, w1: float, h: float,
@@ -667,41 +868,82 @@ class _Prediction:
         return hi
 
     def step(self, t: float, x: State4, h: float) -> State4:
-        """One step of size h with end-stop events located inside it."""
-        model = self.model
+        """One step of size h, cut into pieces at the impacts and releases located inside it
+        (at most MAX_PIECES; the last takes the rest of the step whatever happens in it)."""
         t_cur = t
         remaining = h
-        while True:
+        for piece in range(1, MAX_PIECES + 1):
             locked = self.locked()
             x1 = self.rk4(t_cur, x, remaining, locked)
-            tau = math.inf
-            for j in (LIFT, TILT):
-                if locked[j]:
-                    continue
-                lower, upper = model.angle_limits[j]
-                if x1[j] < lower:
-                    tau = min(tau, self.crossing_time(x[j], x[2 + j], x1[j], x1[2 + j],
-                                                      remaining, lower, True))
-                elif x1[j] > upper:
-                    tau = min(tau, self.crossing_time(x[j], x[2 + j], x1[j], x1[2 + j],
-                                                      remaining, upper, False))
-            if tau == math.inf:
+            if piece == MAX_PIECES:
+                return self.impacts(t_cur + remaining, x1, touching=False)
+            tau = self.impact_time(x, x1, remaining, locked)
+            if tau is not None:
+                x = self.impacts(t_cur + tau, self.rk4(t_cur, x, tau, locked), touching=True)
+            elif (self.stop[0] != 0 or self.stop[1] != 0) and self.released(t_cur + remaining, x1):
+                tau, x = self.release_time(t_cur, x, remaining, x1, locked)
+                self.release(t_cur + tau, x)
+            else:
                 return x1
-            x = self.rk4(t_cur, x, tau, locked)
             t_cur = t_cur + tau
             remaining = remaining - tau
-            for j in (LIFT, TILT):
-                if self.held[j] or self.stop[j] != 0:
-                    continue
-                lower, upper = model.angle_limits[j]
-                if x[j] <= lower:
-                    x = self.plastic_impact(x, j, -1)
-                    self.events.append((t_cur, j, -1))
-                elif x[j] >= upper:
-                    x = self.plastic_impact(x, j, +1)
-                    self.events.append((t_cur, j, +1))
             if not remaining > 0.0:
                 return x
+        raise AssertionError("unreachable: the last piece returns")
+
+    def impact_time(self, x: State4, x1: State4, h: float, locked: Tuple[bool, bool]
+                    ) -> Optional[float]:
+        """Size of the piece up to the first impact in the RK4 step x -> x1 of size h, or None
+        if no free joint ends strictly outside its limits."""
+        tau = math.inf
+        for j in (LIFT, TILT):
+            if locked[j]:
+                continue
+            lower, upper = self.model.angle_limits[j]
+            if x1[j] < lower:
+                tau = min(tau, self.crossing_time(x[j], x[2 + j], x1[j], x1[2 + j], h, lower, True))
+            elif x1[j] > upper:
+                tau = min(tau, self.crossing_time(x[j], x[2 + j], x1[j], x1[2 + j], h, upper, False))
+        return None if tau == math.inf else tau
+
+    def impacts(self, t: float, x: State4, touching: bool) -> State4:
+        """In joint order, every free joint beyond a limit (or at it, if touching) is put on it
+        with a plastic impact. After a located impact the joint is at the limit to within the
+        bisection, so it counts as touching; the last piece of a step takes only those beyond."""
+        for j in (LIFT, TILT):
+            if self.held[j] or self.stop[j] != 0:
+                continue
+            lower, upper = self.model.angle_limits[j]
+            if x[j] < lower or (touching and x[j] == lower):
+                side = -1
+            elif x[j] > upper or (touching and x[j] == upper):
+                side = +1
+            else:
+                continue
+            x = self.plastic_impact(x, j, side)
+            self.events.append((t, j, side))
+        return x
+
+    def release_time(self, t: float, x: State4, h: float, x1: State4,
+                     locked: Tuple[bool, bool]) -> Tuple[float, State4]:
+        """The piece size (and the state it ends in) at which a stopped joint is released,
+        given that the release rule frees something at the end of the RK4 step x -> x1 of size
+        h: RELEASE_BISECTIONS bisections keeping lo (releases nothing) and hi (releases).
+
+        Without this a joint would leave its stop only at the start of the next step: a delay
+        of up to dt, and a tip error of first order in dt."""
+        lo = 0.0
+        hi = h
+        x_hi = x1
+        for _ in range(RELEASE_BISECTIONS):
+            mid = 0.5 * (lo + hi)
+            x_mid = self.rk4(t, x, mid, locked)
+            if self.released(t + mid, x_mid):
+                hi = mid
+                x_hi = x_mid
+            else:
+                lo = mid
+        return hi, x_hi
 
 
 def _run(crane: Any, state: Any, inputs: Any, horizon: float, dt: float
