@@ -98,6 +98,8 @@ typedef struct {
     crane_body extension_boom;       /* extension boom frame */
     crane_real load_mass;            /* kg, point mass at the tip, >= 0 */
     crane_cylinder cylinder[2];      /* [CRANE_LIFT], [CRANE_TILT] */
+    crane_body side_link1;           /* side link 1 frame (origin P1) */
+    crane_body side_link2;           /* side link 2 frame (origin Q) */
 } crane_params;
 
 typedef struct {
@@ -144,6 +146,9 @@ typedef struct {
     crane_real lift_cos_off, lift_sin_off; /* cos, sin of (lift_eps - lift_beta) */
     crane_real j1, j2, m2_o2sq;            /* i1 + m1 |c1|^2, i2 + m2 |c2|^2, m2 |O2|^2 */
     crane_vec2 tip;                        /* load point in the outer boom frame */
+    int links;                             /* 1 if a side link has mass or inertia */
+    crane_real link_m[2], link_i[2];       /* side links 1, 2: mass, Izz */
+    crane_real link_ca[2], link_cb[2];     /* com = ca v + cb perp(v), v = link_pin, link2_end */
 } crane_model;
 
 /* Checks the parameters (all the checks of docs/model.md) and derives the model constants. */

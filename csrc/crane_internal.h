@@ -88,19 +88,46 @@ int crane__tilt_from_stroke(const crane_model *m, crane_real stroke, crane_real 
 void crane__tilt_from_angle(const crane_model *m, crane_real c1, crane_real s1,
                             crane_real *stroke, crane_real *ds, crane_vec2 *q, crane_vec2 *a);
 
+/* The four-bar at one tilt angle (docs/model.md, "Tilt kinematics", "Side links"), in the lift
+ * boom frame: the pins Q and A, the stroke and ds/dtheta1, and the side links' terms of ID reduced
+ * to what depends on theta1 alone. Per link (mass m, Izz I), with its centre of mass d, its velocity
+ * relative to the lift boom per unit tilt rate v, its relative acceleration per unit squared tilt
+ * rate at zero tilt acceleration w (so the relative acceleration is alpha1 v + omega1^2 w), k =
+ * dphi/dtheta1 and g = ddphi per unit squared tilt rate (ddphi = k alpha1 + g omega1^2), the sums
+ * over both links are: M (their share of M00, M01, M11), md = sum m d, mv = sum m v,
+ * huu = (sum m cross(d, w) + I g, sum m w.v + I g k), dv = sum m d.v. The links' torques are then
+ * (gl = gravity in the lift boom frame, w1 = omega0, u = omega1)
+ *   tau0 = M00 alpha0 + M01 alpha1 + cross(md, gl) + huu0 u^2 + 2 dv w1 u,
+ *   tau1 = M01 alpha0 + M11 alpha1 + mv.gl + huu1 u^2 - dv w1^2. */
+typedef struct {
+    crane_vec2 q, a;
+    crane_real stroke, ds;
+    crane_real M[3];
+    crane_vec2 md, mv;
+    crane_real huu[2], dv;
+} crane__tilt_kin;
+
+/* Fills *tk at cos/sin of theta1; the side-link sums only if m->links (else they are unset). */
+void crane__tilt_kinematics(const crane_model *m, crane_real c1, crane_real s1,
+                            crane__tilt_kin *tk);
+
 /* theta wrapped into (-3pi/2, pi/2]. */
 crane_real crane__wrap_tilt(crane_real theta);
 
 /* ---- dynamics.c ---- */
 
 /* Newton-Euler inverse dynamics from the rotated vectors C1 = R(th0) c1, C2 = R(th0+th1) c2,
- * r12 = R(th0) O2 (computed once by the caller). */
+ * r12 = R(th0) O2 (computed once by the caller), with the side links' terms from tk (the four-bar
+ * at theta1; NULL when the model has no side links) and c0, s0 = cos, sin of theta0. */
 void crane__inverse_dynamics(const crane_model *m, crane_vec2 C1, crane_vec2 C2, crane_vec2 r12,
+                             crane_real c0, crane_real s0, const crane__tilt_kin *tk,
                              const crane_real omega[2], const crane_real alpha[2], crane_real g,
                              crane_real tau[2]);
 
-/* Mass matrix (M00, M01, M11) from cos/sin of theta1 alone (it does not depend on theta0). */
-void crane__mass_matrix(const crane_model *m, crane_real c1, crane_real s1, crane_real M[3]);
+/* Mass matrix (M00, M01, M11) from cos/sin of theta1 alone (it does not depend on theta0), with
+ * the side links' share from tk (NULL when the model has no side links). */
+void crane__mass_matrix(const crane_model *m, crane_real c1, crane_real s1,
+                        const crane__tilt_kin *tk, crane_real M[3]);
 
 /* ---- cylinder.c ---- */
 

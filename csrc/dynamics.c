@@ -3,7 +3,28 @@
  */
 #include "crane_internal.h"
 
+/* The side links' torques (docs/model.md, "Side links"). Dot and cross products do not change
+ * under the rotation R(theta0), so the links' terms are worked in the lift boom frame, with the base
+ * acceleration (0, g) rotated into it: gl = (g sin theta0, g cos theta0). Per link, F = m acc with
+ * acc = gl + alpha1 v + omega1^2 w + 2 w1 omega1 perp(v) + a1 perp(d) - w1^2 d and
+ * N = I (a1 + k alpha1 + g omega1^2); tau0 += cross(d, F) + N and tau1 += F.v + N k expand into
+ * the sums of crane__tilt_kin (cross(d, perp(v)) = d.v, perp(v).v = 0, cross(d, d) = 0). */
+static void side_links(const crane__tilt_kin *tk, crane_real c0, crane_real s0,
+                       const crane_real omega[2], const crane_real alpha[2], crane_real g,
+                       crane_real tau[2])
+{
+    const crane_real w1 = omega[0], u = omega[1], a1 = alpha[0], a = alpha[1];
+    const crane_vec2 gl = crane__v2(g * s0, g * c0);
+    const crane_real uu = u * u;
+
+    tau[0] += tk->M[0] * a1 + tk->M[1] * a + crane__cross(tk->md, gl) + tk->huu[0] * uu +
+              2 * tk->dv * w1 * u;
+    tau[1] += tk->M[1] * a1 + tk->M[2] * a + crane__dot(tk->mv, gl) + tk->huu[1] * uu -
+              tk->dv * w1 * w1;
+}
+
 void crane__inverse_dynamics(const crane_model *m, crane_vec2 C1, crane_vec2 C2, crane_vec2 r12,
+                             crane_real c0, crane_real s0, const crane__tilt_kin *tk,
                              const crane_real omega[2], const crane_real alpha[2], crane_real g,
                              crane_real tau[2])
 {
@@ -24,16 +45,24 @@ void crane__inverse_dynamics(const crane_model *m, crane_vec2 C1, crane_vec2 C2,
                           crane__cross(r12, f2) + n2;
     tau[0] = n1;
     tau[1] = n2;
+    if (tk)
+        side_links(tk, c0, s0, omega, alpha, g, tau);
 }
 
 /* The Newton-Euler recursion with omega = 0, g = 0 and alpha = e_j, simplified by hand:
  * cross(a, perp(b)) = a.b, and r12.C2 = O2.R(theta1)c2 does not depend on theta0. */
-void crane__mass_matrix(const crane_model *m, crane_real c1, crane_real s1, crane_real M[3])
+void crane__mass_matrix(const crane_model *m, crane_real c1, crane_real s1,
+                        const crane__tilt_kin *tk, crane_real M[3])
 {
     const crane_real k = m->m2 * crane__dot(m->p.tilt_pivot, crane__rot(c1, s1, m->c2));
     M[0] = m->j1 + m->m2_o2sq + m->j2 + 2 * k;
     M[1] = m->j2 + k;
     M[2] = m->j2;
+    if (tk) {
+        M[0] += tk->M[0];
+        M[1] += tk->M[1];
+        M[2] += tk->M[2];
+    }
 }
 
 crane_status crane_inverse_dynamics(const crane_model *model, const crane_real theta[2],
@@ -41,6 +70,7 @@ crane_status crane_inverse_dynamics(const crane_model *model, const crane_real t
                                     crane_real tau[2])
 {
     crane_real c0, s0, c01, s01, t[2];
+    crane__tilt_kin tk;
     int i;
 
     if (!model || !theta || !omega || !alpha || !tau)
@@ -52,9 +82,11 @@ crane_status crane_inverse_dynamics(const crane_model *model, const crane_real t
     s0 = crane__sin(theta[0]);
     c01 = crane__cos(theta[0] + theta[1]);
     s01 = crane__sin(theta[0] + theta[1]);
+    if (model->links)
+        crane__tilt_kinematics(model, crane__cos(theta[1]), crane__sin(theta[1]), &tk);
     crane__inverse_dynamics(model, crane__rot(c0, s0, model->c1), crane__rot(c01, s01, model->c2),
-                            crane__rot(c0, s0, model->p.tilt_pivot), omega, alpha,
-                            model->p.gravity, t);
+                            crane__rot(c0, s0, model->p.tilt_pivot), c0, s0,
+                            model->links ? &tk : NULL, omega, alpha, model->p.gravity, t);
     tau[0] = t[0];
     tau[1] = t[1];
     return CRANE_OK;

@@ -25,9 +25,26 @@ typedef struct {
     int kin_valid;
     crane_real kin_th[2];
     crane_real kin_c0, kin_s0, kin_c1, kin_s1;
-    int kin_has[2];
-    crane_real kin_ds[2];
+    int kin_has_lift;
+    crane_real kin_ds_lift;
+    /* The four-bar (tilt ds/dtheta, stroke, side links) at the last tilt angle it was needed at:
+     * with the tilt held or stopped the angle never changes, and with it free the last sample,
+     * the next release check and the next step's first RK4 stage share one angle. */
+    int tk_valid;
+    crane_real tk_th;
+    crane__tilt_kin tk;
 } ctx_t;
+
+/* The four-bar at theta1 (cos c1, sin s1), computed only when the angle differs from the last. */
+static const crane__tilt_kin *tilt_kin(ctx_t *c, crane_real th1, crane_real c1, crane_real s1)
+{
+    if (!c->tk_valid || c->tk_th != th1) {
+        crane__tilt_kinematics(c->m, c1, s1, &c->tk);
+        c->tk_th = th1;
+        c->tk_valid = 1;
+    }
+    return &c->tk;
+}
 
 /* Pressures of a pressure-driven joint at time t: linear interpolation, with a cursor that walks
  * from the last segment (RK4 stage times move forward, redone event steps go back a little). */
@@ -68,6 +85,7 @@ static void forces(ctx_t *c, crane_real t, const xstate *x, const int act[2], cr
     static const crane_real zero[2] = {0, 0};
     crane_real c0, s0, c1, s1, c01, s01, h[2];
     crane_vec2 C1, C2, r12;
+    const crane__tilt_kin *tk = NULL;
     int i;
     const int cached = c->kin_valid && x->th[0] == c->kin_th[0] && x->th[1] == c->kin_th[1];
 
@@ -89,20 +107,24 @@ static void forces(ctx_t *c, crane_real t, const xstate *x, const int act[2], cr
     C1 = crane__rot(c0, s0, m->c1);
     C2 = crane__rot(c01, s01, m->c2);
     r12 = crane__rot(c0, s0, m->p.tilt_pivot);
-    crane__inverse_dynamics(m, C1, C2, r12, x->w, zero, m->p.gravity, h);
-    crane__mass_matrix(m, c1, s1, M);
+    /* The four-bar is needed for the side links and for a driven tilt cylinder's ds/dtheta. */
+    if (m->links || act[CRANE_TILT])
+        tk = tilt_kin(c, x->th[1], c1, s1);
+    crane__inverse_dynamics(m, C1, C2, r12, c0, s0, m->links ? tk : NULL, x->w, zero,
+                            m->p.gravity, h);
+    crane__mass_matrix(m, c1, s1, m->links ? tk : NULL, M);
 
     for (i = 0; i < 2; ++i) {
         crane_real ds, p_a, p_b;
         b[i] = -h[i];
         if (!act[i])
             continue;
-        if (cached && c->kin_has[i])
-            ds = c->kin_ds[i];
-        else if (i == CRANE_LIFT)
-            crane__lift_from_angle(m, c0, s0, NULL, &ds);
+        if (i == CRANE_TILT)
+            ds = tk->ds;
+        else if (cached && c->kin_has_lift)
+            ds = c->kin_ds_lift;
         else
-            crane__tilt_from_angle(m, c1, s1, NULL, &ds, NULL, NULL);
+            crane__lift_from_angle(m, c0, s0, NULL, &ds);
         pressures(c, i, t, &p_a, &p_b);
         b[i] += crane__cylinder_force(m, i, p_a, p_b, ds * x->w[i]) * ds;
     }
@@ -204,13 +226,14 @@ static crane_real crossing_time(crane_real th0, crane_real w0, crane_real th1, c
 
 /* Plastic impact on joint i: an impulse on joint i alone takes omega_i to 0, which conserves the
  * other joint's generalized momentum when it is free. */
-static void impact(const ctx_t *c, xstate *x, int i)
+static void impact(ctx_t *c, xstate *x, int i)
 {
     const int j = 1 - i;
 
     if (c->mode[j] == CRANE__FREE) {
+        const crane_real c1 = crane__cos(x->th[1]), s1 = crane__sin(x->th[1]);
         crane_real M[3];
-        crane__mass_matrix(c->m, crane__cos(x->th[1]), crane__sin(x->th[1]), M);
+        crane__mass_matrix(c->m, c1, s1, c->m->links ? tilt_kin(c, x->th[1], c1, s1) : NULL, M);
         /* omega - Minv e_i omega_i / Minv_ii, written without the inverse. */
         x->w[j] += M[1] / M[j == 0 ? 0 : 2] * x->w[i];
     }
@@ -231,13 +254,13 @@ static void stop_joint(ctx_t *c, xstate *x, int i, int upper)
  * is pushed onto it (its reaction r = M alpha - b points into the range) is taken. With one
  * stopped joint this is simply "released if its free acceleration points inward"; with two, it
  * keeps a joint from being released when only the other's being locked makes it want to leave. */
-static void release(ctx_t *c, crane_real t, const xstate *x)
+static int release_set(ctx_t *c, crane_real t, const xstate *x)
 {
     int held[2], act[2], cand, i;
     crane_real M[3], b[2];
 
     if (c->mode[0] < CRANE__STOP_LO && c->mode[1] < CRANE__STOP_LO)
-        return;
+        return 0;
     for (i = 0; i < 2; ++i) {
         held[i] = c->mode[i] == CRANE__HELD;
         act[i] = !held[i];
@@ -264,13 +287,22 @@ static void release(ctx_t *c, crane_real t, const xstate *x)
             else
                 ok = ok && inward * (M[i] * alpha[0] + M[i + 1] * alpha[1] - b[i]) >= 0;
         }
-        if (ok) {
-            for (i = 0; i < 2; ++i)
-                if ((cand >> i) & 1)
-                    c->mode[i] = CRANE__FREE;
-            return;
-        }
+        if (ok)
+            return cand;
     }
+    /* No candidate consistent (only in a degenerate tie, e.g. an acceleration exactly 0): none. */
+    return 0;
+}
+
+/* Applies the release rule at (t, x): the released joints become FREE. */
+static void release(ctx_t *c, crane_real t, const xstate *x)
+{
+    const int cand = release_set(c, t, x);
+    int i;
+
+    for (i = 0; i < 2; ++i)
+        if ((cand >> i) & 1)
+            c->mode[i] = CRANE__FREE;
 }
 
 /* One step of size h from t, cut at end-stop events. Each event piece normally stops a joint, so
@@ -356,21 +388,22 @@ static void put_sample(ctx_t *c, crane_real t, const xstate *x, crane_real cpsi,
     c->kin_s0 = s0;
     c->kin_c1 = c1;
     c->kin_s1 = s1;
+    c->kin_has_lift = 0;
     o->t = t;
     for (i = 0; i < 2; ++i) {
         crane_real s;
-        c->kin_has[i] = 0;
         switch (c->mode[i]) {
         case CRANE__STOP_LO: s = c->stroke_at[i][0]; break;
         case CRANE__STOP_HI: s = c->stroke_at[i][1]; break;
         case CRANE__HELD: s = c->stroke0[i]; break;
         default:
             /* The stroke and ds/dtheta share the same kinematics: both at once, ds cached. */
-            if (i == CRANE_LIFT)
-                crane__lift_from_angle(m, c0, s0, &s, &c->kin_ds[i]);
-            else
-                crane__tilt_from_angle(m, c1, s1, &s, &c->kin_ds[i], NULL, NULL);
-            c->kin_has[i] = 1;
+            if (i == CRANE_LIFT) {
+                crane__lift_from_angle(m, c0, s0, &s, &c->kin_ds_lift);
+                c->kin_has_lift = 1;
+            } else {
+                s = tilt_kin(c, x->th[1], c1, s1)->stroke;
+            }
             break;
         }
         o->stroke[i] = s;
@@ -400,6 +433,8 @@ void crane__integrate(const crane_model *m, const crane_state *s0, const crane_i
     c.m = m;
     c.in = in;
     c.kin_valid = 0;
+    c.kin_has_lift = 0;
+    c.tk_valid = 0;
     for (i = 0; i < 2; ++i) {
         const crane_cylinder *cyl = &m->p.cylinder[i];
         crane_real ds;

@@ -125,6 +125,71 @@ void crane__tilt_from_angle(const crane_model *m, crane_real c1, crane_real s1,
         *a = A;
 }
 
+/* Side links by velocity ratios (docs/model.md, "Side links"). With qp = Q - P1, aq = A - Q,
+ * ra = A - O2 and D = cross(qp, aq) = perp(qp).aq: k1 = perp(ra).aq / D, k2 = perp(ra).qp / -D;
+ * at alpha1 = 0 and omega1 = 1 the closure's acceleration gives rhs = -ra + k1^2 qp + k2^2 aq,
+ * g1 = rhs.aq / D, g2 = rhs.qp / -D (ddphi_i = k_i alpha1 + g_i omega1^2). The centres of mass
+ * relative to their link's origin are e1 = R(phi1) cL1 = ca1 qp + cb1 perp(qp) and
+ * e2 = ca2 aq + cb2 perp(aq) (R(phi1) takes link_pin to qp, R(phi2) link2_end to aq; ca, cb are
+ * cL's coordinates in those bases, from crane_model). Then each link's d, v, w (as defined at
+ * crane__tilt_kin) and the sums over both links that the inverse dynamics needs. */
+static void side_links(const crane_model *m, crane__tilt_kin *tk)
+{
+    const crane_params *p = &m->p;
+    const crane_vec2 qp = crane__sub(tk->q, p->link1_pivot);
+    const crane_vec2 aq = crane__sub(tk->a, tk->q);
+    const crane_vec2 ra = crane__sub(tk->a, p->tilt_pivot);
+    const crane_real inv_d = 1 / crane__cross(qp, aq);
+    const crane_real k1 = crane__cross(ra, aq) * inv_d;
+    const crane_real k2 = -crane__cross(ra, qp) * inv_d;
+    const crane_vec2 rhs = crane__add(crane__scale(-1, ra),
+                                      crane__add(crane__scale(k1 * k1, qp), crane__scale(k2 * k2, aq)));
+    const crane_real g1 = crane__dot(rhs, aq) * inv_d;
+    const crane_real g2 = -crane__dot(rhs, qp) * inv_d;
+    const crane_vec2 e1 = crane__add(crane__scale(m->link_ca[0], qp),
+                                     crane__scale(m->link_cb[0], crane__perp(qp)));
+    const crane_vec2 e2 = crane__add(crane__scale(m->link_ca[1], aq),
+                                     crane__scale(m->link_cb[1], crane__perp(aq)));
+    /* Link 1 turns about P1: d1 = P1 + e1. */
+    const crane_vec2 d1 = crane__add(p->link1_pivot, e1);
+    const crane_vec2 v1 = crane__scale(k1, crane__perp(e1));
+    const crane_vec2 w1 = crane__sub(crane__scale(g1, crane__perp(e1)), crane__scale(k1 * k1, e1));
+    /* Link 2 rides on Q (dQ = k1 perp(qp) per unit tilt rate) and turns: d2 = Q + e2. */
+    const crane_vec2 d2 = crane__add(tk->q, e2);
+    const crane_vec2 v2 = crane__add(crane__scale(k1, crane__perp(qp)), crane__scale(k2, crane__perp(e2)));
+    const crane_vec2 w2 =
+        crane__add(crane__sub(crane__scale(g1, crane__perp(qp)), crane__scale(k1 * k1, qp)),
+                   crane__sub(crane__scale(g2, crane__perp(e2)), crane__scale(k2 * k2, e2)));
+    const crane_real m1 = m->link_m[0], i1 = m->link_i[0], m2 = m->link_m[1], i2 = m->link_i[1];
+
+    /* M's columns ID(theta, 0, e_j, 0), by virtual work (cross(d, perp(d)) = |d|^2,
+     * cross(d, v) = perp(d).v), and the velocity-dependent and gravity sums. */
+    tk->M[0] = m1 * crane__norm2(d1) + i1 + m2 * crane__norm2(d2) + i2;
+    tk->M[1] = m1 * crane__cross(d1, v1) + i1 * k1 + m2 * crane__cross(d2, v2) + i2 * k2;
+    tk->M[2] = m1 * crane__norm2(v1) + i1 * k1 * k1 + m2 * crane__norm2(v2) + i2 * k2 * k2;
+    tk->md = crane__add(crane__scale(m1, d1), crane__scale(m2, d2));
+    tk->mv = crane__add(crane__scale(m1, v1), crane__scale(m2, v2));
+    tk->huu[0] = m1 * crane__cross(d1, w1) + i1 * g1 + m2 * crane__cross(d2, w2) + i2 * g2;
+    tk->huu[1] = m1 * crane__dot(w1, v1) + i1 * g1 * k1 + m2 * crane__dot(w2, v2) + i2 * g2 * k2;
+    tk->dv = m1 * crane__dot(d1, v1) + m2 * crane__dot(d2, v2);
+}
+
+void crane__tilt_kinematics(const crane_model *m, crane_real c1, crane_real s1,
+                            crane__tilt_kin *tk)
+{
+    const crane_params *p = &m->p;
+    crane_real L;
+
+    /* The same arithmetic as crane__tilt_from_angle, so stroke and ds are the same bits. */
+    tk->a = crane__add(p->tilt_pivot, crane__rot(c1, s1, p->link2_attach));
+    (void)crane__circle(p->link1_pivot, m->tilt_l1, tk->a, m->tilt_l2, 1, &tk->q);
+    L = crane__norm(crane__sub(tk->q, p->tilt_cylinder_base));
+    tk->stroke = L - p->cylinder[CRANE_TILT].length_retracted;
+    tk->ds = tilt_ds(p, tk->q, tk->a, L);
+    if (m->links)
+        side_links(m, tk);
+}
+
 crane_status crane_joint_angle(const crane_model *model, int joint, crane_real stroke,
                                crane_real *theta, crane_real *dstroke_dtheta)
 {

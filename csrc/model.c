@@ -31,10 +31,14 @@ static int params_finite(const crane_params *p)
            crane__finite(p->extension_min) && crane__finite(p->extension_max) &&
            body_finite(&p->lift_boom) && body_finite(&p->outer_boom) &&
            body_finite(&p->extension_boom) && crane__finite(p->load_mass) &&
+           body_finite(&p->side_link1) && body_finite(&p->side_link2) &&
            cylinder_finite(&p->cylinder[0]) && cylinder_finite(&p->cylinder[1]);
 }
 
 static int body_ok(const crane_body *b) { return b->mass > 0 && b->izz > 0; }
+
+/* A side link may be massless (0 = neglected, the paper's model), never negative. */
+static int link_ok(const crane_body *b) { return b->mass >= 0 && b->izz >= 0; }
 
 static int cylinder_ok(const crane_cylinder *c)
 {
@@ -56,7 +60,7 @@ crane_status crane__check_params(const crane_params *p)
     if (!params_finite(p))
         return CRANE_E_NONFINITE;
     if (!body_ok(&p->lift_boom) || !body_ok(&p->outer_boom) || !body_ok(&p->extension_boom) ||
-        !(p->load_mass >= 0))
+        !(p->load_mass >= 0) || !link_ok(&p->side_link1) || !link_ok(&p->side_link2))
         return CRANE_E_BODY;
     for (i = 0; i < 2; ++i)
         if (!cylinder_ok(&p->cylinder[i]))
@@ -187,6 +191,26 @@ crane_status crane_model_init(crane_model *model, const crane_params *params, cr
     m.j1 = m.i1 + m.m1 * crane__norm2(m.c1);
     m.j2 = m.i2 + m.m2 * crane__norm2(m.c2);
     m.m2_o2sq = m.m2 * crane__norm2(p->tilt_pivot);
+
+    /* Side links: each centre of mass in the basis (v, perp v) of its link's vector, v = link_pin
+     * (P1 to Q) or link2_end (Q to A), so that R(phi) cL = ca v' + cb perp(v') with v' = R(phi) v
+     * (Q - P1 or A - Q) needs no trig. Zero lengths are rejected below (four-bar check). */
+    {
+        const crane_body *link[2];
+        const crane_vec2 v[2] = {p->link_pin, p->link2_end};
+        link[0] = &p->side_link1;
+        link[1] = &p->side_link2;
+        m.links = 0;
+        for (i = 0; i < 2; ++i) {
+            const crane_real n2 = crane__norm2(v[i]);
+            m.link_m[i] = link[i]->mass;
+            m.link_i[i] = link[i]->izz;
+            m.link_ca[i] = n2 > 0 ? crane__dot(link[i]->com, v[i]) / n2 : 0;
+            m.link_cb[i] = n2 > 0 ? crane__cross(v[i], link[i]->com) / n2 : 0;
+            if (link[i]->mass > 0 || link[i]->izz > 0)
+                m.links = 1;
+        }
+    }
 
     if (!lift_triangle_ok(&m))
         return CRANE_E_GEOMETRY;

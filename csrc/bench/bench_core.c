@@ -80,6 +80,8 @@ static crane_params patu655(void)
     p.lift_boom = body(143.66, 1.229248, 0.055596, 67.0537);
     p.outer_boom = body(141.943, 0.659935, 0.251085, 67.05);
     p.extension_boom = body(15.928, 1.225, 0, 7.97);
+    p.side_link1 = body(11.524, -0.257068, 0.004, 0.268644);
+    p.side_link2 = body(7.900, -0.212792, 0.0, 0.216772);
     p.load_mass = R(200);
     p.cylinder[CRANE_LIFT] = cylinder(0.820, 0.535);
     p.cylinder[CRANE_TILT] = cylinder(1.050, 0.780);

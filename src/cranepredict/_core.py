@@ -85,6 +85,8 @@ def params(crane: "Crane") -> Any:
     _body(p.lift_boom, crane.lift_boom)
     _body(p.outer_boom, crane.outer_boom)
     _body(p.extension_boom, crane.extension_boom)
+    _body(p.side_link1, crane.side_link1)
+    _body(p.side_link2, crane.side_link2)
     p.load_mass = crane.load_mass
     _cylinder(p.cylinder[lib.CRANE_LIFT], crane.lift_cylinder)
     _cylinder(p.cylinder[lib.CRANE_TILT], crane.tilt_cylinder)
