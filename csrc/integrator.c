@@ -4,7 +4,7 @@
  */
 #include "crane_internal.h"
 
-enum { BISECTIONS = 60 };
+enum { BISECTIONS = 60, RELEASE_BISECTIONS = 40 };
 
 typedef struct {
     crane_real th[2], w[2];
@@ -33,6 +33,9 @@ typedef struct {
     int tk_valid;
     crane_real tk_th;
     crane__tilt_kin tk;
+    /* The last step ended with the release rule run at its end (the next step's start time and
+     * state) releasing nothing: the release at the next step's start would repeat it exactly. */
+    int release_clear;
 } ctx_t;
 
 /* The four-bar at theta1 (cos c1, sin s1), computed only when the angle differs from the last. */
@@ -305,19 +308,45 @@ static void release(ctx_t *c, crane_real t, const xstate *x)
             c->mode[i] = CRANE__FREE;
 }
 
-/* One step of size h from t, cut at end-stop events. Each event piece normally stops a joint, so
- * two or three pieces are the rule; if the shorter RK4 step lands a rounding error inside the limit
- * the joint is not stopped yet and the next piece finds it again a hair later (as the
- * specification reads). MAX_PIECES only bounds that in pathological cases: the last piece takes
- * the whole rest and puts any joint that overshot on its limit. */
+/* Release inside a piece (docs/model.md, "Release inside a step"): the piece from (t, x) over
+ * size h ended with a STOPPED joint that the release rule would let go of. Bisects the piece size
+ * (lo: an RK4 step of that size ends where the rule releases nothing; hi: where it releases
+ * something), advances to hi and releases there; returns hi. */
+static crane_real release_in_piece(ctx_t *c, crane_real t, xstate *x, crane_real h,
+                                   const int lk[2])
+{
+    crane_real lo = 0, hi = h;
+    xstate y;
+    int k;
+
+    for (k = 0; k < RELEASE_BISECTIONS; ++k) {
+        const crane_real mid = (lo + hi) / 2;
+        y = rk4(c, t, x, mid, lk);
+        if (release_set(c, t + mid, &y))
+            hi = mid;
+        else
+            lo = mid;
+    }
+    *x = rk4(c, t, x, hi, lk);
+    release(c, t + hi, x);
+    return hi;
+}
+
+/* One step of size h from t, cut at end-stop events: impacts and releases. Each event piece
+ * normally stops or releases a joint, so two or three pieces are the rule; if the shorter RK4 step
+ * lands a rounding error inside the limit the joint is not stopped yet and the next piece finds it
+ * again a hair later (as the specification reads). MAX_PIECES only bounds that in pathological
+ * cases: the last piece takes the whole rest, puts any joint that overshot on its limit and does
+ * no release search. */
 enum { MAX_PIECES = 8 };
 
-static void step(ctx_t *c, crane_real t, xstate *x, crane_real h)
+static void step(ctx_t *c, crane_real t, xstate *x, crane_real h, crane_real t_end)
 {
     const crane_model *m = c->m;
     crane_real rem = h;
     int piece;
 
+    c->release_clear = 0;
     for (piece = 0; rem > 0; ++piece) {
         int lk[2], out[2] = {0, 0}, upper[2] = {0, 0}, i, any = 0;
         crane_real tmin = rem;
@@ -336,6 +365,19 @@ static void step(ctx_t *c, crane_real t, xstate *x, crane_real h)
             any = 1;
         }
         if (!any) {
+            /* A piece without an impact, which ends at the step's end (its time is taken as t_end,
+             * the next step's start time, so that this check and the release at the next step's
+             * start are one evaluation): a STOPPED joint may have come free inside it. */
+            if (piece < MAX_PIECES - 1 &&
+                (c->mode[0] >= CRANE__STOP_LO || c->mode[1] >= CRANE__STOP_LO)) {
+                if (release_set(c, t_end, &x1)) {
+                    const crane_real hi = release_in_piece(c, t, x, rem, lk);
+                    t += hi;
+                    rem -= hi;
+                    continue;
+                }
+                c->release_clear = 1;
+            }
             *x = x1;
             return;
         }
@@ -435,6 +477,7 @@ void crane__integrate(const crane_model *m, const crane_state *s0, const crane_i
     c.kin_valid = 0;
     c.kin_has_lift = 0;
     c.tk_valid = 0;
+    c.release_clear = 0;
     for (i = 0; i < 2; ++i) {
         const crane_cylinder *cyl = &m->p.cylinder[i];
         crane_real ds;
@@ -479,9 +522,10 @@ void crane__integrate(const crane_model *m, const crane_state *s0, const crane_i
         const int last = k == n_steps - 1;
         const crane_real h = last ? horizon - t : dt;
 
-        release(&c, t, &x);
+        if (!c.release_clear)
+            release(&c, t, &x);
         if (h > 0)
-            step(&c, t, &x, h);
+            step(&c, t, &x, h, last ? horizon : (crane_real)(k + 1) * dt);
         if (last || (k + 1) % sample_every == 0)
             put_sample(&c, last ? horizon : (crane_real)(k + 1) * dt, &x, cpsi, spsi, &out[next++]);
     }
