@@ -53,7 +53,7 @@ class _Body:
 
 
 class Lagrange:
-    def __init__(self, crane, extension: float = 0.0, side_links: bool = False) -> None:
+    def __init__(self, crane, extension: float = 0.0, side_links: bool = True) -> None:
         g = crane.geometry
         self.gravity = crane.gravity
         o1 = np.array(g.lift_pivot, float)
