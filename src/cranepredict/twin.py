@@ -981,12 +981,15 @@ def _run(crane: Any, state: Any, inputs: Any, horizon: float, dt: float
             elif pred.stop[j] != 0:
                 strokes[i, j] = model.stroke_at_stop[j][pred.stop[j]]
             else:
-                strokes[i, j] = model.joint_stroke(j, x[j])
+                # the stroke -> angle -> stroke round trip can land a few 1e-16 m outside
+                cyl = cylinders[j]
+                strokes[i, j] = min(max(model.joint_stroke(j, x[j]), cyl.stroke_min), cyl.stroke_max)
             stop[i, j] = model.stop_flag[j][pred.stop[j]] if pred.stop[j] != 0 else 0
         theta[i] = (x[0], x[1])
         omega[i] = (x[2], x[3])
         tip[i] = model.tip((x[0], x[1]), slew)
 
+    cylinders = (crane.lift_cylinder, crane.tilt_cylinder)
     record(0, 0.0, x)
     for k in range(n):
         t = k * dt
@@ -994,6 +997,9 @@ def _run(crane: Any, state: Any, inputs: Any, horizon: float, dt: float
         h = horizon - t if last else dt
         pred.release(t, x)
         x = pred.step(t, x, h)
+        if not all(math.isfinite(v) for v in x):
+            raise ValueError(f"the prediction diverged at t = {t:g} s (the state is no longer finite): "
+                             "check the crane's parameters for absurd values")
         record(k + 1, horizon if last else (k + 1) * dt, x)
 
     out = {"t": t_out, "strokes": strokes, "theta": theta, "omega": omega, "tip": tip,
