@@ -93,7 +93,7 @@ def test_both_joints_pressed_into_their_stops_stay_there_without_chatter(crane):
     arrays, events = twin._run(crane, initial, inputs, 2.0, 1e-3)
     assert arrays["stop"][-1].tolist() == [1, -1]
     assert len(events) <= 4, events
-    c = cp.predict(crane, initial, inputs, 2.0)
+    c = cp.predict(crane, initial, inputs, 2.0, dt=1e-3)
     assert c.stop[-1].tolist() == [1, -1]
     k = int(np.flatnonzero((c.stop != 0).all(axis=1))[0])
     assert np.all(c.stop[k:] == c.stop[-1]) and np.all(c.omega[k:] == 0.0)
