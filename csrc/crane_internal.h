@@ -12,8 +12,13 @@
 
 #ifdef CRANE_FLOAT
 static inline crane_real crane__sqrt(crane_real x) { return sqrtf(x); }
-static inline crane_real crane__sin(crane_real x) { return sinf(x); }
-static inline crane_real crane__cos(crane_real x) { return cosf(x); }
+/* sin and cos in float are the core's own (kinematics.c), not newlib's sinf/cosf: those enter a
+ * 416-byte large-argument reduction for |x| > 201 rad, which the stack budget cannot afford and a
+ * static call graph cannot rule out. Arguments beyond 64 rad are first reduced exactly by fmodf. */
+void crane__sincosf(float x, float *s, float *c);
+static inline void crane__sincos(crane_real x, crane_real *s, crane_real *c) { crane__sincosf(x, s, c); }
+static inline crane_real crane__sin(crane_real x) { crane_real s, c; crane__sincosf(x, &s, &c); return s; }
+static inline crane_real crane__cos(crane_real x) { crane_real s, c; crane__sincosf(x, &s, &c); return c; }
 static inline crane_real crane__acos(crane_real x) { return acosf(x); }
 static inline crane_real crane__atan2(crane_real y, crane_real x) { return atan2f(y, x); }
 static inline crane_real crane__exp(crane_real x) { return expf(x); }
@@ -23,6 +28,7 @@ static inline crane_real crane__fabs(crane_real x) { return fabsf(x); }
 static inline crane_real crane__sqrt(crane_real x) { return sqrt(x); }
 static inline crane_real crane__sin(crane_real x) { return sin(x); }
 static inline crane_real crane__cos(crane_real x) { return cos(x); }
+static inline void crane__sincos(crane_real x, crane_real *s, crane_real *c) { *s = sin(x); *c = cos(x); }
 static inline crane_real crane__acos(crane_real x) { return acos(x); }
 static inline crane_real crane__atan2(crane_real y, crane_real x) { return atan2(y, x); }
 static inline crane_real crane__exp(crane_real x) { return exp(x); }

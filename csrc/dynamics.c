@@ -78,12 +78,13 @@ crane_status crane_inverse_dynamics(const crane_model *model, const crane_real t
     for (i = 0; i < 2; ++i)
         if (!crane__finite(theta[i]) || !crane__finite(omega[i]) || !crane__finite(alpha[i]))
             return CRANE_E_NONFINITE;
-    c0 = crane__cos(theta[0]);
-    s0 = crane__sin(theta[0]);
-    c01 = crane__cos(theta[0] + theta[1]);
-    s01 = crane__sin(theta[0] + theta[1]);
-    if (model->links)
-        crane__tilt_kinematics(model, crane__cos(theta[1]), crane__sin(theta[1]), &tk);
+    crane__sincos(theta[0], &s0, &c0);
+    crane__sincos(theta[0] + theta[1], &s01, &c01);
+    if (model->links) {
+        crane_real c1, s1;
+        crane__sincos(theta[1], &s1, &c1);
+        crane__tilt_kinematics(model, c1, s1, &tk);
+    }
     crane__inverse_dynamics(model, crane__rot(c0, s0, model->c1), crane__rot(c01, s01, model->c2),
                             crane__rot(c0, s0, model->p.tilt_pivot), c0, s0,
                             model->links ? &tk : NULL, omega, alpha, model->p.gravity, t);

@@ -100,10 +100,8 @@ static void forces(ctx_t *c, crane_real t, const xstate *x, const int act[2], cr
         c1 = c->kin_c1;
         s1 = c->kin_s1;
     } else {
-        c0 = crane__cos(x->th[0]);
-        s0 = crane__sin(x->th[0]);
-        c1 = crane__cos(x->th[1]);
-        s1 = crane__sin(x->th[1]);
+        crane__sincos(x->th[0], &s0, &c0);
+        crane__sincos(x->th[1], &s1, &c1);
     }
     c01 = c0 * c1 - s0 * s1;
     s01 = s0 * c1 + c0 * s1;
@@ -234,8 +232,8 @@ static void impact(ctx_t *c, xstate *x, int i)
     const int j = 1 - i;
 
     if (c->mode[j] == CRANE__FREE) {
-        const crane_real c1 = crane__cos(x->th[1]), s1 = crane__sin(x->th[1]);
-        crane_real M[3];
+        crane_real M[3], c1, s1;
+        crane__sincos(x->th[1], &s1, &c1);
         crane__mass_matrix(c->m, c1, s1, c->m->links ? tilt_kin(c, x->th[1], c1, s1) : NULL, M);
         /* omega - Minv e_i omega_i / Minv_ii, written without the inverse. */
         x->w[j] += M[1] / M[j == 0 ? 0 : 2] * x->w[i];
@@ -416,12 +414,14 @@ static void put_sample(ctx_t *c, crane_real t, const xstate *x, crane_real cpsi,
                        crane_sample *o)
 {
     const crane_model *m = c->m;
-    const crane_real c0 = crane__cos(x->th[0]), s0 = crane__sin(x->th[0]);
-    const crane_real c1 = crane__cos(x->th[1]), s1 = crane__sin(x->th[1]);
-    const crane_vec2 tip = crane__add(
-        m->p.lift_pivot,
-        crane__rot(c0, s0, crane__add(m->p.tilt_pivot, crane__rot(c1, s1, m->tip))));
+    crane_real c0, s0, c1, s1;
+    crane_vec2 tip;
     int i;
+
+    crane__sincos(x->th[0], &s0, &c0);
+    crane__sincos(x->th[1], &s1, &c1);
+    tip = crane__add(m->p.lift_pivot,
+                     crane__rot(c0, s0, crane__add(m->p.tilt_pivot, crane__rot(c1, s1, m->tip))));
 
     c->kin_valid = 1;
     c->kin_th[0] = x->th[0];
@@ -465,13 +465,14 @@ void crane__integrate(const crane_model *m, const crane_state *s0, const crane_i
                       crane_real horizon, crane_real dt, long n_steps, long sample_every,
                       crane_sample *out)
 {
-    const crane_real cpsi = crane__cos(s0->slew), spsi = crane__sin(s0->slew);
+    crane_real cpsi, spsi;
     ctx_t c;
     xstate x;
     long k;
     size_t next;
     int i;
 
+    crane__sincos(s0->slew, &spsi, &cpsi);
     c.m = m;
     c.in = in;
     c.kin_valid = 0;

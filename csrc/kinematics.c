@@ -217,7 +217,7 @@ crane_status crane_joint_angle(const crane_model *model, int joint, crane_real s
 crane_status crane_joint_stroke(const crane_model *model, int joint, crane_real theta,
                                 crane_real *stroke)
 {
-    crane_real s;
+    crane_real s, c1, s1;
 
     if (!model || !stroke)
         return CRANE_E_NULL;
@@ -227,10 +227,11 @@ crane_status crane_joint_stroke(const crane_model *model, int joint, crane_real 
         return CRANE_E_NONFINITE;
     if (theta < model->theta_min[joint] || theta > model->theta_max[joint])
         return CRANE_E_ANGLE;
+    crane__sincos(theta, &s1, &c1);
     if (joint == CRANE_LIFT)
-        crane__lift_from_angle(model, crane__cos(theta), crane__sin(theta), &s, NULL);
+        crane__lift_from_angle(model, c1, s1, &s, NULL);
     else
-        crane__tilt_from_angle(model, crane__cos(theta), crane__sin(theta), &s, NULL, NULL, NULL);
+        crane__tilt_from_angle(model, c1, s1, &s, NULL, NULL, NULL);
     *stroke = s;
     return CRANE_OK;
 }
@@ -269,15 +270,16 @@ crane_status crane_points(const crane_model *model, crane_real slew, size_t n,
     }
 
     p = &model->p;
-    cpsi = crane__cos(slew);
-    spsi = crane__sin(slew);
+    crane__sincos(slew, &spsi, &cpsi);
     for (k = 0; k < n; ++k) {
-        const crane_real c0 = crane__cos(theta[2 * k]), s0 = crane__sin(theta[2 * k]);
-        const crane_real c1 = crane__cos(theta[2 * k + 1]), s1 = crane__sin(theta[2 * k + 1]);
         const crane_vec2 o1 = p->lift_pivot;
         crane_vec2 q, a, pts[CRANE_N_POINTS];
         crane_real *dst = xyz + k * (size_t)CRANE_N_POINTS * 3;
+        crane_real c0, s0, c1, s1;
         int i;
+
+        crane__sincos(theta[2 * k], &s0, &c0);
+        crane__sincos(theta[2 * k + 1], &s1, &c1);
 
         crane__tilt_from_angle(model, c1, s1, NULL, NULL, &q, &a);
         pts[0] = crane__v2(0, 0);
@@ -298,3 +300,46 @@ crane_status crane_points(const crane_model *model, crane_real slew, size_t n,
     }
     return CRANE_OK;
 }
+
+#ifdef CRANE_FLOAT
+/* sin and cos of x in float (see crane_internal.h). Arguments with |x| > 64 are first reduced
+ * by fmodf(x, 2pi rounded to float), which is exact, so every argument of the reduction below is
+ * below 64 in magnitude (and NaN/inf give NaN). Then Cody-Waite reduction by pi/2 with the
+ * three-part constant of fdlibm's __ieee754_rem_pio2f (17 + 17 + 24 bits: k pi/2 exact in the
+ * first two parts for |k| < 128), and fdlibm's __kernel_sinf/__kernel_cosf polynomials on
+ * |r| <= pi/4 (terms below float precision dropped). Error about 1 ulp. */
+void crane__sincosf(float x, float *sp, float *cp)
+{
+    static const float two_over_pi = 6.3661974669e-01f;
+    static const float pio2_1 = 1.5707855225e+00f;  /* 0x3fc90f80 */
+    static const float pio2_2 = 1.0804273188e-05f;  /* 0x37354400 */
+    static const float pio2_3 = 6.0770943833e-11f;  /* 0x2e85a300 */
+    static const float pio2_3t = 6.1232342629e-17f;
+    static const float S1 = -1.6666667163e-01f, S2 = 8.3333337680e-03f, S3 = -1.9841270114e-04f,
+                       S4 = 2.7557314297e-06f;
+    static const float C1 = 4.1666667908e-02f, C2 = -1.3888889225e-03f, C3 = 2.4801587642e-05f,
+                       C4 = -2.7557314297e-07f;
+    float r, z, s, c, fk;
+    int k;
+
+    if (!(fabsf(x) <= 64.0f))
+        x = fmodf(x, 6.2831854820e+00f);
+    if (!(x == x)) {
+        *sp = *cp = x;
+        return;
+    }
+    fk = x * two_over_pi;
+    k = (int)(fk < 0 ? fk - 0.5f : fk + 0.5f);
+    fk = (float)k;
+    r = ((x - fk * pio2_1) - fk * pio2_2) - (fk * pio2_3 + fk * pio2_3t);
+    z = r * r;
+    s = r + r * z * (S1 + z * (S2 + z * (S3 + z * S4)));
+    c = 1.0f - 0.5f * z + z * z * (C1 + z * (C2 + z * (C3 + z * C4)));
+    switch (k & 3) {
+    case 0: *sp = s; *cp = c; break;
+    case 1: *sp = c; *cp = -s; break;
+    case 2: *sp = -s; *cp = -c; break;
+    default: *sp = -c; *cp = s; break;
+    }
+}
+#endif

@@ -155,8 +155,7 @@ crane_status crane_model_init(crane_model *model, const crane_params *params, cr
         m.lift_dr = crane__norm(e);
         m.lift_beta = crane__atan2(b.y, b.x);
         m.lift_eps = crane__atan2(e.y, e.x);
-        m.lift_cos_off = crane__cos(m.lift_eps - m.lift_beta);
-        m.lift_sin_off = crane__sin(m.lift_eps - m.lift_beta);
+        crane__sincos(m.lift_eps - m.lift_beta, &m.lift_sin_off, &m.lift_cos_off);
     }
     m.tilt_l1 = crane__norm(p->link_pin);
     m.tilt_l2 = crane__norm(p->link2_end);

@@ -141,6 +141,39 @@ static crane_state state(double s0, double s1, double v0, double v1, double slew
 
 /* ---------------------------------------------------------------------------------------------- */
 
+#ifdef CRANE_FLOAT
+/* The float build's own sin/cos (kinematics.c; internal, declared here to test it). */
+void crane__sincosf(float x, float *s, float *c);
+
+static void test_sincosf(void)
+{
+    double worst = 0;
+    int k, ok = 1;
+    static const float huge[] = {65.0f, -201.5f, 1e4f, -3.0e7f, 1e30f, -3.4e38f};
+
+    for (k = -200000; k <= 200000; ++k) {
+        const float x = (float)k * 3.2e-4f; /* [-64, 64] */
+        float s, c;
+        double e;
+        crane__sincosf(x, &s, &c);
+        e = fabs((double)s - sin((double)x)) + fabs((double)c - cos((double)x));
+        if (e > worst)
+            worst = e;
+    }
+    printf("  float sincos: largest |error| %.3g on [-64, 64]\n", worst);
+    check_close(worst, 0, 3e-7, "float sincos vs double sin/cos on [-64, 64]");
+    for (k = 0; k < (int)(sizeof huge / sizeof huge[0]); ++k) {
+        float s, c;
+        crane__sincosf(huge[k], &s, &c);
+        if (!(fabs((double)s * (double)s + (double)c * (double)c - 1) < 1e-6))
+            ok = 0;
+    }
+    check(ok, "float sincos: huge arguments give a point on the unit circle");
+}
+#else
+static void test_sincosf(void) {}
+#endif
+
 static void test_model_init(void)
 {
     const crane_params p = patu();
@@ -779,6 +812,7 @@ static void benchmark(void)
 int main(void)
 {
     printf("cranepredict core tests (%s)\n", is_float ? "float" : "double");
+    test_sincosf();
     test_model_init();
     test_round_trips();
     test_transmission();
