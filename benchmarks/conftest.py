@@ -7,6 +7,7 @@ Run: pytest benchmarks --benchmark-only            (the ratio table, docs/benchm
 
 from __future__ import annotations
 
+import dataclasses
 import functools
 import time
 from dataclasses import dataclass
@@ -48,12 +49,23 @@ def both_cylinders() -> Case:
                 2.0)
 
 
+def open_chain() -> Case:
+    """both-cylinders with (practically) massless side links: our model is then exactly an open
+    2-link chain, the model MuJoCo runs (its chain has no closed four-bar)."""
+    c = both_cylinders()
+    tiny = {"mass": 1e-9, "izz": 1e-9}
+    crane = dataclasses.replace(c.crane, side_link1=dataclasses.replace(c.crane.side_link1, **tiny),
+                                side_link2=dataclasses.replace(c.crane.side_link2, **tiny))
+    return Case("open-chain", crane, c.initial, c.inputs, c.horizon)
+
+
 def paper_fig4() -> Case:
     sc = cp.scenarios.get("paper-fig4")
     return Case("paper-fig4", sc.crane, sc.initial, sc.inputs, sc.horizon)
 
 
-CASES: Dict[str, Callable[[], Case]] = {"paper-fig4": paper_fig4, "both-cylinders": both_cylinders}
+CASES: Dict[str, Callable[[], Case]] = {"paper-fig4": paper_fig4, "both-cylinders": both_cylinders,
+                                        "open-chain": open_chain}
 
 
 @functools.lru_cache(maxsize=None)

@@ -24,7 +24,7 @@ from conftest import TOL, benchmarks_enabled, case, largest_dt, reference, tip_e
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 CSRC = os.path.join(ROOT, "csrc")
-SCENARIOS = ("paper-fig4", "both-cylinders")
+SCENARIOS = ("paper-fig4", "both-cylinders", "open-chain")
 
 
 def _dt(name: str, which: str) -> float:
@@ -191,7 +191,7 @@ def _joint_torques(c, tr: cp.Trajectory) -> np.ndarray:
 def test_mujoco(benchmark, ratio, integrator):
     mujoco = pytest.importorskip("mujoco", reason="MuJoCo is a peer: pip install '.[bench]'")
     rollout = pytest.importorskip("mujoco.rollout", reason="mujoco.rollout missing (mujoco >= 3.2)")
-    c, dt = case("both-cylinders"), cp.DEFAULT_DT
+    c, dt = case("open-chain"), cp.DEFAULT_DT
     ours = cp.predict(*c.args(), dt=dt)
     model = mujoco.MjModel.from_xml_string(_chain_xml(c.crane, c.initial.extension, integrator, dt))
     data = mujoco.MjData(model)
@@ -206,12 +206,12 @@ def test_mujoco(benchmark, ratio, integrator):
     ctrl = _joint_torques(c, ours)[:-1][None, :, :]
     nstep = ctrl.shape[1]
     state, _ = ratio(lambda: rollout.rollout(model, data, state0[None, :], ctrl, nstep=nstep),
-                     nstep * dt, scenario="both-cylinders", backend=f"MuJoCo {integrator}",
+                     nstep * dt, scenario="open-chain", backend=f"MuJoCo {integrator}",
                      dt=dt, mujoco=mujoco.__version__)
     qpos = state[0, :, 1:3]   # FULLPHYSICS: time, qpos, qvel, ...
     tip = _core.points(c.crane, c.initial.extension, c.initial.slew, qpos)[:, -1, :]
-    err = tip_error("both-cylinders", ours.t[1:], tip)
-    _record_error(benchmark, "both-cylinders", err)
+    err = tip_error("open-chain", ours.t[1:], tip)
+    _record_error(benchmark, "open-chain", err)
     assert err < 0.05, "the chain is not the same model"
 
 
