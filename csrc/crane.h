@@ -133,9 +133,14 @@ typedef struct {
 } crane_sample;
 
 /* Derived constants of one crane at one extension: filled by crane_model_init, read-only after.
- * Fields are internal; the struct is public only so that the caller can own it. */
+ * Fields are internal; the struct is public only so that the caller can own it. It keeps only
+ * the parameters that predictions and the queries read (not a copy of crane_params). */
 typedef struct {
-    crane_params p;
+    crane_real gravity;
+    crane_vec2 lift_pivot, lift_cylinder_base, lift_cylinder_rod, tilt_cylinder_base;
+    crane_vec2 link1_pivot, tilt_pivot, link2_attach, extension_mount;
+    crane_real length_retracted[2], stroke_min[2], stroke_max[2];
+    crane_friction friction[2];
     crane_real extension;
     crane_real lift_db, lift_dr, lift_beta, lift_eps;
     crane_real tilt_l1, tilt_l2, tilt_ra, tilt_alpha_a;

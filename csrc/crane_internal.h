@@ -8,6 +8,14 @@
 #include <math.h>
 #include "crane.h"
 
+/* Inlines a static helper into every caller, so that its frame is not stacked on theirs (the
+ * stack budget of docs/embedding.md). A plain hint for compilers other than gcc and clang. */
+#if defined(__GNUC__)
+#define CRANE__ALWAYS_INLINE inline __attribute__((always_inline))
+#else
+#define CRANE__ALWAYS_INLINE inline
+#endif
+
 /* ---- math wrappers: one spelling for both precisions, so no call promotes float to double ---- */
 
 #ifdef CRANE_FLOAT
@@ -61,7 +69,7 @@ static inline crane_real crane__dot(crane_vec2 a, crane_vec2 b) { return a.x * b
 static inline crane_real crane__cross(crane_vec2 a, crane_vec2 b) { return a.x * b.y - a.y * b.x; }
 static inline crane_vec2 crane__perp(crane_vec2 a) { return crane__v2(-a.y, a.x); }
 static inline crane_real crane__norm2(crane_vec2 a) { return crane__dot(a, a); }
-static inline crane_real crane__norm(crane_vec2 a) { return crane__sqrt(crane__dot(a, a)); }
+static CRANE__ALWAYS_INLINE crane_real crane__norm(crane_vec2 a) { return crane__sqrt(crane__dot(a, a)); }
 
 /* R(a) v, with the caller's cos/sin so that each angle's trig is evaluated once. */
 static inline crane_vec2 crane__rot(crane_real c, crane_real s, crane_vec2 v)
@@ -74,11 +82,6 @@ static inline crane_vec2 crane__rot(crane_real c, crane_real s, crane_vec2 v)
 enum { CRANE__FREE = 0, CRANE__HELD = 1, CRANE__STOP_LO = 2, CRANE__STOP_HI = 3 };
 
 /* ---- kinematics.c ---- */
-
-/* circle() of docs/model.md; returns h2 (the mechanism closes only if h2 > 0). With h2 <= 0 the
- * point is computed with h2 clamped to 0, which keeps RK4 stages that overshoot a limit finite. */
-crane_real crane__circle(crane_vec2 c0, crane_real r0, crane_vec2 c1, crane_real r1,
-                         crane_real sign, crane_vec2 *p);
 
 /* Lift: stroke -> (theta0, ds/dtheta0); the stroke must be in range (or the acos is clamped). */
 void crane__lift_from_stroke(const crane_model *m, crane_real stroke, crane_real *theta,
@@ -144,6 +147,10 @@ crane_real crane__cylinder_force(const crane_model *m, int joint, crane_real p_a
 /* ---- model.c ---- */
 
 crane_status crane__check_params(const crane_params *p);
+
+/* crane_model_init without its NULL checks, deriving straight into *m (which is left partly
+ * written on an error): for callers that own a scratch model, like crane_predict. */
+crane_status crane__model_derive(crane_model *m, const crane_params *params, crane_real extension);
 
 /* ---- integrator.c ---- */
 

@@ -54,7 +54,7 @@ void crane__inverse_dynamics(const crane_model *m, crane_vec2 C1, crane_vec2 C2,
 void crane__mass_matrix(const crane_model *m, crane_real c1, crane_real s1,
                         const crane__tilt_kin *tk, crane_real M[3])
 {
-    const crane_real k = m->m2 * crane__dot(m->p.tilt_pivot, crane__rot(c1, s1, m->c2));
+    const crane_real k = m->m2 * crane__dot(m->tilt_pivot, crane__rot(c1, s1, m->c2));
     M[0] = m->j1 + m->m2_o2sq + m->j2 + 2 * k;
     M[1] = m->j2 + k;
     M[2] = m->j2;
@@ -86,8 +86,8 @@ crane_status crane_inverse_dynamics(const crane_model *model, const crane_real t
         crane__tilt_kinematics(model, c1, s1, &tk);
     }
     crane__inverse_dynamics(model, crane__rot(c0, s0, model->c1), crane__rot(c01, s01, model->c2),
-                            crane__rot(c0, s0, model->p.tilt_pivot), c0, s0,
-                            model->links ? &tk : NULL, omega, alpha, model->p.gravity, t);
+                            crane__rot(c0, s0, model->tilt_pivot), c0, s0,
+                            model->links ? &tk : NULL, omega, alpha, model->gravity, t);
     tau[0] = t[0];
     tau[1] = t[1];
     return CRANE_OK;

@@ -14,32 +14,36 @@ typedef struct {
 typedef struct {
     const crane_model *m;
     const crane_inputs *in;
+    const crane_state *s0;      /* the initial strokes are reported for held joints */
     size_t cursor[2];           /* pressure sample segment last used, per joint */
-    int mode[2];                /* CRANE__FREE, _HELD, _STOP_LO, _STOP_HI */
-    crane_real stroke_at[2][2]; /* stroke at [joint][lower, upper angle limit] */
-    int flag_at[2][2];          /* reported stop flag there: -1 stroke_min, +1 stroke_max */
-    crane_real stroke0[2];      /* initial strokes, reported for held joints */
+    signed char mode[2];        /* CRANE__FREE, _HELD, _STOP_LO, _STOP_HI */
+    signed char lo_flag[2];     /* stop flag at the lower angle limit: -1 stroke_min, +1 stroke_max
+                                 * (the upper angle limit has the other one) */
+    /* The last step ended with the release rule run at its end (the next step's start time and
+     * state) releasing nothing: the release at the next step's start would repeat it exactly. */
+    unsigned char release_clear;
+    unsigned char kin_valid, kin_has_lift, tk_valid; /* the caches below hold values */
     /* Kinematics at the state of the last sample (trig of both angles, ds/dtheta and stroke of
      * the joints that were free): the next step's release check and first RK4 stage are at the
      * same angles, so they reuse it instead of evaluating the same trig and four-bar again. */
-    int kin_valid;
     crane_real kin_th[2];
     crane_real kin_c0, kin_s0, kin_c1, kin_s1;
-    int kin_has_lift;
     crane_real kin_ds_lift;
     /* The four-bar (tilt ds/dtheta, stroke, side links) at the last tilt angle it was needed at:
      * with the tilt held or stopped the angle never changes, and with it free the last sample,
      * the next release check and the next step's first RK4 stage share one angle. */
-    int tk_valid;
     crane_real tk_th;
     crane__tilt_kin tk;
-    /* The last step ended with the release rule run at its end (the next step's start time and
-     * state) releasing nothing: the release at the next step's start would repeat it exactly. */
-    int release_clear;
 } ctx_t;
 
+/* The stroke at joint i's stop flag (-1: stroke_min, +1: stroke_max). */
+static crane_real flag_stroke(const ctx_t *c, int i, int flag)
+{
+    return flag < 0 ? c->m->stroke_min[i] : c->m->stroke_max[i];
+}
+
 /* The four-bar at theta1 (cos c1, sin s1), computed only when the angle differs from the last. */
-static const crane__tilt_kin *tilt_kin(ctx_t *c, crane_real th1, crane_real c1, crane_real s1)
+static CRANE__ALWAYS_INLINE const crane__tilt_kin *tilt_kin(ctx_t *c, crane_real th1, crane_real c1, crane_real s1)
 {
     if (!c->tk_valid || c->tk_th != th1) {
         crane__tilt_kinematics(c->m, c1, s1, &c->tk);
@@ -107,12 +111,12 @@ static void forces(ctx_t *c, crane_real t, const xstate *x, const int act[2], cr
     s01 = s0 * c1 + c0 * s1;
     C1 = crane__rot(c0, s0, m->c1);
     C2 = crane__rot(c01, s01, m->c2);
-    r12 = crane__rot(c0, s0, m->p.tilt_pivot);
+    r12 = crane__rot(c0, s0, m->tilt_pivot);
     /* The four-bar is needed for the side links and for a driven tilt cylinder's ds/dtheta. */
     if (m->links || act[CRANE_TILT])
         tk = tilt_kin(c, x->th[1], c1, s1);
     crane__inverse_dynamics(m, C1, C2, r12, c0, s0, m->links ? tk : NULL, x->w, zero,
-                            m->p.gravity, h);
+                            m->gravity, h);
     crane__mass_matrix(m, c1, s1, m->links ? tk : NULL, M);
 
     for (i = 0; i < 2; ++i) {
@@ -180,25 +184,35 @@ static xstate axpy(const xstate *x, crane_real h, const crane_real dth[2], const
     return y;
 }
 
-static xstate rk4(ctx_t *c, crane_real t, const xstate *x, crane_real h, const int lk[2])
+/* Classic RK4, its four stages in one loop so that accel (forces and all) has one call site and
+ * is inlined once. The stage sums are accumulated as the stages go (one stage state, one
+ * acceleration), in the order ((k1 + 2 k2) + 2 k3) + k4, which is the textbook expression's. */
+static void rk4(ctx_t *c, crane_real t, const xstate *x, crane_real h, xstate *y)
 {
     const crane_real h2 = h / 2, h6 = h / 6;
-    crane_real a1[2], a2[2], a3[2], a4[2];
-    xstate x2, x3, x4, y;
-    int i;
+    crane_real a[2], sw[2], sa[2];
+    xstate xs = *x;
+    int lk[2], k, i;
 
-    accel(c, t, x, lk, a1);
-    x2 = axpy(x, h2, x->w, a1);
-    accel(c, t + h2, &x2, lk, a2);
-    x3 = axpy(x, h2, x2.w, a2);
-    accel(c, t + h2, &x3, lk, a3);
-    x4 = axpy(x, h, x3.w, a3);
-    accel(c, t + h, &x4, lk, a4);
-    for (i = 0; i < 2; ++i) {
-        y.th[i] = x->th[i] + h6 * (x->w[i] + 2 * x2.w[i] + 2 * x3.w[i] + x4.w[i]);
-        y.w[i] = x->w[i] + h6 * (a1[i] + 2 * a2[i] + 2 * a3[i] + a4[i]);
+    lock_mask(c, lk);
+    for (k = 0; k < 4; ++k) {
+        accel(c, k == 0 ? t : k == 3 ? t + h : t + h2, &xs, lk, a);
+        for (i = 0; i < 2; ++i) {
+            if (k == 0) {
+                sw[i] = xs.w[i];
+                sa[i] = a[i];
+            } else if (k < 3) {
+                sw[i] = sw[i] + 2 * xs.w[i];
+                sa[i] = sa[i] + 2 * a[i];
+            } else {
+                /* y may be x: joint i's values are read here for the last time */
+                y->th[i] = x->th[i] + h6 * (sw[i] + xs.w[i]);
+                y->w[i] = x->w[i] + h6 * (sa[i] + a[i]);
+            }
+        }
+        if (k < 3)
+            xs = axpy(x, k == 2 ? h : h2, xs.w, a);
     }
-    return y;
 }
 
 /* Time in (0, h] at which the cubic Hermite interpolant of theta on the step first reaches the
@@ -246,7 +260,7 @@ static void stop_joint(ctx_t *c, xstate *x, int i, int upper)
 {
     x->th[i] = upper ? c->m->theta_max[i] : c->m->theta_min[i];
     impact(c, x, i);
-    c->mode[i] = upper ? CRANE__STOP_HI : CRANE__STOP_LO;
+    c->mode[i] = (signed char)(upper ? CRANE__STOP_HI : CRANE__STOP_LO);
 }
 
 /* Which stopped joints leave their stops: the solution of the two-contact complementarity problem.
@@ -310,8 +324,7 @@ static void release(ctx_t *c, crane_real t, const xstate *x)
  * size h ended with a STOPPED joint that the release rule would let go of. Bisects the piece size
  * (lo: an RK4 step of that size ends where the rule releases nothing; hi: where it releases
  * something), advances to hi and releases there; returns hi. */
-static crane_real release_in_piece(ctx_t *c, crane_real t, xstate *x, crane_real h,
-                                   const int lk[2])
+static crane_real release_in_piece(ctx_t *c, crane_real t, xstate *x, crane_real h)
 {
     crane_real lo = 0, hi = h;
     xstate y;
@@ -319,13 +332,13 @@ static crane_real release_in_piece(ctx_t *c, crane_real t, xstate *x, crane_real
 
     for (k = 0; k < RELEASE_BISECTIONS; ++k) {
         const crane_real mid = (lo + hi) / 2;
-        y = rk4(c, t, x, mid, lk);
+        rk4(c, t, x, mid, &y);
         if (release_set(c, t + mid, &y))
             hi = mid;
         else
             lo = mid;
     }
-    *x = rk4(c, t, x, hi, lk);
+    rk4(c, t, x, hi, x);
     release(c, t + hi, x);
     return hi;
 }
@@ -346,30 +359,29 @@ static void step(ctx_t *c, crane_real t, xstate *x, crane_real h, crane_real t_e
 
     c->release_clear = 0;
     for (piece = 0; rem > 0; ++piece) {
-        int lk[2], out[2] = {0, 0}, upper[2] = {0, 0}, i, any = 0;
+        unsigned out = 0, upper = 0; /* bit i: joint i beyond a limit, the upper one */
         crane_real tmin = rem;
         xstate x1;
+        int i;
 
-        lock_mask(c, lk);
-        x1 = rk4(c, t, x, rem, lk);
+        rk4(c, t, x, rem, &x1);
         for (i = 0; i < 2; ++i) {
             if (c->mode[i] != CRANE__FREE)
                 continue;
             if (x1.th[i] > m->theta_max[i])
-                upper[i] = 1;
+                upper |= 1u << i;
             else if (!(x1.th[i] < m->theta_min[i]))
                 continue;
-            out[i] = 1;
-            any = 1;
+            out |= 1u << i;
         }
-        if (!any) {
+        if (!out) {
             /* A piece without an impact, which ends at the step's end (its time is taken as t_end,
              * the next step's start time, so that this check and the release at the next step's
              * start are one evaluation): a STOPPED joint may have come free inside it. */
             if (piece < MAX_PIECES - 1 &&
                 (c->mode[0] >= CRANE__STOP_LO || c->mode[1] >= CRANE__STOP_LO)) {
                 if (release_set(c, t_end, &x1)) {
-                    const crane_real hi = release_in_piece(c, t, x, rem, lk);
+                    const crane_real hi = release_in_piece(c, t, x, rem);
                     t += hi;
                     rem -= hi;
                     continue;
@@ -382,20 +394,20 @@ static void step(ctx_t *c, crane_real t, xstate *x, crane_real h, crane_real t_e
         if (piece == MAX_PIECES - 1) {
             *x = x1;
             for (i = 0; i < 2; ++i)
-                if (out[i])
-                    stop_joint(c, x, i, upper[i]);
+                if ((out >> i) & 1)
+                    stop_joint(c, x, i, (upper >> i) & 1);
             return;
         }
         for (i = 0; i < 2; ++i) {
-            if (out[i]) {
-                const crane_real tau =
-                    crossing_time(x->th[i], x->w[i], x1.th[i], x1.w[i], rem,
-                                  upper[i] ? m->theta_max[i] : m->theta_min[i], upper[i]);
+            if ((out >> i) & 1) {
+                const int up = (upper >> i) & 1;
+                const crane_real tau = crossing_time(x->th[i], x->w[i], x1.th[i], x1.w[i], rem,
+                                                     up ? m->theta_max[i] : m->theta_min[i], up);
                 if (tau < tmin)
                     tmin = tau;
             }
         }
-        *x = rk4(c, t, x, tmin, lk);
+        rk4(c, t, x, tmin, x);
         t += tmin;
         rem -= tmin;
         /* In joint order, every free joint at or beyond a limit goes onto it. */
@@ -420,8 +432,8 @@ static void put_sample(ctx_t *c, crane_real t, const xstate *x, crane_real cpsi,
 
     crane__sincos(x->th[0], &s0, &c0);
     crane__sincos(x->th[1], &s1, &c1);
-    tip = crane__add(m->p.lift_pivot,
-                     crane__rot(c0, s0, crane__add(m->p.tilt_pivot, crane__rot(c1, s1, m->tip))));
+    tip = crane__add(m->lift_pivot,
+                     crane__rot(c0, s0, crane__add(m->tilt_pivot, crane__rot(c1, s1, m->tip))));
 
     c->kin_valid = 1;
     c->kin_th[0] = x->th[0];
@@ -435,9 +447,9 @@ static void put_sample(ctx_t *c, crane_real t, const xstate *x, crane_real cpsi,
     for (i = 0; i < 2; ++i) {
         crane_real s;
         switch (c->mode[i]) {
-        case CRANE__STOP_LO: s = c->stroke_at[i][0]; break;
-        case CRANE__STOP_HI: s = c->stroke_at[i][1]; break;
-        case CRANE__HELD: s = c->stroke0[i]; break;
+        case CRANE__STOP_LO: s = flag_stroke(c, i, c->lo_flag[i]); break;
+        case CRANE__STOP_HI: s = flag_stroke(c, i, -c->lo_flag[i]); break;
+        case CRANE__HELD: s = c->s0->stroke[i]; break;
         default:
             /* The stroke and ds/dtheta share the same kinematics: both at once, ds cached. */
             if (i == CRANE_LIFT) {
@@ -452,8 +464,8 @@ static void put_sample(ctx_t *c, crane_real t, const xstate *x, crane_real cpsi,
         o->theta[i] = x->th[i];
         o->omega[i] = x->w[i];
         /* Stop flags are in cylinder terms (docs/model.md): the tilt's lower angle stop is +1. */
-        o->stop[i] = c->mode[i] == CRANE__STOP_LO   ? c->flag_at[i][0]
-                     : c->mode[i] == CRANE__STOP_HI ? c->flag_at[i][1]
+        o->stop[i] = c->mode[i] == CRANE__STOP_LO   ? c->lo_flag[i]
+                     : c->mode[i] == CRANE__STOP_HI ? -c->lo_flag[i]
                                                     : 0;
     }
     o->tip[0] = tip.x * cpsi;
@@ -475,16 +487,15 @@ void crane__integrate(const crane_model *m, const crane_state *s0, const crane_i
     crane__sincos(s0->slew, &spsi, &cpsi);
     c.m = m;
     c.in = in;
+    c.s0 = s0;
     c.kin_valid = 0;
     c.kin_has_lift = 0;
     c.tk_valid = 0;
     c.release_clear = 0;
     for (i = 0; i < 2; ++i) {
-        const crane_cylinder *cyl = &m->p.cylinder[i];
         crane_real ds;
         c.cursor[i] = 0;
-        c.stroke0[i] = s0->stroke[i];
-        c.mode[i] = in->drive[i].mode == CRANE_DRIVE_HOLD ? CRANE__HELD : CRANE__FREE;
+        c.mode[i] = (signed char)(in->drive[i].mode == CRANE_DRIVE_HOLD ? CRANE__HELD : CRANE__FREE);
         if (i == CRANE_LIFT)
             crane__lift_from_stroke(m, s0->stroke[i], &x.th[i], &ds);
         else
@@ -492,27 +503,24 @@ void crane__integrate(const crane_model *m, const crane_state *s0, const crane_i
         x.w[i] = s0->stroke_rate[i] / ds;
         /* Which stroke limit is the lower angle limit follows the sign of ds/dtheta, which the
          * crane check keeps constant over the stroke. */
-        c.stroke_at[i][0] = ds > 0 ? cyl->stroke_min : cyl->stroke_max;
-        c.stroke_at[i][1] = ds > 0 ? cyl->stroke_max : cyl->stroke_min;
-        c.flag_at[i][0] = ds > 0 ? -1 : 1;
-        c.flag_at[i][1] = -c.flag_at[i][0];
+        c.lo_flag[i] = (signed char)(ds > 0 ? -1 : 1);
     }
 
     /* At t = 0: a free joint at a stroke limit whose stroke rate does not point into the range
      * starts on that stop, in joint order, with a plastic impact. */
     for (i = 0; i < 2; ++i) {
-        const crane_cylinder *cyl = &m->p.cylinder[i];
         const crane_real s = s0->stroke[i], v = s0->stroke_rate[i];
-        crane_real limit_stroke;
+        int flag; /* the stop's flag: -1 stroke_min, +1 stroke_max */
         if (c.mode[i] != CRANE__FREE)
             continue;
-        if (s <= cyl->stroke_min && v <= 0)
-            limit_stroke = cyl->stroke_min;
-        else if (s >= cyl->stroke_max && v >= 0)
-            limit_stroke = cyl->stroke_max;
+        if (s <= m->stroke_min[i] && v <= 0)
+            flag = -1;
+        else if (s >= m->stroke_max[i] && v >= 0)
+            flag = 1;
         else
             continue;
-        stop_joint(&c, &x, i, limit_stroke == c.stroke_at[i][1]);
+        /* the upper angle limit is the one whose flag is not lo_flag */
+        stop_joint(&c, &x, i, flag != c.lo_flag[i]);
     }
 
     put_sample(&c, 0, &x, cpsi, spsi, &out[0]);

@@ -4,8 +4,11 @@
  */
 #include "crane_internal.h"
 
-crane_real crane__circle(crane_vec2 c0, crane_real r0, crane_vec2 c1, crane_real r1,
-                         crane_real sign, crane_vec2 *p)
+/* circle() of docs/model.md; returns h2 (the mechanism closes only if h2 > 0). With h2 <= 0 the
+ * point is computed with h2 clamped to 0, which keeps RK4 stages that overshoot a limit finite.
+ * Inlined: its frame would otherwise sit at the bottom of the predict call's deepest path. */
+static CRANE__ALWAYS_INLINE crane_real circle(crane_vec2 c0, crane_real r0, crane_vec2 c1,
+                                             crane_real r1, crane_real sign, crane_vec2 *p)
 {
     const crane_vec2 d = crane__sub(c1, c0);
     const crane_real D = crane__norm(d);
@@ -43,7 +46,7 @@ void crane__lift_from_stroke(const crane_model *m, crane_real stroke, crane_real
                              crane_real *ds)
 {
     const crane_real db = m->lift_db, dr = m->lift_dr;
-    const crane_real L = m->p.cylinder[CRANE_LIFT].length_retracted + stroke;
+    const crane_real L = m->length_retracted[CRANE_LIFT] + stroke;
     crane_real cg = (db * db + dr * dr - L * L) / (2 * db * dr);
     crane_real gamma;
 
@@ -68,13 +71,13 @@ void crane__lift_from_angle(const crane_model *m, crane_real c0, crane_real s0,
     const crane_real L = crane__sqrt(L2 > 0 ? L2 : 0);
 
     if (stroke)
-        *stroke = L - m->p.cylinder[CRANE_LIFT].length_retracted;
+        *stroke = L - m->length_retracted[CRANE_LIFT];
     if (ds)
         *ds = db * dr * sg / L;
 }
 
 /* ds/dtheta1 by virtual velocities: A turns about O2, Q about P1, and QA is rigid. */
-static crane_real tilt_ds(const crane_params *p, crane_vec2 q, crane_vec2 a, crane_real L)
+static crane_real tilt_ds(const crane_model *p, crane_vec2 q, crane_vec2 a, crane_real L)
 {
     const crane_vec2 qp = crane__sub(q, p->link1_pivot);
     const crane_vec2 qa = crane__sub(q, a);
@@ -86,14 +89,14 @@ static crane_real tilt_ds(const crane_params *p, crane_vec2 q, crane_vec2 a, cra
 int crane__tilt_from_stroke(const crane_model *m, crane_real stroke, crane_real *theta,
                             crane_real *ds, crane_vec2 *q, crane_vec2 *a)
 {
-    const crane_params *p = &m->p;
-    const crane_real L = p->cylinder[CRANE_TILT].length_retracted + stroke;
+    const crane_model *p = m;
+    const crane_real L = p->length_retracted[CRANE_TILT] + stroke;
     crane_vec2 Q, A, oa;
     int ok = 1;
 
-    if (!(crane__circle(p->link1_pivot, m->tilt_l1, p->tilt_cylinder_base, L, -1, &Q) > 0))
+    if (!(circle(p->link1_pivot, m->tilt_l1, p->tilt_cylinder_base, L, -1, &Q) > 0))
         ok = 0;
-    if (!(crane__circle(p->tilt_pivot, m->tilt_ra, Q, m->tilt_l2, -1, &A) > 0))
+    if (!(circle(p->tilt_pivot, m->tilt_ra, Q, m->tilt_l2, -1, &A) > 0))
         ok = 0;
     oa = crane__sub(A, p->tilt_pivot);
     *theta = crane__wrap_tilt(crane__atan2(oa.y, oa.x) - m->tilt_alpha_a);
@@ -108,15 +111,15 @@ int crane__tilt_from_stroke(const crane_model *m, crane_real stroke, crane_real 
 void crane__tilt_from_angle(const crane_model *m, crane_real c1, crane_real s1,
                             crane_real *stroke, crane_real *ds, crane_vec2 *q, crane_vec2 *a)
 {
-    const crane_params *p = &m->p;
+    const crane_model *p = m;
     const crane_vec2 A = crane__add(p->tilt_pivot, crane__rot(c1, s1, p->link2_attach));
     crane_vec2 Q;
     crane_real L;
 
-    (void)crane__circle(p->link1_pivot, m->tilt_l1, A, m->tilt_l2, 1, &Q);
+    (void)circle(p->link1_pivot, m->tilt_l1, A, m->tilt_l2, 1, &Q);
     L = crane__norm(crane__sub(Q, p->tilt_cylinder_base));
     if (stroke)
-        *stroke = L - p->cylinder[CRANE_TILT].length_retracted;
+        *stroke = L - p->length_retracted[CRANE_TILT];
     if (ds)
         *ds = tilt_ds(p, Q, A, L);
     if (q)
@@ -135,7 +138,7 @@ void crane__tilt_from_angle(const crane_model *m, crane_real c1, crane_real s1,
  * crane__tilt_kin) and the sums over both links that the inverse dynamics needs. */
 static void side_links(const crane_model *m, crane__tilt_kin *tk)
 {
-    const crane_params *p = &m->p;
+    const crane_model *p = m;
     const crane_vec2 qp = crane__sub(tk->q, p->link1_pivot);
     const crane_vec2 aq = crane__sub(tk->a, tk->q);
     const crane_vec2 ra = crane__sub(tk->a, p->tilt_pivot);
@@ -177,14 +180,14 @@ static void side_links(const crane_model *m, crane__tilt_kin *tk)
 void crane__tilt_kinematics(const crane_model *m, crane_real c1, crane_real s1,
                             crane__tilt_kin *tk)
 {
-    const crane_params *p = &m->p;
+    const crane_model *p = m;
     crane_real L;
 
     /* The same arithmetic as crane__tilt_from_angle, so stroke and ds are the same bits. */
     tk->a = crane__add(p->tilt_pivot, crane__rot(c1, s1, p->link2_attach));
-    (void)crane__circle(p->link1_pivot, m->tilt_l1, tk->a, m->tilt_l2, 1, &tk->q);
+    (void)circle(p->link1_pivot, m->tilt_l1, tk->a, m->tilt_l2, 1, &tk->q);
     L = crane__norm(crane__sub(tk->q, p->tilt_cylinder_base));
-    tk->stroke = L - p->cylinder[CRANE_TILT].length_retracted;
+    tk->stroke = L - p->length_retracted[CRANE_TILT];
     tk->ds = tilt_ds(p, tk->q, tk->a, L);
     if (m->links)
         side_links(m, tk);
@@ -193,7 +196,6 @@ void crane__tilt_kinematics(const crane_model *m, crane_real c1, crane_real s1,
 crane_status crane_joint_angle(const crane_model *model, int joint, crane_real stroke,
                                crane_real *theta, crane_real *dstroke_dtheta)
 {
-    const crane_cylinder *cyl;
     crane_real th, ds;
 
     if (!model || !theta || !dstroke_dtheta)
@@ -202,8 +204,7 @@ crane_status crane_joint_angle(const crane_model *model, int joint, crane_real s
         return CRANE_E_CYLINDER;
     if (!crane__finite(stroke))
         return CRANE_E_NONFINITE;
-    cyl = &model->p.cylinder[joint];
-    if (stroke < cyl->stroke_min || stroke > cyl->stroke_max)
+    if (stroke < model->stroke_min[joint] || stroke > model->stroke_max[joint])
         return CRANE_E_STROKE;
     if (joint == CRANE_LIFT)
         crane__lift_from_stroke(model, stroke, &th, &ds);
@@ -247,7 +248,7 @@ static void put_world(crane_real *dst, crane_vec2 v, crane_real cpsi, crane_real
 crane_status crane_points(const crane_model *model, crane_real slew, size_t n,
                           const crane_real *theta, crane_real *xyz)
 {
-    const crane_params *p;
+    const crane_model *p;
     crane_real cpsi, spsi;
     size_t k;
 
@@ -269,7 +270,7 @@ crane_status crane_points(const crane_model *model, crane_real slew, size_t n,
                 return CRANE_E_ANGLE;
     }
 
-    p = &model->p;
+    p = model;
     crane__sincos(slew, &spsi, &cpsi);
     for (k = 0; k < n; ++k) {
         const crane_vec2 o1 = p->lift_pivot;

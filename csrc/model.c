@@ -76,10 +76,9 @@ crane_status crane__check_params(const crane_params *p)
 /* 0 < gamma < pi over the lift stroke. cos(gamma) is monotone in L, so the two ends decide. */
 static int lift_triangle_ok(const crane_model *m)
 {
-    const crane_cylinder *c = &m->p.cylinder[CRANE_LIFT];
     const crane_real db = m->lift_db, dr = m->lift_dr;
-    const crane_real ends[2] = {c->length_retracted + c->stroke_min,
-                                c->length_retracted + c->stroke_max};
+    const crane_real ends[2] = {m->length_retracted[CRANE_LIFT] + m->stroke_min[CRANE_LIFT],
+                                m->length_retracted[CRANE_LIFT] + m->stroke_max[CRANE_LIFT]};
     int k;
 
     if (!(db > 0) || !(dr > 0))
@@ -97,7 +96,6 @@ static int lift_triangle_ok(const crane_model *m)
  * direction that sign says: otherwise the wrap cuts the stroke range and the limits are wrong. */
 static int fourbar_ok(const crane_model *m)
 {
-    const crane_cylinder *c = &m->p.cylinder[CRANE_TILT];
     const crane_real lo = -3 * crane__pi() / 2, hi = crane__pi() / 2;
     crane_real prev_theta = 0, sign = 0;
     int k;
@@ -105,7 +103,8 @@ static int fourbar_ok(const crane_model *m)
     if (!(m->tilt_l1 > 0) || !(m->tilt_l2 > 0) || !(m->tilt_ra > 0))
         return 0;
     for (k = 0; k < FOURBAR_POINTS; ++k) {
-        const crane_real s = c->stroke_min + (c->stroke_max - c->stroke_min) * (crane_real)k /
+        const crane_real s = m->stroke_min[CRANE_TILT] +
+                             (m->stroke_max[CRANE_TILT] - m->stroke_min[CRANE_TILT]) * (crane_real)k /
                                                  (crane_real)(FOURBAR_POINTS - 1);
         crane_real theta, ds;
         if (!crane__tilt_from_stroke(m, s, &theta, &ds, NULL, NULL))
@@ -125,17 +124,14 @@ static int fourbar_ok(const crane_model *m)
     return 1;
 }
 
-crane_status crane_model_init(crane_model *model, const crane_params *params, crane_real extension)
+crane_status crane__model_derive(crane_model *m, const crane_params *params, crane_real extension)
 {
-    crane_model m;
     const crane_params *p = params;
     crane_status st;
     crane_vec2 mount_e, x_ext, x_tip;
     crane_real m_ob, m_ext, m_load, th_lo, th_hi, ds;
     int i;
 
-    if (!model || !params)
-        return CRANE_E_NULL;
     st = crane__check_params(p);
     if (st != CRANE_OK)
         return st;
@@ -144,28 +140,41 @@ crane_status crane_model_init(crane_model *model, const crane_params *params, cr
     if (extension < p->extension_min || extension > p->extension_max)
         return CRANE_E_EXTENSION;
 
-    /* Everything is derived into a local copy so that a rejected crane leaves *model untouched. */
-    m.p = *p;
-    m.extension = extension;
+    m->gravity = p->gravity;
+    m->lift_pivot = p->lift_pivot;
+    m->lift_cylinder_base = p->lift_cylinder_base;
+    m->lift_cylinder_rod = p->lift_cylinder_rod;
+    m->tilt_cylinder_base = p->tilt_cylinder_base;
+    m->link1_pivot = p->link1_pivot;
+    m->tilt_pivot = p->tilt_pivot;
+    m->link2_attach = p->link2_attach;
+    m->extension_mount = p->extension_mount;
+    for (i = 0; i < 2; ++i) {
+        m->length_retracted[i] = p->cylinder[i].length_retracted;
+        m->stroke_min[i] = p->cylinder[i].stroke_min;
+        m->stroke_max[i] = p->cylinder[i].stroke_max;
+        m->friction[i] = p->cylinder[i].friction;
+    }
+    m->extension = extension;
 
     {
         const crane_vec2 b = crane__sub(p->lift_cylinder_base, p->lift_pivot);
         const crane_vec2 e = p->lift_cylinder_rod;
-        m.lift_db = crane__norm(b);
-        m.lift_dr = crane__norm(e);
-        m.lift_beta = crane__atan2(b.y, b.x);
-        m.lift_eps = crane__atan2(e.y, e.x);
-        crane__sincos(m.lift_eps - m.lift_beta, &m.lift_sin_off, &m.lift_cos_off);
+        m->lift_db = crane__norm(b);
+        m->lift_dr = crane__norm(e);
+        m->lift_beta = crane__atan2(b.y, b.x);
+        m->lift_eps = crane__atan2(e.y, e.x);
+        crane__sincos(m->lift_eps - m->lift_beta, &m->lift_sin_off, &m->lift_cos_off);
     }
-    m.tilt_l1 = crane__norm(p->link_pin);
-    m.tilt_l2 = crane__norm(p->link2_end);
-    m.tilt_ra = crane__norm(p->link2_attach);
-    m.tilt_alpha_a = crane__atan2(p->link2_attach.y, p->link2_attach.x);
+    m->tilt_l1 = crane__norm(p->link_pin);
+    m->tilt_l2 = crane__norm(p->link2_end);
+    m->tilt_ra = crane__norm(p->link2_attach);
+    m->tilt_alpha_a = crane__atan2(p->link2_attach.y, p->link2_attach.x);
 
     for (i = 0; i < 2; ++i) {
         const crane_real bore = p->cylinder[i].bore, rod = p->cylinder[i].rod;
-        m.area_a[i] = crane__pi() * bore * bore / 4;
-        m.area_b[i] = crane__pi() * (bore * bore - rod * rod) / 4;
+        m->area_a[i] = crane__pi() * bore * bore / 4;
+        m->area_b[i] = crane__pi() * (bore * bore - rod * rod) / 4;
     }
 
     /* Body 2: outer boom + extension boom at this extension + the load at the tip. */
@@ -175,21 +184,21 @@ crane_status crane_model_init(crane_model *model, const crane_params *params, cr
     mount_e = crane__add(p->extension_mount, crane__v2(extension, 0));
     x_ext = crane__add(mount_e, p->extension_boom.com);
     x_tip = crane__add(mount_e, crane__v2(p->tip_distance, 0));
-    m.m1 = p->lift_boom.mass;
-    m.c1 = p->lift_boom.com;
-    m.i1 = p->lift_boom.izz;
-    m.m2 = m_ob + m_ext + m_load;
-    m.c2 = crane__scale(1 / m.m2,
+    m->m1 = p->lift_boom.mass;
+    m->c1 = p->lift_boom.com;
+    m->i1 = p->lift_boom.izz;
+    m->m2 = m_ob + m_ext + m_load;
+    m->c2 = crane__scale(1 / m->m2,
                         crane__add(crane__add(crane__scale(m_ob, p->outer_boom.com),
                                               crane__scale(m_ext, x_ext)),
                                    crane__scale(m_load, x_tip)));
-    m.i2 = p->outer_boom.izz + m_ob * crane__norm2(crane__sub(p->outer_boom.com, m.c2)) +
-           p->extension_boom.izz + m_ext * crane__norm2(crane__sub(x_ext, m.c2)) +
-           m_load * crane__norm2(crane__sub(x_tip, m.c2));
-    m.tip = x_tip;
-    m.j1 = m.i1 + m.m1 * crane__norm2(m.c1);
-    m.j2 = m.i2 + m.m2 * crane__norm2(m.c2);
-    m.m2_o2sq = m.m2 * crane__norm2(p->tilt_pivot);
+    m->i2 = p->outer_boom.izz + m_ob * crane__norm2(crane__sub(p->outer_boom.com, m->c2)) +
+           p->extension_boom.izz + m_ext * crane__norm2(crane__sub(x_ext, m->c2)) +
+           m_load * crane__norm2(crane__sub(x_tip, m->c2));
+    m->tip = x_tip;
+    m->j1 = m->i1 + m->m1 * crane__norm2(m->c1);
+    m->j2 = m->i2 + m->m2 * crane__norm2(m->c2);
+    m->m2_o2sq = m->m2 * crane__norm2(p->tilt_pivot);
 
     /* Side links: each centre of mass in the basis (v, perp v) of its link's vector, v = link_pin
      * (P1 to Q) or link2_end (Q to A), so that R(phi) cL = ca v' + cb perp(v') with v' = R(phi) v
@@ -199,21 +208,21 @@ crane_status crane_model_init(crane_model *model, const crane_params *params, cr
         const crane_vec2 v[2] = {p->link_pin, p->link2_end};
         link[0] = &p->side_link1;
         link[1] = &p->side_link2;
-        m.links = 0;
+        m->links = 0;
         for (i = 0; i < 2; ++i) {
             const crane_real n2 = crane__norm2(v[i]);
-            m.link_m[i] = link[i]->mass;
-            m.link_i[i] = link[i]->izz;
-            m.link_ca[i] = n2 > 0 ? crane__dot(link[i]->com, v[i]) / n2 : 0;
-            m.link_cb[i] = n2 > 0 ? crane__cross(v[i], link[i]->com) / n2 : 0;
+            m->link_m[i] = link[i]->mass;
+            m->link_i[i] = link[i]->izz;
+            m->link_ca[i] = n2 > 0 ? crane__dot(link[i]->com, v[i]) / n2 : 0;
+            m->link_cb[i] = n2 > 0 ? crane__cross(v[i], link[i]->com) / n2 : 0;
             if (link[i]->mass > 0 || link[i]->izz > 0)
-                m.links = 1;
+                m->links = 1;
         }
     }
 
-    if (!lift_triangle_ok(&m))
+    if (!lift_triangle_ok(m))
         return CRANE_E_GEOMETRY;
-    if (!fourbar_ok(&m))
+    if (!fourbar_ok(m))
         return CRANE_E_FOURBAR;
 
     /* Angle limits from the stroke limits; the smaller angle is the lower limit whatever the
@@ -221,18 +230,31 @@ crane_status crane_model_init(crane_model *model, const crane_params *params, cr
     for (i = 0; i < 2; ++i) {
         const crane_cylinder *c = &p->cylinder[i];
         if (i == CRANE_LIFT) {
-            crane__lift_from_stroke(&m, c->stroke_min, &th_lo, &ds);
-            crane__lift_from_stroke(&m, c->stroke_max, &th_hi, &ds);
+            crane__lift_from_stroke(m, c->stroke_min, &th_lo, &ds);
+            crane__lift_from_stroke(m, c->stroke_max, &th_hi, &ds);
         } else {
-            (void)crane__tilt_from_stroke(&m, c->stroke_min, &th_lo, &ds, NULL, NULL);
-            (void)crane__tilt_from_stroke(&m, c->stroke_max, &th_hi, &ds, NULL, NULL);
+            (void)crane__tilt_from_stroke(m, c->stroke_min, &th_lo, &ds, NULL, NULL);
+            (void)crane__tilt_from_stroke(m, c->stroke_max, &th_hi, &ds, NULL, NULL);
         }
-        m.theta_min[i] = th_lo < th_hi ? th_lo : th_hi;
-        m.theta_max[i] = th_lo < th_hi ? th_hi : th_lo;
+        m->theta_min[i] = th_lo < th_hi ? th_lo : th_hi;
+        m->theta_max[i] = th_lo < th_hi ? th_hi : th_lo;
     }
 
-    *model = m;
     return CRANE_OK;
+}
+
+crane_status crane_model_init(crane_model *model, const crane_params *params, crane_real extension)
+{
+    /* Derived into a local copy so that a rejected crane leaves *model untouched. */
+    crane_model m;
+    crane_status st;
+
+    if (!model || !params)
+        return CRANE_E_NULL;
+    st = crane__model_derive(&m, params, extension);
+    if (st == CRANE_OK)
+        *model = m;
+    return st;
 }
 
 const char *crane_status_message(crane_status status)

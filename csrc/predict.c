@@ -85,7 +85,7 @@ static crane_status check_drive(const crane_drive *d, crane_real stroke_rate, cr
 
 /* The checks of one future against a model that holds its extension (docs/model.md, "Bad input"),
  * in the order crane_predict has always made them. */
-static crane_status check_future(const crane_params *params, const crane_state *state0,
+static crane_status check_future(const crane_model *model, const crane_state *state0,
                                  const crane_inputs *inputs, crane_real horizon)
 {
     crane_status st;
@@ -97,8 +97,7 @@ static crane_status check_future(const crane_params *params, const crane_state *
     if (!crane__finite(state0->slew))
         return CRANE_E_NONFINITE;
     for (i = 0; i < 2; ++i) {
-        const crane_cylinder *c = &params->cylinder[i];
-        if (state0->stroke[i] < c->stroke_min || state0->stroke[i] > c->stroke_max)
+        if (state0->stroke[i] < model->stroke_min[i] || state0->stroke[i] > model->stroke_max[i])
             return CRANE_E_STROKE;
     }
     for (i = 0; i < 2; ++i) {
@@ -106,6 +105,35 @@ static crane_status check_future(const crane_params *params, const crane_state *
         if (st != CRANE_OK)
             return st;
     }
+    return CRANE_OK;
+}
+
+/* crane_predict_model after its NULL checks. Both entry points call it, so that crane_predict
+ * does not add crane_predict_model's frame to its stack. */
+static CRANE__ALWAYS_INLINE crane_status predict(const crane_model *model,
+                                                 const crane_state *state0,
+                                                 const crane_inputs *inputs, crane_real horizon,
+                                                 crane_real dt, crane_sample *out,
+                                                 size_t capacity, size_t *n_written)
+{
+    crane_status st;
+    long n_steps;
+
+    if (!crane__finite(state0->extension))
+        return CRANE_E_NONFINITE;
+    if (state0->extension != model->extension)
+        return CRANE_E_EXTENSION;
+    st = step_count(horizon, dt, &n_steps);
+    if (st != CRANE_OK)
+        return st;
+    st = check_future(model, state0, inputs, horizon);
+    if (st != CRANE_OK)
+        return st;
+    if ((size_t)n_steps + 1 > capacity)
+        return CRANE_E_CAPACITY;
+
+    crane__integrate(model, state0, inputs, horizon, dt, n_steps, 1, out);
+    *n_written = (size_t)n_steps + 1;
     return CRANE_OK;
 }
 
@@ -118,37 +146,19 @@ crane_status crane_predict(const crane_params *params, const crane_state *state0
 
     if (!params || !state0 || !inputs || !out || !n_written)
         return CRANE_E_NULL;
-    st = crane_model_init(&model, params, state0->extension);
+    st = crane__model_derive(&model, params, state0->extension);
     if (st != CRANE_OK)
         return st;
-    return crane_predict_model(&model, state0, inputs, horizon, dt, out, capacity, n_written);
+    return predict(&model, state0, inputs, horizon, dt, out, capacity, n_written);
 }
 
 crane_status crane_predict_model(const crane_model *model, const crane_state *state0,
                                  const crane_inputs *inputs, crane_real horizon, crane_real dt,
                                  crane_sample *out, size_t capacity, size_t *n_written)
 {
-    crane_status st;
-    long n_steps;
-
     if (!model || !state0 || !inputs || !out || !n_written)
         return CRANE_E_NULL;
-    if (!crane__finite(state0->extension))
-        return CRANE_E_NONFINITE;
-    if (state0->extension != model->extension)
-        return CRANE_E_EXTENSION;
-    st = step_count(horizon, dt, &n_steps);
-    if (st != CRANE_OK)
-        return st;
-    st = check_future(&model->p, state0, inputs, horizon);
-    if (st != CRANE_OK)
-        return st;
-    if ((size_t)n_steps + 1 > capacity)
-        return CRANE_E_CAPACITY;
-
-    crane__integrate(model, state0, inputs, horizon, dt, n_steps, 1, out);
-    *n_written = (size_t)n_steps + 1;
-    return CRANE_OK;
+    return predict(model, state0, inputs, horizon, dt, out, capacity, n_written);
 }
 
 crane_status crane_sample_count_every(crane_real horizon, crane_real dt, size_t sample_every,
@@ -204,7 +214,7 @@ crane_status crane_predict_many(const crane_params *params, size_t n_futures,
                 return st;
             }
         }
-        st = check_future(params, s, &inputs[k], horizon);
+        st = check_future(&model, s, &inputs[k], horizon);
         if (st != CRANE_OK) {
             *failed = k;
             return st;
