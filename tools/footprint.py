@@ -14,6 +14,10 @@ Prints and checks:
     are reported as errors);
   * for information, the flash of everything crane_predict pulls in from the C library (libm).
 
+Nothing is excluded from the call graph: every function the linked code can call counts, whether
+or not a given input reaches it. (The float core has its own sin/cos for this reason: newlib's
+sinf/cosf can call a 416-byte large-argument reduction.)
+
 The objects must be compiled with -fstack-usage (csrc/Makefile's m4 target does). The probe
 program linked here (with --specs=nosys.specs) only gives the call graph; it is not run.
 Exit status 1 if a budget is exceeded or the analysis is incomplete.
@@ -206,11 +210,7 @@ def main(argv=None):
     core_funcs = set(su)
     memo, stackpath = {}, []
 
-    excluded = set()
-
     def depth(name):
-        if name in excluded:
-            return 0, []
         if name in memo:
             return memo[name]
         if name in stackpath:
@@ -252,14 +252,6 @@ def main(argv=None):
         if e == "crane_predict":
             stack = d
             print("    deepest path: " + " -> ".join(f"{n} ({fr})" for n, fr in path))
-    if stack is not None and "__kernel_rem_pio2f" in funcs:
-        excluded.add("__kernel_rem_pio2f")
-        memo.clear()
-        print(f"  (crane_predict without newlib's large-argument reduction __kernel_rem_pio2f, "
-              f"only entered by sinf/cosf for |x| > 201 rad: {depth('crane_predict')[0]}; "
-              f"not used for the budget)")
-        excluded.clear()
-        memo.clear()
     mism = [(n, su[n][0], funcs[n]["frame"]) for n in su if n in funcs and
             su[n][0] != funcs[n]["frame"]]
     if mism:
