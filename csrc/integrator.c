@@ -458,6 +458,12 @@ static void put_sample(ctx_t *c, crane_real t, const xstate *x, crane_real cpsi,
             } else {
                 s = tilt_kin(c, x->th[1], c1, s1)->stroke;
             }
+            /* The stroke -> angle -> stroke round trip can land a few 1e-16 m outside the range
+             * (docs/model.md, "End stops"): the reported stroke is clamped, the angle is not. */
+            if (s < m->stroke_min[i])
+                s = m->stroke_min[i];
+            else if (s > m->stroke_max[i])
+                s = m->stroke_max[i];
             break;
         }
         o->stroke[i] = s;
