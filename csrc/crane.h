@@ -43,7 +43,8 @@ typedef enum {
     CRANE_E_HORIZON = 16,       /* horizon <= 0, or more steps than fit in a long */
     CRANE_E_CAPACITY = 17,      /* output buffer smaller than the number of samples */
     CRANE_E_ANGLE = 18,         /* an angle outside the range reachable by the cylinder */
-    CRANE_E_SAMPLE_EVERY = 19   /* sample_every is 0 (or does not fit a long) */
+    CRANE_E_SAMPLE_EVERY = 19,  /* sample_every is 0 (or does not fit a long) */
+    CRANE_E_DIVERGED = 20       /* the state stopped being finite (absurd parameters, e.g. gravity) */
 } crane_status;
 
 enum { CRANE_LIFT = 0, CRANE_TILT = 1 };
@@ -163,7 +164,11 @@ crane_status crane_model_init(crane_model *model, const crane_params *params, cr
 crane_status crane_sample_count(crane_real horizon, crane_real dt, size_t *count);
 
 /* Predicts the motion from state0 under the inputs over [0, horizon] with RK4 step dt.
- * Writes *n_written samples (t = 0 first) into out[0..capacity). */
+ * Writes *n_written samples (t = 0 first) into out[0..capacity).
+ * CRANE_E_DIVERGED is the one error after which samples have been written: if theta or omega
+ * stop being finite (possible only with absurd parameters, e.g. gravity 1e135) the prediction
+ * stops there, *n_written is the number of samples written before it (all finite; may be 0) and
+ * nothing non-finite is ever written. Every other error writes nothing. */
 crane_status crane_predict(const crane_params *params, const crane_state *state0,
                            const crane_inputs *inputs, crane_real horizon, crane_real dt,
                            crane_sample *out, size_t capacity, size_t *n_written);
@@ -187,8 +192,10 @@ crane_status crane_sample_count_every(crane_real horizon, crane_real dt, size_t 
  * out[k * stride .. k * stride + count), count = crane_sample_count_every(horizon, dt,
  * sample_every), which must be <= stride. Every future is validated before anything is written;
  * on an error *failed is the index of the first bad future (n_futures for an error in the shared
- * arguments) and nothing is written. No heap, no threads: to use several cores, call it on
- * disjoint slices of the batch from several threads (it touches nothing but its arguments).
+ * arguments) and nothing is written; except CRANE_E_DIVERGED (see crane_predict): then futures
+ * 0 .. *failed - 1 are complete, future *failed holds some finite samples and the rest nothing.
+ * No heap, no threads: to use several cores, call it on disjoint slices of the batch from several
+ * threads (it touches nothing but its arguments).
  * The samples of each future are identical to crane_predict's (at the kept steps). */
 crane_status crane_predict_many(const crane_params *params, size_t n_futures,
                                 const crane_state *states, const crane_inputs *inputs,

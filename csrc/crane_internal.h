@@ -156,10 +156,12 @@ crane_status crane__model_derive(crane_model *m, const crane_params *params, cra
 
 /* Runs a validated prediction: the model, state, inputs, horizon, dt, step count and capacity
  * have all been checked by crane_predict. Writes the sample at t = 0, one after every
- * sample_every-th step (>= 1) and one after the last step: crane__decimated_count samples. */
-void crane__integrate(const crane_model *m, const crane_state *s0, const crane_inputs *in,
-                      crane_real horizon, crane_real dt, long n_steps, long sample_every,
-                      crane_sample *out);
+ * sample_every-th step (>= 1) and one after the last step: crane__decimated_count samples, and
+ * returns CRANE_OK; or, if theta or omega stop being finite, CRANE_E_DIVERGED with the samples
+ * written before that (all finite). *n_written is set either way. */
+crane_status crane__integrate(const crane_model *m, const crane_state *s0, const crane_inputs *in,
+                              crane_real horizon, crane_real dt, long n_steps, long sample_every,
+                              crane_sample *out, size_t *n_written);
 
 /* Samples written for n_steps steps, keeping every sample_every-th step and the last. */
 static inline size_t crane__decimated_count(long n_steps, long sample_every)

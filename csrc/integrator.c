@@ -479,9 +479,16 @@ static void put_sample(ctx_t *c, crane_real t, const xstate *x, crane_real cpsi,
     o->tip[2] = tip.y;
 }
 
-void crane__integrate(const crane_model *m, const crane_state *s0, const crane_inputs *in,
-                      crane_real horizon, crane_real dt, long n_steps, long sample_every,
-                      crane_sample *out)
+/* theta and omega are all finite. */
+static int finite_state(const xstate *x)
+{
+    return crane__finite(x->th[0]) && crane__finite(x->th[1]) && crane__finite(x->w[0]) &&
+           crane__finite(x->w[1]);
+}
+
+crane_status crane__integrate(const crane_model *m, const crane_state *s0, const crane_inputs *in,
+                              crane_real horizon, crane_real dt, long n_steps, long sample_every,
+                              crane_sample *out, size_t *n_written)
 {
     crane_real cpsi, spsi;
     ctx_t c;
@@ -529,6 +536,11 @@ void crane__integrate(const crane_model *m, const crane_state *s0, const crane_i
         stop_joint(&c, &x, i, flag != c.lo_flag[i]);
     }
 
+    /* A state that stops being finite (only with absurd parameters, e.g. gravity 1e135) ends
+     * the prediction with CRANE_E_DIVERGED and the samples written before it, all finite. */
+    *n_written = 0;
+    if (!finite_state(&x))
+        return CRANE_E_DIVERGED;
     put_sample(&c, 0, &x, cpsi, spsi, &out[0]);
     /* Samples after every sample_every-th step and after the last one. The kinematic cache is
      * keyed by the angles themselves, so it stays valid whatever happens in between. */
@@ -541,7 +553,13 @@ void crane__integrate(const crane_model *m, const crane_state *s0, const crane_i
             release(&c, t, &x);
         if (h > 0)
             step(&c, t, &x, h, last ? horizon : (crane_real)(k + 1) * dt);
+        if (!finite_state(&x)) {
+            *n_written = next;
+            return CRANE_E_DIVERGED;
+        }
         if (last || (k + 1) % sample_every == 0)
             put_sample(&c, last ? horizon : (crane_real)(k + 1) * dt, &x, cpsi, spsi, &out[next++]);
     }
+    *n_written = next;
+    return CRANE_OK;
 }

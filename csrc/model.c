@@ -280,6 +280,7 @@ const char *crane_status_message(crane_status status)
     case CRANE_E_CAPACITY: return "the output buffer is smaller than the number of samples";
     case CRANE_E_ANGLE: return "an angle is outside the range reachable by the cylinder";
     case CRANE_E_SAMPLE_EVERY: return "sample_every must be >= 1";
+    case CRANE_E_DIVERGED: return "the prediction diverged (the state stopped being finite): the parameters are not physical";
     }
     return "unknown status";
 }

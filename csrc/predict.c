@@ -132,9 +132,7 @@ static CRANE__ALWAYS_INLINE crane_status predict(const crane_model *model,
     if ((size_t)n_steps + 1 > capacity)
         return CRANE_E_CAPACITY;
 
-    crane__integrate(model, state0, inputs, horizon, dt, n_steps, 1, out);
-    *n_written = (size_t)n_steps + 1;
-    return CRANE_OK;
+    return crane__integrate(model, state0, inputs, horizon, dt, n_steps, 1, out, n_written);
 }
 
 crane_status crane_predict(const crane_params *params, const crane_state *state0,
@@ -223,8 +221,12 @@ crane_status crane_predict_many(const crane_params *params, size_t n_futures,
     for (k = 0; k < n_futures; ++k) {
         if (k == 0 || !(states[k].extension == states[k - 1].extension))
             (void)crane_model_init(&model, params, states[k].extension);
-        crane__integrate(&model, &states[k], &inputs[k], horizon, dt, n_steps, (long)sample_every,
-                         out + k * stride);
+        st = crane__integrate(&model, &states[k], &inputs[k], horizon, dt, n_steps,
+                              (long)sample_every, out + k * stride, &count);
+        if (st != CRANE_OK) {
+            *failed = k;
+            return st;
+        }
     }
     return CRANE_OK;
 }

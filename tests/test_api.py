@@ -138,3 +138,16 @@ def test_every_status_has_a_message():
         if name.startswith("CRANE_E_") or name == "CRANE_OK":
             msg = ffi.string(lib.crane_status_message(getattr(lib, name))).decode()
             assert len(msg) >= 2 and (name == "CRANE_OK" or len(msg) > 10), name
+
+
+def test_absurd_gravity_raises_instead_of_returning_nan(crane):
+    # gravity is validated >= 0 only; 1e135 overflows the state, which the core reports as
+    # CRANE_E_DIVERGED (docs/model.md, "End stops") instead of returning NaN
+    import dataclasses
+
+    absurd = dataclasses.replace(crane, gravity=1e135)
+    with pytest.raises(ValueError, match="diverged") as info:
+        cp.predict(absurd, cp.State(**GOOD_STATE), _ok_inputs(), 0.2, dt=1e-3)
+    assert getattr(info.value, "status", lib.CRANE_E_DIVERGED) == lib.CRANE_E_DIVERGED
+    with pytest.raises(ValueError, match="diverged"):
+        cp.predict_many(absurd, [cp.State(**GOOD_STATE)], [_ok_inputs()], 0.2, dt=1e-3)

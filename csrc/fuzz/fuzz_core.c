@@ -6,10 +6,15 @@
  * here and are always valid for their stated sizes (the API contract): every buffer is malloc'd at
  * exactly its stated size, so ASan catches any access outside it. The checks, each an abort():
  *   - every call returns a status in [CRANE_OK, CRANE_STATUS_LAST] with a non-empty message;
- *   - on an error nothing is written to the outputs (canary-filled buffers stay as they were);
+ *   - on an error nothing is written to the outputs (canary-filled buffers stay as they were),
+ *     except CRANE_E_DIVERGED, which writes fewer than crane_sample_count() samples;
  *   - on success crane_predict writes exactly crane_sample_count() samples, none past them,
- *     with times 0 .. horizon increasing, stop flags in {-1, 0, 1} and, when every output is
- *     finite, strokes inside [stroke_min, stroke_max];
+ *     with times 0 .. horizon; every sample written (on success or CRANE_E_DIVERGED) is finite
+ *     (FUZZ_STRICT_FINITE, on by default), with increasing times, stop flags in {-1, 0, 1} and
+ *     strokes inside [stroke_min, stroke_max];
+ *   - crane_predict_model with a model from crane_model_init gives crane_predict's status and
+ *     the same bytes; crane_sample_count_every agrees with crane_sample_count at 1 and never
+ *     asks for more samples than it;
  *   - the inputs (const) are not modified.
  * Crashes, out-of-bounds accesses and undefined behaviour are caught by the sanitizers.
  *
@@ -31,7 +36,7 @@
 #include "crane.h"
 #include "crane_patu655.h"
 
-#define CRANE_STATUS_LAST CRANE_E_ANGLE
+#define CRANE_STATUS_LAST CRANE_E_DIVERGED
 #define MAX_SAMPLES 16   /* pressure samples per cylinder */
 #define MAX_CAPACITY 600 /* output samples (bounds the work per input) */
 #define MAX_POSES 4      /* crane_points poses */
@@ -45,6 +50,11 @@
 #define FUZZ_STROKE_ULPS 0
 #endif
 
+/* 1: CRANE_OK (or the samples before CRANE_E_DIVERGED) with a non-finite output is a violation. */
+#ifndef FUZZ_STRICT_FINITE
+#define FUZZ_STRICT_FINITE 1
+#endif
+
 typedef struct {
     crane_params params;
     crane_state state;
@@ -55,9 +65,11 @@ typedef struct {
     crane_real omega[2], alpha[2], stroke_arg, theta_arg, rate_arg, p_a_arg, p_b_arg;
     unsigned capacity, n_poses;
     int joint;
+    unsigned sample_every; /* last, so that the raw inputs of the corpus keep their meaning */
 } universe;
 
-enum { N_INT = 7 }; /* mode[0], mode[1], n_samples[0], n_samples[1], capacity, n_poses, joint */
+/* mode[0], mode[1], n_samples[0], n_samples[1], capacity, n_poses, joint, sample_every */
+enum { N_INT = 8 };
 
 static void fail(const char *what)
 {
@@ -143,7 +155,8 @@ static void set_int(universe *u, unsigned which, const uint8_t *v)
     case 3: u->inputs.drive[1].n_samples = (size_t)(v[0] % (MAX_SAMPLES + 1)); break;
     case 4: u->capacity = w % (MAX_CAPACITY + 1); break;
     case 5: u->n_poses = v[0] % (MAX_POSES + 1); break;
-    default: u->joint = s; break;
+    case 6: u->joint = s; break;
+    default: u->sample_every = w; break;
     }
 }
 
@@ -164,6 +177,7 @@ static void defaults(universe *u)
     u->dt = (crane_real)1e-3;
     u->capacity = 201;
     u->n_poses = 1;
+    u->sample_every = 1;
     for (i = 0; i < 2; ++i)
         for (k = 0; k < MAX_SAMPLES; ++k) {
             u->t[i][k] = (crane_real)(-0.1 + 0.05 * k);
@@ -231,6 +245,54 @@ static crane_real *copy_reals(const crane_real *src, size_t n)
     return p;
 }
 
+/* The outputs of crane_predict(_model) with status st; count = crane_sample_count(). */
+static void check_samples(const universe *u, const crane_params *params, crane_status st,
+                          size_t count, const crane_sample *out, const crane_sample *ref,
+                          size_t cap, size_t n_written)
+{
+    size_t k;
+    int i;
+
+    if (st != CRANE_OK && st != CRANE_E_DIVERGED) {
+        if (n_written != 0xdeadbeef || memcmp(out, ref, cap ? cap * sizeof *out : 1))
+            fail("crane_predict wrote outputs on an error");
+        return;
+    }
+    if (st == CRANE_OK && (count == 0 || n_written != count || n_written > cap || n_written < 2))
+        fail("crane_predict: sample count");
+    if (st == CRANE_E_DIVERGED && (count == 0 || n_written >= count || n_written > cap))
+        fail("crane_predict: sample count on CRANE_E_DIVERGED");
+    if (memcmp(out + n_written, ref + n_written, (cap - n_written) * sizeof *out))
+        fail("crane_predict wrote past n_written");
+    if (n_written > 0 && out[0].t != 0)
+        fail("crane_predict: the first sample is not at t = 0");
+    if (st == CRANE_OK && out[n_written - 1].t != u->horizon)
+        fail("crane_predict: the last sample is not at horizon");
+    for (k = 0; k < n_written; ++k) {
+        const crane_sample *s = &out[k];
+        int finite = finite_r(s->t);
+        if (k > 0 && !(s->t > out[k - 1].t))
+            fail("crane_predict: sample times not increasing");
+        for (i = 0; i < 2; ++i) {
+            if (s->stop[i] < -1 || s->stop[i] > 1)
+                fail("crane_predict: stop flag");
+            if (!finite_r(s->stroke[i]) || !finite_r(s->theta[i]) || !finite_r(s->omega[i]))
+                finite = 0;
+        }
+        for (i = 0; i < 3; ++i)
+            if (!finite_r(s->tip[i]))
+                finite = 0;
+        if (!finite) {
+            if (FUZZ_STRICT_FINITE)
+                fail("crane_predict: a non-finite sample written");
+            continue;
+        }
+        for (i = 0; i < 2; ++i)
+            if (!stroke_ok(&params->cylinder[i], s->stroke[i]))
+                fail("crane_predict: a stroke left [stroke_min, stroke_max]");
+    }
+}
+
 static void run_predict(const universe *u)
 {
     crane_params params = u->params;
@@ -239,7 +301,7 @@ static void run_predict(const universe *u)
     crane_real *ts[2], *pas[2], *pbs[2];
     crane_sample *out, *ref;
     const size_t cap = u->capacity;
-    size_t n_written = 0xdeadbeef, count = 0, k;
+    size_t n_written = 0xdeadbeef, count = 0;
     crane_status st, stc;
     unsigned char pcopy[sizeof params], scopy[sizeof state], icopy[sizeof inputs];
     int i;
@@ -271,40 +333,45 @@ static void run_predict(const universe *u)
         fail("crane_predict modified its inputs");
     stc = crane_sample_count(u->horizon, u->dt, &count);
     check_status(stc, "crane_sample_count status");
-    if (st != CRANE_OK) {
-        if (n_written != 0xdeadbeef || memcmp(out, ref, cap ? cap * sizeof *out : 1))
-            fail("crane_predict wrote outputs on an error");
-    } else {
-        int all_finite = 1;
-        if (stc != CRANE_OK || n_written != count || n_written > cap || n_written < 2)
-            fail("crane_predict: sample count");
-        if (memcmp(out + n_written, ref + n_written, (cap - n_written) * sizeof *out))
-            fail("crane_predict wrote past n_written");
-        if (out[0].t != 0 || out[n_written - 1].t != u->horizon)
-            fail("crane_predict: sample times do not run from 0 to horizon");
-        for (k = 0; k < n_written; ++k) {
-            const crane_sample *s = &out[k];
-            if (k > 0 && !(s->t > out[k - 1].t))
-                fail("crane_predict: sample times not increasing");
-            for (i = 0; i < 2; ++i) {
-                if (s->stop[i] < -1 || s->stop[i] > 1)
-                    fail("crane_predict: stop flag");
-                if (!finite_r(s->stroke[i]) || !finite_r(s->theta[i]) || !finite_r(s->omega[i]))
-                    all_finite = 0;
-            }
-            for (i = 0; i < 3; ++i)
-                if (!finite_r(s->tip[i]))
-                    all_finite = 0;
+    check_samples(u, &params, st, stc == CRANE_OK ? count : 0, out, ref, cap, n_written);
+
+    /* crane_predict_model with the model of the same crane: the same status and bytes */
+    {
+        crane_model model;
+        crane_sample *out2 = (crane_sample *)malloc(cap ? cap * sizeof *out : 1);
+        size_t n2 = 0xdeadbeef;
+        crane_status st2;
+        if (!out2)
+            abort();
+        memcpy(out2, ref, cap ? cap * sizeof *out : 1);
+        if (crane_model_init(&model, &params, state.extension) == CRANE_OK) {
+            st2 = crane_predict_model(&model, &state, &inputs, u->horizon, u->dt, out2, cap, &n2);
+            check_status(st2, "crane_predict_model status");
+            if (memcmp(scopy, &state, sizeof state) || memcmp(icopy, &inputs, sizeof inputs))
+                fail("crane_predict_model modified its inputs");
+            check_samples(u, &params, st2, stc == CRANE_OK ? count : 0, out2, ref, cap, n2);
+            if (st2 != st || n2 != n_written ||
+                memcmp(out2, out, cap ? cap * sizeof *out : 1))
+                fail("crane_predict_model differs from crane_predict");
         }
-        if (all_finite)
-            for (k = 0; k < n_written; ++k)
-                for (i = 0; i < 2; ++i)
-                    if (!stroke_ok(&params.cylinder[i], out[k].stroke[i]))
-                        fail("crane_predict: a stroke left [stroke_min, stroke_max]");
-#ifdef FUZZ_STRICT_FINITE
-        if (!all_finite)
-            fail("crane_predict: CRANE_OK with a non-finite output");
-#endif
+        free(out2);
+    }
+
+    /* crane_sample_count_every */
+    {
+        size_t ce = 0xdeadbeef, c1 = 0xdeadbeef;
+        const crane_status se = crane_sample_count_every(u->horizon, u->dt, u->sample_every, &ce);
+        const crane_status s1 = crane_sample_count_every(u->horizon, u->dt, 1, &c1);
+        check_status(se, "crane_sample_count_every status");
+        check_status(s1, "crane_sample_count_every status");
+        if (s1 != stc || (s1 == CRANE_OK && c1 != count))
+            fail("crane_sample_count_every(1) differs from crane_sample_count");
+        if (se != CRANE_OK && ce != 0xdeadbeef)
+            fail("crane_sample_count_every wrote on an error");
+        if (u->sample_every == 0 && se != CRANE_E_SAMPLE_EVERY)
+            fail("crane_sample_count_every accepted sample_every 0");
+        if (se == CRANE_OK && (s1 != CRANE_OK || ce < 2 || ce > c1))
+            fail("crane_sample_count_every: count out of range");
     }
     for (i = 0; i < 2; ++i) {
         free(ts[i]);
