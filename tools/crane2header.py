@@ -43,12 +43,15 @@ SCALARS = [
 ]
 BODIES = [("lift_boom", "lift_boom"), ("outer_boom", "outer_boom"),
           ("extension_boom", "extension_boom")]
+# the side links of the tilt four-bar (docs/model.md, "Side links"); a crane file without them
+# gets massless links (0 = neglected, the paper's model)
+SIDE_LINKS = [("side_link1", "side_link1"), ("side_link2", "side_link2")]
 CYLINDERS = [("CRANE_LIFT", "lift_cylinder"), ("CRANE_TILT", "tilt_cylinder")]
 CYL_FIELDS = ["bore", "rod", "length_retracted", "stroke_min", "stroke_max"]
 FRICTION = [("coulomb", "coulomb"), ("static_", "static"), ("viscous", "viscous"),
             ("stribeck_velocity", "stribeck_velocity"), ("tanh_velocity", "tanh_velocity")]
-# keys of the crane file that the 2-DOF C model does not use (docs/model.md neglects them)
-UNUSED = {"name", "estimates", "pillar", "side_link1", "side_link2"}
+# keys of the crane file that the 2-DOF C model does not use (the pillar only slews)
+UNUSED = {"name", "estimates", "pillar"}
 
 
 def lookup(data, dotted, used):
@@ -109,6 +112,14 @@ def generate(toml_path, name):
         vec(f"{field}.com", f"{key}.com")
         sca(f"{field}.izz", f"{key}.izz")
     sca("load_mass", "load_mass")
+    for field, key in SIDE_LINKS:
+        if key in data:
+            sca(f"{field}.mass", f"{key}.mass")
+            vec(f"{field}.com", f"{key}.com")
+            sca(f"{field}.izz", f"{key}.izz")
+        else:
+            L.append(f"    .{field} = {{.mass = CRANE_R(0.0), .com = {{.x = CRANE_R(0.0), "
+                     f".y = CRANE_R(0.0)}}, .izz = CRANE_R(0.0)}}, \\")
     for idx, key in CYLINDERS:
         for fld in CYL_FIELDS:
             sca(f"cylinder[{idx}].{fld}", f"{key}.{fld}")
@@ -132,8 +143,8 @@ def generate(toml_path, name):
  *
  * Use:  static const crane_params crane = {macro};
  * (C99 designated initializers, so the struct can live in flash). Every field of crane_params is
- * set; the crane file's pillar and side links are not part of the 2-DOF model (docs/model.md) and
- * are left out. Literals are the crane file's numbers as exact doubles, rounded by CRANE_R.
+ * set, the side links included; the crane file's pillar only slews and is left out. Literals are
+ * the crane file's numbers as exact doubles, rounded by CRANE_R.
  */
 #ifndef {guard}
 #define {guard}

@@ -9,8 +9,8 @@
  *
  * Prints one line of key=value pairs: the wall time of the best and the mean prediction, the
  * faster-than-real-time ratios (simulated s / wall s) and the final tip, which the pytest
- * benchmark compares with predict() to make sure both ran the same model. The crane below is a
- * copy of src/cranepredict/cranes/patu655.toml.
+ * benchmark compares with predict() to make sure both ran the same model. The crane is
+ * src/cranepredict/cranes/patu655.toml, through the generated header example/crane_patu655.h.
  */
 #define _POSIX_C_SOURCE 199309L
 #include <stdio.h>
@@ -19,74 +19,15 @@
 #include <time.h>
 
 #include "crane.h"
+#include "crane_patu655.h"
 
 #define R(x) ((crane_real)(x))
 
 enum { MAX_SAMPLES = 200001 };
 static crane_sample out[MAX_SAMPLES];
 
-static crane_vec2 v2(double x, double y)
-{
-    crane_vec2 v;
-    v.x = R(x);
-    v.y = R(y);
-    return v;
-}
-
-static crane_body body(double mass, double cx, double cy, double izz)
-{
-    crane_body b;
-    b.mass = R(mass);
-    b.com = v2(cx, cy);
-    b.izz = R(izz);
-    return b;
-}
-
-static crane_cylinder cylinder(double length_retracted, double stroke_max)
-{
-    crane_cylinder c;
-    c.bore = R(0.100);
-    c.rod = R(0.056);
-    c.length_retracted = R(length_retracted);
-    c.stroke_min = R(0);
-    c.stroke_max = R(stroke_max);
-    c.friction.coulomb = R(210);
-    c.friction.static_ = R(300);
-    c.friction.viscous = R(330);
-    c.friction.stribeck_velocity = R(0.005);
-    c.friction.tanh_velocity = R(0.001);
-    return c;
-}
-
-/* PATU 655 (src/cranepredict/cranes/patu655.toml), 200 kg load. */
-static crane_params patu655(void)
-{
-    crane_params p;
-    memset(&p, 0, sizeof p);
-    p.gravity = R(9.81);
-    p.lift_pivot = v2(-0.090, 1.4261);
-    p.lift_cylinder_base = v2(0.170, 0.386113);
-    p.lift_cylinder_rod = v2(0.3025, -0.105);
-    p.tilt_cylinder_base = v2(1.263, 0.206702);
-    p.link1_pivot = v2(2.690, -0.006593);
-    p.tilt_pivot = v2(2.881081, 0.021593);
-    p.link_pin = v2(-0.457227, 0.0425);
-    p.link2_end = v2(-0.475, 0.0);
-    p.link2_attach = v2(-0.095, 0.240432);
-    p.extension_mount = v2(-0.415, 0.287);
-    p.tip_distance = R(2.45);
-    p.extension_min = R(0);
-    p.extension_max = R(1.0);
-    p.lift_boom = body(143.66, 1.229248, 0.055596, 67.0537);
-    p.outer_boom = body(141.943, 0.659935, 0.251085, 67.05);
-    p.extension_boom = body(15.928, 1.225, 0, 7.97);
-    p.side_link1 = body(11.524, -0.257068, 0.004, 0.268644);
-    p.side_link2 = body(7.900, -0.212792, 0.0, 0.216772);
-    p.load_mass = R(200);
-    p.cylinder[CRANE_LIFT] = cylinder(0.820, 0.535);
-    p.cylinder[CRANE_TILT] = cylinder(1.050, 0.780);
-    return p;
-}
+/* PATU 655 from the generated header (src/cranepredict/cranes/patu655.toml), 200 kg load. */
+static const crane_params patu655 = CRANE_PATU655_INIT;
 
 static double now(void)
 {
@@ -117,7 +58,7 @@ int main(int argc, char **argv)
     const double dt = atof(arg[1]);
     const double horizon = atof(arg[2]);
     const double min_seconds = argc >= 8 ? atof(argv[7]) : 0.5;
-    crane_params p = patu655();
+    crane_params p = patu655;
     crane_state s;
     crane_inputs in;
     size_t n = 0, need = 0;

@@ -6,8 +6,8 @@
  *
  * Use:  static const crane_params crane = CRANE_PATU655_INIT;
  * (C99 designated initializers, so the struct can live in flash). Every field of crane_params is
- * set; the crane file's pillar and side links are not part of the 2-DOF model (docs/model.md) and
- * are left out. Literals are the crane file's numbers as exact doubles, rounded by CRANE_R.
+ * set, the side links included; the crane file's pillar only slews and is left out. Literals are
+ * the crane file's numbers as exact doubles, rounded by CRANE_R.
  */
 #ifndef CRANE_PATU655_H
 #define CRANE_PATU655_H
@@ -43,6 +43,12 @@
     .extension_boom.com = {.x = CRANE_R(1.225), .y = CRANE_R(0.0)}, \
     .extension_boom.izz = CRANE_R(7.97), \
     .load_mass = CRANE_R(200.0), \
+    .side_link1.mass = CRANE_R(11.524), \
+    .side_link1.com = {.x = CRANE_R(-0.257068), .y = CRANE_R(0.004)}, \
+    .side_link1.izz = CRANE_R(0.268644), \
+    .side_link2.mass = CRANE_R(7.9), \
+    .side_link2.com = {.x = CRANE_R(-0.212792), .y = CRANE_R(0.0)}, \
+    .side_link2.izz = CRANE_R(0.216772), \
     .cylinder[CRANE_LIFT].bore = CRANE_R(0.1), \
     .cylinder[CRANE_LIFT].rod = CRANE_R(0.056), \
     .cylinder[CRANE_LIFT].length_retracted = CRANE_R(0.82), \

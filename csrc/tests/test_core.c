@@ -11,6 +11,7 @@
 #include <string.h>
 #include <time.h>
 #include "crane.h"
+#include "crane_patu655.h"
 
 static int n_pass, n_fail;
 
@@ -53,64 +54,21 @@ static double tol(double dbl, double flt) { return is_float ? flt : dbl; }
 static crane_real R(double x) { return (crane_real)x; }
 static double D(crane_real x) { return (double)x; }
 
-static crane_vec2 v2(double x, double y)
-{
-    crane_vec2 v;
-    v.x = R(x);
-    v.y = R(y);
-    return v;
-}
-
-static crane_body body(double mass, double cx, double cy, double izz)
-{
-    crane_body b;
-    b.mass = R(mass);
-    b.com = v2(cx, cy);
-    b.izz = R(izz);
-    return b;
-}
-
-static crane_cylinder cylinder(double bore, double rod, double lr, double smin, double smax)
-{
-    crane_cylinder c;
-    c.bore = R(bore);
-    c.rod = R(rod);
-    c.length_retracted = R(lr);
-    c.stroke_min = R(smin);
-    c.stroke_max = R(smax);
-    c.friction.coulomb = R(210);
-    c.friction.static_ = R(300);
-    c.friction.viscous = R(330);
-    c.friction.stribeck_velocity = R(0.005);
-    c.friction.tanh_velocity = R(0.001);
-    return c;
-}
-
-/* PATU 655 from /work/shared/reference/patu655.md (the S1 set) */
+/* The PATU 655 of the crane file (src/cranepredict/cranes/patu655.toml), side links included,
+ * from the generated header: one source of truth. A test that needs another crane copies this
+ * and changes fields. */
 static crane_params patu(void)
 {
-    crane_params p;
-    memset(&p, 0, sizeof p);
-    p.gravity = R(9.81);
-    p.lift_pivot = v2(-0.090, 1.4261);
-    p.lift_cylinder_base = v2(0.170, 0.386113);
-    p.lift_cylinder_rod = v2(0.3025, -0.105);
-    p.tilt_cylinder_base = v2(1.263, 0.206702);
-    p.link1_pivot = v2(2.690, -0.006593);
-    p.tilt_pivot = v2(2.881081, 0.021593);
-    p.link_pin = v2(-0.457227, 0.0425);
-    p.link2_end = v2(-0.475, 0.0);
-    p.link2_attach = v2(-0.095, 0.240432);
-    p.extension_mount = v2(-0.415, 0.287);
-    p.tip_distance = R(2.45);
-    p.extension_min = R(0);
-    p.extension_max = R(1.0);
-    p.lift_boom = body(143.66, 1.229248, 0.055596, 67.0537);
-    p.outer_boom = body(141.943, 0.659935, 0.251085, 67.05);
-    p.extension_boom = body(15.928, 1.225, 0, 7.97);
-    p.load_mass = R(200);
-    p.cylinder[CRANE_LIFT] = cylinder(0.1, 0.056, 0.820, 0, 0.535);
-    p.cylinder[CRANE_TILT] = cylinder(0.1, 0.056, 1.050, 0, 0.780);
+    static const crane_params p = CRANE_PATU655_INIT;
+    return p;
+}
+
+/* The PATU 655 with massless side links: the open chain of the closed-form checks. */
+static crane_params patu_no_links(void)
+{
+    crane_params p = patu();
+    memset(&p.side_link1, 0, sizeof p.side_link1);
+    memset(&p.side_link2, 0, sizeof p.side_link2);
     return p;
 }
 
@@ -527,7 +485,7 @@ static double rnd(unsigned long *seed)
 
 static void test_inverse_dynamics_lagrange(void)
 {
-    const crane_params p = patu();
+    const crane_params p = patu_no_links();
     const double e = 0.37, g = 9.81;
     crane_model m;
     unsigned long seed = 42;
@@ -786,6 +744,42 @@ static void test_samples_equal_constant(void)
           "ramp samples change the prediction");
 }
 
+/* Absurd gravity (validated only as >= 0): the state overflows; the prediction stops with
+ * CRANE_E_DIVERGED, the samples written before are finite and nothing is written past them. */
+static void test_diverged(void)
+{
+    crane_params p = patu();
+    const crane_state s0 = state(0.116, 0.32, 0, 0, 0, 0);
+    const crane_inputs in = constant_inputs(175e5, 0, CRANE_DRIVE_PRESSURE, 30e5, 20e5);
+    static crane_sample out[201], ref[201];
+    crane_model m;
+    size_t n = 12345, k, failed = 77;
+    int ok = 1;
+
+    p.gravity = R(is_float ? 1e30 : 1e135);
+    memset(out, 0xa5, sizeof out);
+    memcpy(ref, out, sizeof out);
+    check_status(crane_predict(&p, &s0, &in, R(0.2), R(1e-3), out, 201, &n), CRANE_E_DIVERGED,
+                 "gravity 1e135: CRANE_E_DIVERGED");
+    check(n < 201, "diverged: fewer samples than asked for");
+    for (k = 0; k < n; ++k)
+        if (!isfinite(D(out[k].t)) || !isfinite(D(out[k].tip[0])) || !isfinite(D(out[k].tip[2])) ||
+            !isfinite(D(out[k].theta[0])) || !isfinite(D(out[k].omega[1])))
+            ok = 0;
+    check(ok, "diverged: the samples written are finite");
+    check(n < 201 && memcmp(out + n, ref + n, (201 - n) * sizeof out[0]) == 0,
+          "diverged: nothing written past n_written");
+    check(crane_model_init(&m, &p, R(0)) == CRANE_OK &&
+              crane_predict_model(&m, &s0, &in, R(0.2), R(1e-3), out, 201, &k) == CRANE_E_DIVERGED &&
+              k == n,
+          "diverged: crane_predict_model the same");
+    check_status(crane_predict_many(&p, 1, &s0, &in, R(0.2), R(1e-3), 1, out, 201, &failed),
+                 CRANE_E_DIVERGED, "diverged: crane_predict_many");
+    check(failed == 0, "diverged: crane_predict_many names the future");
+    check(strlen(crane_status_message(CRANE_E_DIVERGED)) > 0, "diverged: a message");
+    printf("  diverged after %lu samples\n", (unsigned long)n);
+}
+
 /* CRANE_TEST_BENCH_REPS sets the repetitions (default 2000; 0 skips it: emulators, valgrind). */
 static void benchmark(void)
 {
@@ -826,6 +820,7 @@ int main(void)
     test_stops_and_release();
     test_tilt_flag();
     test_samples_equal_constant();
+    test_diverged();
     benchmark();
     printf("%d passed, %d failed\n", n_pass, n_fail);
     return n_fail ? 1 : 0;
