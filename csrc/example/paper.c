@@ -3,7 +3,8 @@
  * generated header crane_patu655.h (source: src/cranepredict/cranes/patu655.toml).
  *
  * Lift cylinder at 175e5 Pa bore side, 0 rod side; tilt cylinder held; 200 kg at the tip;
- * lift stroke 0.116 m, tilt stroke 0.32 m, at rest; 2 s at dt = 1e-3 s.
+ * lift stroke 0.116 m, tilt stroke 0.20 m (src/cranepredict/scenarios/paper-fig4.toml), at rest;
+ * 2 s at dt = 1e-3 s.
  *
  *   paper          prints the final tip position (world, m) and when the lift reached its stop
  *   paper --all    also prints every sample: "t tip_x tip_y tip_z" (for the precision checks)
@@ -33,7 +34,7 @@ int main(int argc, char **argv)
 
     memset(&s0, 0, sizeof s0);
     s0.stroke[CRANE_LIFT] = (crane_real)0.116;
-    s0.stroke[CRANE_TILT] = (crane_real)0.32;
+    s0.stroke[CRANE_TILT] = (crane_real)0.20;
     memset(&in, 0, sizeof in);
     in.drive[CRANE_LIFT].mode = CRANE_DRIVE_PRESSURE;
     in.drive[CRANE_LIFT].p_a = (crane_real)175e5;

@@ -169,7 +169,7 @@ static void defaults(universe *u)
     memset(u, 0, sizeof *u);
     u->params = patu;
     u->state.stroke[0] = (crane_real)0.116;
-    u->state.stroke[1] = (crane_real)0.32;
+    u->state.stroke[1] = (crane_real)0.20;
     u->inputs.drive[0].mode = CRANE_DRIVE_PRESSURE;
     u->inputs.drive[0].p_a = (crane_real)175e5;
     u->inputs.drive[1].mode = CRANE_DRIVE_HOLD;

@@ -603,7 +603,7 @@ static crane_sample paper_out[N_PAPER];
 static void test_paper_scenario(void)
 {
     const crane_params p = patu();
-    const crane_state s0 = state(0.116, 0.32, 0, 0, 0, 0);
+    const crane_state s0 = state(0.116, 0.20, 0, 0, 0, 0);
     const crane_inputs in = constant_inputs(175e5, 0, CRANE_DRIVE_HOLD, 0, 0);
     crane_model m;
     crane_real xyz[CRANE_N_POINTS * 3];
