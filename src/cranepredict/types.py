@@ -154,7 +154,8 @@ class Trajectory:
 
     t (N,) s; strokes (N, 2) m; theta (N, 2) rad (lift angle, tilt angle relative to the lift
     boom); omega (N, 2) rad/s; tip (N, 3) m in the world frame (X, Y horizontal, Z up);
-    stop (N, 2): -1 at the lower end stop, +1 at the upper, 0 otherwise.
+    stop (N, 2): -1 at stroke_min (cylinder fully retracted), +1 at stroke_max (fully extended),
+    0 otherwise.
     ``points()`` gives the world positions of every pivot and pin, to draw the crane.
     """
 
@@ -175,7 +176,8 @@ class Trajectory:
         return {name: xyz[:, i, :] for i, name in enumerate(POINT_NAMES)}
 
     def first_stop_time(self, joint: int, side: int = +1) -> Optional[float]:
-        """Time (s) of the first sample at the given end stop of a joint, or None."""
+        """Time (s) of the first sample with the joint at that stop (+1 stroke_max, -1 stroke_min),
+        or None."""
         hits = np.flatnonzero(self.stop[:, joint] == side)
         return float(self.t[hits[0]]) if hits.size else None
 
