@@ -14,7 +14,7 @@ import cranepredict as cp
 from cranepredict import _core
 from lagrange import Lagrange
 
-BACKENDS = ("python",)
+BACKENDS = ("c", "python")
 
 
 def _simpson(y: np.ndarray, h: float) -> float:
