@@ -148,6 +148,13 @@ crane_real crane__cylinder_force(const crane_model *m, int joint, crane_real p_a
 
 /* ---- hydraulics.c (docs/model.md, "Hydraulics") ---- */
 
+/* Valve-driven cylinders are compiled in unless CRANE_HYDRAULICS is defined to 0: a build
+ * without them refuses valve drives (CRANE_E_VALVE) and keeps the stack of the pressure-driven
+ * core (docs/embedding.md: the budgeted Cortex-M4F build). */
+#ifndef CRANE_HYDRAULICS
+#define CRANE_HYDRAULICS 1
+#endif
+
 /* The valve's flows at spool y: q_a into the bore side, q_b out of the rod side. */
 void crane__valve_flows(const crane_hydraulics *h, crane_real y, crane_real p_a, crane_real p_b,
                         crane_real *q_a, crane_real *q_b);

@@ -4,6 +4,7 @@
  */
 #include "crane_internal.h"
 
+#if CRANE_HYDRAULICS
 /* Substeps keep lambda h / n below this: RK4 is stable on the negative real axis up to 2.785,
  * and the 10 % margin covers the chamber volumes changing within a step. */
 static const crane_real SUBSTEP_STABILITY = (crane_real)2.5;
@@ -152,6 +153,7 @@ long crane__substeps(const crane_model *m, const crane_real stroke[2], const int
         n = (crane_real)1e6;
     return n < 1 ? 1 : (long)n;
 }
+#endif /* CRANE_HYDRAULICS */
 
 /* The parameter ranges of docs/model.md "Hydraulics" (the crane file's). */
 int crane__hydraulics_ok(const crane_hydraulics *h)

@@ -10,7 +10,9 @@ enum { BISECTIONS = 60, RELEASE_BISECTIONS = 40 };
  * entries of joints that are not valve-driven stay 0). */
 typedef struct {
     crane_real th[2], w[2];
+#if CRANE_HYDRAULICS
     crane_real p[4], y[2];
+#endif
 } xstate;
 
 /* Per-prediction working data, on the caller's stack. */
@@ -87,6 +89,7 @@ static void pressures(ctx_t *c, int i, crane_real t, crane_real *p_a, crane_real
     *p_b = d->p_b_samples[j] + s * (d->p_b_samples[j + 1] - d->p_b_samples[j]);
 }
 
+#if CRANE_HYDRAULICS
 /* The lever of a valve-driven joint at time t: linear interpolation with the pressures' cursor. */
 static crane_real lever(ctx_t *c, int i, crane_real t)
 {
@@ -124,6 +127,8 @@ static void valve_rates(ctx_t *c, crane_real t, const xstate *x, int i, crane_re
     dh[2 * i + 1] = r[1];
     dh[4 + i] = r[2];
 }
+
+#endif
 
 /* Mass matrix M (M00, M01, M11) and the net joint torques b = tau - h at (t, theta, omega);
  * cylinder torques only for the joints in act[] (a locked joint's own torque is not needed to
@@ -167,8 +172,10 @@ static void forces(ctx_t *c, crane_real t, const xstate *x, const int act[2], cr
         crane_real ds, p_a, p_b, stroke = 0;
         b[i] = -h[i];
         if (!act[i]) {
+#if CRANE_HYDRAULICS
             if (dh && c->valve[i])
                 valve_rates(c, t, x, i, stop_stroke(c, i), 0, dh);
+#endif
             continue;
         }
         if (i == CRANE_TILT) {
@@ -181,12 +188,17 @@ static void forces(ctx_t *c, crane_real t, const xstate *x, const int act[2], cr
         } else {
             crane__lift_from_angle(m, c0, s0, NULL, &ds);
         }
+#if CRANE_HYDRAULICS
         if (c->valve[i]) {
             p_a = x->p[2 * i];
             p_b = x->p[2 * i + 1];
             if (dh)
                 valve_rates(c, t, x, i, stroke, ds * x->w[i], dh);
-        } else {
+        } else
+#endif
+        {
+            (void)stroke;
+            (void)dh;
             pressures(c, i, t, &p_a, &p_b);
         }
         b[i] += crane__cylinder_force(m, i, p_a, p_b, ds * x->w[i]) * ds;
@@ -220,12 +232,15 @@ static void accel(ctx_t *c, crane_real t, const xstate *x, const int lk[2], cran
     crane_real M[3], b[2];
 
     if (lk[0] && lk[1]) {
-        int i;
         alpha[0] = alpha[1] = 0;
-        if (dh)
+#if CRANE_HYDRAULICS
+        if (dh) {
+            int i;
             for (i = 0; i < 2; ++i)
                 if (c->valve[i])
                     valve_rates(c, t, x, i, stop_stroke(c, i), 0, dh);
+        }
+#endif
         return;
     }
     forces(c, t, x, act, M, b, dh);
@@ -243,15 +258,21 @@ static xstate axpy(const xstate *x, crane_real h, const crane_real dth[2], const
                    const crane_real *dh)
 {
     xstate y;
-    int k;
     y.th[0] = x->th[0] + h * dth[0];
     y.th[1] = x->th[1] + h * dth[1];
     y.w[0] = x->w[0] + h * dw[0];
     y.w[1] = x->w[1] + h * dw[1];
-    for (k = 0; k < 4; ++k)
-        y.p[k] = dh ? x->p[k] + h * dh[k] : x->p[k];
-    for (k = 0; k < 2; ++k)
-        y.y[k] = dh ? x->y[k] + h * dh[4 + k] : x->y[k];
+#if CRANE_HYDRAULICS
+    {
+        int k;
+        for (k = 0; k < 4; ++k)
+            y.p[k] = dh ? x->p[k] + h * dh[k] : x->p[k];
+        for (k = 0; k < 2; ++k)
+            y.y[k] = dh ? x->y[k] + h * dh[4 + k] : x->y[k];
+    }
+#else
+    (void)dh;
+#endif
     return y;
 }
 
@@ -261,15 +282,21 @@ static xstate axpy(const xstate *x, crane_real h, const crane_real dth[2], const
 static void rk4(ctx_t *c, crane_real t, const xstate *x, crane_real h, xstate *y)
 {
     const crane_real h2 = h / 2, h6 = h / 6;
+    crane_real a[2], sw[2], sa[2];
+#if CRANE_HYDRAULICS
     /* the rates of joints that are not valve-driven stay 0: their entries of the state too */
-    crane_real a[2], sw[2], sa[2], dh[6] = {0, 0, 0, 0, 0, 0}, sh[6];
+    crane_real dh[6] = {0, 0, 0, 0, 0, 0}, sh[6];
     crane_real *const pdh = c->hyd ? dh : NULL;
+#else
+    crane_real *const pdh = NULL;
+#endif
     xstate xs = *x;
     int lk[2], k, i;
 
     lock_mask(c, lk);
     for (k = 0; k < 4; ++k) {
         accel(c, k == 0 ? t : k == 3 ? t + h : t + h2, &xs, lk, a, pdh);
+#if CRANE_HYDRAULICS
         if (pdh) {
             for (i = 0; i < 6; ++i) {
                 if (k == 0)
@@ -282,6 +309,7 @@ static void rk4(ctx_t *c, crane_real t, const xstate *x, crane_real h, xstate *y
                     y->y[i - 4] = x->y[i - 4] + h6 * (sh[i] + dh[i]);
             }
         }
+#endif
         for (i = 0; i < 2; ++i) {
             if (k == 0) {
                 sw[i] = xs.w[i];
@@ -298,12 +326,14 @@ static void rk4(ctx_t *c, crane_real t, const xstate *x, crane_real h, xstate *y
         if (k < 3)
             xs = axpy(x, k == 2 ? h : h2, xs.w, a, pdh);
     }
+#if CRANE_HYDRAULICS
     if (!pdh) {
         for (i = 0; i < 4; ++i)
             y->p[i] = x->p[i];
         y->y[0] = x->y[0];
         y->y[1] = x->y[1];
     }
+#endif
 }
 
 /* Time in (0, h] at which the cubic Hermite interpolant of theta on the step first reaches the
@@ -561,6 +591,7 @@ static void put_sample(ctx_t *c, crane_real t, const xstate *x, crane_real cpsi,
         o->theta[i] = x->th[i];
         o->omega[i] = x->w[i];
         o->flow_a[i] = o->flow_b[i] = o->spool[i] = 0;
+#if CRANE_HYDRAULICS
         if (c->valve[i]) {
             const crane_hydraulics *h = m->hyd[i];
             const crane_real y = h->spool_time_constant > 0 ? x->y[i] : lever(c, i, t);
@@ -568,7 +599,9 @@ static void put_sample(ctx_t *c, crane_real t, const xstate *x, crane_real cpsi,
             o->p_b[i] = x->p[2 * i + 1];
             crane__valve_flows(h, y, o->p_a[i], o->p_b[i], &o->flow_a[i], &o->flow_b[i]);
             o->spool[i] = y;
-        } else if (c->mode[i] == CRANE__HELD) {
+        } else
+#endif
+        if (c->mode[i] == CRANE__HELD) {
             o->p_a[i] = o->p_b[i] = 0;
         } else {
             pressures(c, i, t, &o->p_a[i], &o->p_b[i]);
@@ -586,14 +619,19 @@ static void put_sample(ctx_t *c, crane_real t, const xstate *x, crane_real cpsi,
 /* theta and omega (and the pressures and spools) are all finite. */
 static int finite_state(const xstate *x)
 {
+#if CRANE_HYDRAULICS
     int k;
     for (k = 0; k < 4; ++k)
         if (!crane__finite(x->p[k]))
             return 0;
+    if (!crane__finite(x->y[0]) || !crane__finite(x->y[1]))
+        return 0;
+#endif
     return crane__finite(x->th[0]) && crane__finite(x->th[1]) && crane__finite(x->w[0]) &&
-           crane__finite(x->w[1]) && crane__finite(x->y[0]) && crane__finite(x->y[1]);
+           crane__finite(x->w[1]);
 }
 
+#if CRANE_HYDRAULICS
 /* The strokes of the valve-driven joints at the state x (a stopped joint's is its stop's), for
  * the substep count. */
 static void valve_strokes(ctx_t *c, const xstate *x, crane_real stroke[2])
@@ -617,6 +655,7 @@ static void valve_strokes(ctx_t *c, const xstate *x, crane_real stroke[2])
         }
     }
 }
+#endif
 
 crane_status crane__integrate(const crane_model *m, const crane_state *s0, const crane_inputs *in,
                               crane_real horizon, crane_real dt, long n_steps, long sample_every,
@@ -639,11 +678,14 @@ crane_status crane__integrate(const crane_model *m, const crane_state *s0, const
     c.release_clear = 0;
     c.hyd = 0;
     for (i = 0; i < 2; ++i) {
-        c.valve[i] = in->drive[i].mode == CRANE_DRIVE_VALVE;
+        /* without CRANE_HYDRAULICS the validation has refused valve drives */
+        c.valve[i] = CRANE_HYDRAULICS && in->drive[i].mode == CRANE_DRIVE_VALVE;
         c.hyd = (unsigned char)(c.hyd || c.valve[i]);
+#if CRANE_HYDRAULICS
         x.p[2 * i] = c.valve[i] ? s0->p_a[i] : 0;
         x.p[2 * i + 1] = c.valve[i] ? s0->p_b[i] : 0;
         x.y[i] = c.valve[i] ? s0->spool[i] : 0;
+#endif
     }
     for (i = 0; i < 2; ++i) {
         crane_real ds;
@@ -696,12 +738,14 @@ crane_status crane__integrate(const crane_model *m, const crane_state *s0, const
 
         /* docs/model.md "Hydraulics": with valve-driven joints, n equal substeps, each a full
          * step of the scheme (one call site of step, so that it stays inlined: the stack). */
+#if CRANE_HYDRAULICS
         if (c.hyd && h > 0) {
             crane_real stroke[2];
             valve_strokes(&c, &x, stroke);
             n_sub = crane__substeps(m, stroke, c.valve, h);
             sub = h / (crane_real)n_sub;
         }
+#endif
         for (j = 0; j < n_sub; ++j) {
             const int final = j == n_sub - 1;
             const crane_real t_sub = j == 0 ? t : t + (crane_real)j * sub;

@@ -67,7 +67,7 @@ static crane_status check_valve(const crane_model *model, int i, const crane_sta
 {
     size_t k;
 
-    if (!model->hyd[i])
+    if (!CRANE_HYDRAULICS || !model->hyd[i])
         return CRANE_E_VALVE;
     if (!crane__finite(s->p_a[i]) || !crane__finite(s->p_b[i]) || !crane__finite(s->spool[i]))
         return CRANE_E_NONFINITE;
