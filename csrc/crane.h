@@ -210,6 +210,7 @@ typedef struct {
     crane_real extension;
     crane_real lift_db, lift_dr, lift_beta, lift_eps;
     crane_real tilt_l1, tilt_l2, tilt_ra, tilt_alpha_a;
+    crane_real tilt_branch;                /* +1 or -1: Q's side of P1 -> A (angle -> stroke) */
     crane_real area_a[2], area_b[2];
     crane_real m1, m2, i1, i2;
     crane_vec2 c1, c2;

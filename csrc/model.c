@@ -4,8 +4,6 @@
  */
 #include "crane_internal.h"
 
-enum { FOURBAR_POINTS = 101 };
-
 /* The first rule broken so far: every check below is one call that does nothing once a rule has
  * failed, so the checks read as a list, one line per field, in the order of the crane file. */
 typedef struct {
@@ -172,43 +170,6 @@ static crane_field lift_triangle_check(const crane_model *m)
     return CRANE_FIELD_NONE;
 }
 
-/* The four-bar closes with finite, nonzero ds/dtheta1 of one sign and theta1 inside
- * (-3pi/2, pi/2) at 101 strokes. Beyond docs/model.md, theta1 must also move monotonically in the
- * direction that sign says: otherwise the wrap cuts the stroke range and the limits are wrong. */
-static crane_field fourbar_check(const crane_model *m)
-{
-    const crane_real lo = -3 * crane__pi() / 2, hi = crane__pi() / 2;
-    crane_real prev_theta = 0, sign = 0;
-    int k;
-
-    if (!(m->tilt_l1 > 0))
-        return CRANE_FIELD_GEOMETRY_LINK_PIN;
-    if (!(m->tilt_l2 > 0))
-        return CRANE_FIELD_GEOMETRY_LINK2_END;
-    if (!(m->tilt_ra > 0))
-        return CRANE_FIELD_GEOMETRY_LINK2_ATTACH;
-    for (k = 0; k < FOURBAR_POINTS; ++k) {
-        const crane_real s = m->stroke_min[CRANE_TILT] +
-                             (m->stroke_max[CRANE_TILT] - m->stroke_min[CRANE_TILT]) * (crane_real)k /
-                                                 (crane_real)(FOURBAR_POINTS - 1);
-        crane_real theta, ds;
-        if (!crane__tilt_from_stroke(m, s, &theta, &ds, NULL, NULL))
-            return CRANE_FIELD_TILT_CYLINDER_STROKE_MAX;
-        if (!crane__finite(theta) || !crane__finite(ds) || ds == 0 || !(theta > lo && theta < hi))
-            return CRANE_FIELD_TILT_CYLINDER_STROKE_MAX;
-        if (k == 0) {
-            sign = ds > 0 ? 1 : -1;
-        } else {
-            if ((ds > 0 ? 1 : -1) != sign)
-                return CRANE_FIELD_TILT_CYLINDER_STROKE_MAX;
-            if (!((theta - prev_theta) * sign > 0))
-                return CRANE_FIELD_TILT_CYLINDER_STROKE_MAX;
-        }
-        prev_theta = theta;
-    }
-    return CRANE_FIELD_NONE;
-}
-
 crane_status crane__model_derive(crane_model *m, const crane_params *params, crane_real extension,
                                  crane_field *field)
 {
@@ -309,7 +270,7 @@ crane_status crane__model_derive(crane_model *m, const crane_params *params, cra
     *field = lift_triangle_check(m);
     if (*field != CRANE_FIELD_NONE)
         return CRANE_E_GEOMETRY;
-    *field = fourbar_check(m);
+    *field = crane__fourbar_check(m);
     if (*field != CRANE_FIELD_NONE)
         return CRANE_E_FOURBAR;
 
