@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
  * cranepredict C core: faster-than-real-time prediction of a hydraulic crane's lift and
  * outer boom (2-DOF Newton-Euler, fixed-step RK4). The model is specified in docs/model.md.

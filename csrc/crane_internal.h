@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
  * Internal helpers of the cranepredict C core: precision-neutral math wrappers, 2-D vector
  * algebra and the prototypes shared between the core's source files. Not part of the public API.

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
  * Hydraulic cylinder force: chamber pressures on the piston areas minus smooth Stribeck friction
  * (docs/model.md, "Cylinders").

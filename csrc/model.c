@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
  * Crane parameter checks and the derived model constants (docs/model.md, "Bad input", "Bodies and
  * the lumped outer boom", "End stops"), and the status messages.

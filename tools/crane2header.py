@@ -135,7 +135,8 @@ def generate(toml_path, name):
     guard = re.sub(r"[^A-Z0-9]", "_", f"CRANE_{name.upper()}_H")
     macro = re.sub(r"[^A-Z0-9]", "_", f"CRANE_{name.upper()}_INIT")
     rel = os.path.relpath(os.path.abspath(toml_path), ROOT).replace(os.sep, "/")
-    head = f"""/*
+    head = f"""/* SPDX-License-Identifier: MIT */
+/*
  * {crane_name}: crane parameters for the cranepredict C core.
  *
  * GENERATED from {rel} by tools/crane2header.py -- do not edit.

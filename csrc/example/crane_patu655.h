@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
  * PATU 655: crane parameters for the cranepredict C core.
  *

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
  * Fuzz target of the cranepredict C core (libFuzzer entry point LLVMFuzzerTestOneInput; also
  * driven without libFuzzer by replay.c over the files of fuzz/corpus/).

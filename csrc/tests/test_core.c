@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
  * Unit tests of the cranepredict C core (no framework). The last line of output is
  * "N passed, N failed"; the exit status is nonzero on any failure.
