@@ -68,7 +68,7 @@ typedef struct {
     crane_real static_;            /* F_S >= F_C, N */
     crane_real viscous;            /* sigma, N s/m */
     crane_real stribeck_velocity;  /* v_S > 0, m/s */
-    crane_real tanh_velocity;      /* v_T > 0, m/s: smoothing of the sign at v = 0 */
+    crane_real factor;             /* k >= 0: multiplies F_C and F_S, not sigma ([S1]: 4 on the lift) */
 } crane_friction;
 
 typedef struct {

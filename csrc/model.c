@@ -18,7 +18,7 @@ static int cylinder_finite(const crane_cylinder *c)
     return crane__finite(c->bore) && crane__finite(c->rod) && crane__finite(c->length_retracted) &&
            crane__finite(c->stroke_min) && crane__finite(c->stroke_max) &&
            crane__finite(f->coulomb) && crane__finite(f->static_) && crane__finite(f->viscous) &&
-           crane__finite(f->stribeck_velocity) && crane__finite(f->tanh_velocity);
+           crane__finite(f->stribeck_velocity) && crane__finite(f->factor);
 }
 
 static int params_finite(const crane_params *p)
@@ -51,7 +51,7 @@ static int cylinder_ok(const crane_cylinder *c)
 static int friction_ok(const crane_friction *f)
 {
     return f->coulomb >= 0 && f->static_ >= f->coulomb && f->viscous >= 0 &&
-           f->stribeck_velocity > 0 && f->tanh_velocity > 0;
+           f->stribeck_velocity > 0 && f->factor >= 0;
 }
 
 crane_status crane__check_params(const crane_params *p)

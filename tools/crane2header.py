@@ -49,7 +49,7 @@ SIDE_LINKS = [("side_link1", "side_link1"), ("side_link2", "side_link2")]
 CYLINDERS = [("CRANE_LIFT", "lift_cylinder"), ("CRANE_TILT", "tilt_cylinder")]
 CYL_FIELDS = ["bore", "rod", "length_retracted", "stroke_min", "stroke_max"]
 FRICTION = [("coulomb", "coulomb"), ("static_", "static"), ("viscous", "viscous"),
-            ("stribeck_velocity", "stribeck_velocity"), ("tanh_velocity", "tanh_velocity")]
+            ("stribeck_velocity", "stribeck_velocity"), ("factor", "factor")]
 # keys of the crane file that the 2-DOF C model does not use (the pillar only slews)
 UNUSED = {"name", "estimates", "pillar"}
 

@@ -34,13 +34,14 @@ class Body:
 
 @dataclass(frozen=True)
 class Friction:
-    """Smooth Stribeck friction of a cylinder (N, N s/m, m/s); see docs/model.md."""
+    """Smooth Stribeck friction of a cylinder, [S1]'s law (N, N s/m, m/s); see docs/model.md.
+    ``factor`` (k, dimensionless) multiplies the Coulomb and static levels, not the viscous one."""
 
     coulomb: float
     static: float
     viscous: float
     stribeck_velocity: float
-    tanh_velocity: float
+    factor: float
 
 
 @dataclass(frozen=True)
@@ -234,7 +235,7 @@ def _check_crane(c: Crane) -> None:
             raise ValueError(f"{cyl_name}.friction.static ({fr.static} N) must be >= "
                              f"{cyl_name}.friction.coulomb ({fr.coulomb} N)")
         positive(fr.stribeck_velocity, f"{cyl_name}.friction.stribeck_velocity")
-        positive(fr.tanh_velocity, f"{cyl_name}.friction.tanh_velocity")
+        nonneg(fr.factor, f"{cyl_name}.friction.factor")
     from . import _core  # the kinematic checks: the lift triangle and the four-bar closing
 
     _core.check_crane(c)
