@@ -88,13 +88,17 @@ def static_stack(footprint_log):
             for m in re.finditer(r"^\s+(crane_\w+)\s+(\d+)\s*$", section, re.M)}
 
 
-def read_cpi(profile):
-    """(low, high) cycles per instruction from board_profile.py's output."""
+def read_profile(profile):
+    """((low, high) cycles per instruction, instructions) from board_profile.py's output."""
+    cpi = insns = None
     for line in open(profile):
         m = re.match(r"cpi_range\s+([\d.]+)\s+([\d.]+)", line)
         if m:
-            return float(m.group(1)), float(m.group(2))
-    return None
+            cpi = float(m.group(1)), float(m.group(2))
+        m = re.match(r"profile_instructions\s+(\d+)", line)
+        if m:
+            insns = int(m.group(1))
+    return cpi, insns
 
 
 def main(argv=None):
@@ -144,9 +148,14 @@ def main(argv=None):
     print("\ninstructions per call (timer, +-1 tick = +-40 instructions):")
     for k, t in board["ticks"].items():
         print(f"  {k:<40}{t * INSNS_PER_TICK:>12,}")
-    cpi = read_cpi(a.profile) if a.profile else None
+    cpi, profiled = read_profile(a.profile) if a.profile else (None, None)
     key = f"crane_predict[{DEFAULT_SCENARIO}]"
     insns = board["ticks"][key] * INSNS_PER_TICK
+    if profiled is not None:
+        # Two independent counts of one call: the timer (+-1 tick, plus the few instructions of
+        # the call itself) and QEMU's execution log of the profile build.
+        check("instructions vs profile", abs(profiled - insns) <= 2 * INSNS_PER_TICK + 20,
+              f"timer {insns:,}, execution log {profiled:,}")
     horizon = real(board["samples"][DEFAULT_SCENARIO][-1][0])
     if cpi:
         t_lo, t_hi = insns * cpi[0] / CLOCK_HZ, insns * cpi[1] / CLOCK_HZ
@@ -164,7 +173,10 @@ def main(argv=None):
     print("\nstack (bytes): measured by painting on the board vs tools/footprint.py's worst case")
     for k, used in board["stack"].items():
         entry = k.split("[")[0]
-        if entry in static:
+        if entry == "probe_256":   # the painting's self-test: a 256-byte frame plus a few words
+            check("stack painting self-test", 256 <= used <= 256 + 32,
+                  f"a function with a 256-byte local array measured {used}")
+        elif entry in static:
             check(f"stack {k}", used <= static[entry], f"measured {used} <= static {static[entry]}")
         elif entry in NO_STATIC_YET:
             print(f"note  stack {k}: measured {used} (tools/footprint.py has no figure for it)")

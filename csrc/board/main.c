@@ -38,6 +38,20 @@ extern uint32_t __stack_limit[];
 static const crane_params crane = CRANE_PATU655_INIT;
 enum { CAPACITY = 2001 };           /* the largest scenario: 2 s at 1 ms */
 static crane_sample out[CAPACITY];  /* 48 B a sample in float: static memory, not the stack */
+
+#ifdef BOARD_PROFILE
+/* The profile build (board_profile.py): one prediction of the first scenario, nothing else, so
+ * that QEMU's execution log stays small. */
+int main(void)
+{
+    size_t n_sc, n = 0;
+    const board_scenario *sc = board_scenarios(&n_sc);
+
+    return crane_predict(&crane, &sc->state0, &sc->inputs, sc->horizon, sc->dt, out, CAPACITY,
+                         &n) == CRANE_OK ? 0 : 1;
+}
+#else
+
 static crane_sample out2[CAPACITY]; /* crane_predict_model's, to compare with crane_predict's */
 static char line[BOARD_LINE_MAX];
 static int failures;
@@ -71,6 +85,18 @@ static inline uint32_t stack_used(uint32_t sp0)
     while (*p == PAINT)
         ++p;
     return sp0 - (uint32_t)(uintptr_t)p;
+}
+
+/* The painting's own test: a frame of at least PROBE_BYTES that it must see. */
+enum { PROBE_BYTES = 256 };
+__attribute__((noinline)) static uint8_t stack_probe(void)
+{
+    volatile uint8_t buf[PROBE_BYTES];
+    size_t i;
+
+    for (i = 0; i < PROBE_BYTES; ++i)
+        buf[i] = (uint8_t)i;
+    return buf[0];
 }
 
 static void spin(uint32_t n)
@@ -149,6 +175,7 @@ static void run_entry_points(const board_scenario *sc)
     crane_status st = CRANE_OK;
 
     semihost_write("entry_points\n");
+    MEASURED("probe_256", (void)stack_probe());
     MEASURED("crane_model_init", st = crane_model_init(&model, &crane, sc->state0.extension));
     expect(st, CRANE_OK, "crane_model_init");
     MEASURED("crane_sample_count", st = crane_sample_count(sc->horizon, sc->dt, &count));
@@ -213,3 +240,5 @@ int main(void)
     print2("failures", NULL, (unsigned long)failures);
     return failures == 0 ? 0 : 1;
 }
+
+#endif /* BOARD_PROFILE */
