@@ -10,8 +10,9 @@
  * Instructions: QEMU's -icount shift=0 advances the virtual clock by exactly 1 ns per executed
  * instruction, and the CMSDK APB timer 0 counts down at the 25 MHz system clock of that virtual
  * time. The timer is calibrated here against a loop of known length, so the host can turn ticks
- * into instructions (and notice when -icount is off). On a real board, read the DWT cycle
- * counter instead (QEMU does not model it; see docs/embedding.md).
+ * into instructions (and notice when -icount is off). On a real board build with -DBOARD_DWT:
+ * the clock is then the DWT cycle counter and the ticks are CPU cycles (QEMU does not model the
+ * DWT: it reads 0 there).
  *
  * Stack: everything below the caller's stack pointer is painted with a pattern just before the
  * call, and the lowest word that no longer holds it after the call is the call's depth.
@@ -24,11 +25,6 @@
 #include "crane_patu655.h"
 #include "scenarios.h"
 #include "semihost.h"
-
-/* CMSDK APB timer 0 of the MPS2 (AN386 application note): a 32-bit down counter. */
-#define TIMER0_CTRL (*(volatile uint32_t *)0x40000000u)
-#define TIMER0_VALUE (*(volatile uint32_t *)0x40000004u)
-#define TIMER0_RELOAD (*(volatile uint32_t *)0x40000008u)
 
 #define PAINT 0xC5A3C5A3u
 #define CALIBRATION_LOOPS 1000000u /* two instructions each */
@@ -51,6 +47,39 @@ int main(void)
                          &n) == CRANE_OK ? 0 : 1;
 }
 #else
+
+#ifdef BOARD_DWT
+/* ARMv7-M debug: DEMCR.TRCENA powers the DWT, DWT_CTRL.CYCCNTENA starts its cycle counter. */
+#define DEMCR (*(volatile uint32_t *)0xE000EDFCu)
+#define DWT_CTRL (*(volatile uint32_t *)0xE0001000u)
+#define DWT_CYCCNT (*(volatile uint32_t *)0xE0001004u)
+static void clock_start(void)
+{
+    DEMCR |= 1u << 24;
+    DWT_CYCCNT = 0u;
+    DWT_CTRL |= 1u;
+}
+static inline uint32_t clock_now(void)
+{
+    return DWT_CYCCNT;
+}
+#else
+/* CMSDK APB timer 0 of the MPS2 (AN386 application note): a 32-bit down counter at 25 MHz. */
+#define TIMER0_CTRL (*(volatile uint32_t *)0x40000000u)
+#define TIMER0_VALUE (*(volatile uint32_t *)0x40000004u)
+#define TIMER0_RELOAD (*(volatile uint32_t *)0x40000008u)
+static void clock_start(void)
+{
+    TIMER0_RELOAD = 0xFFFFFFFFu;
+    TIMER0_VALUE = 0xFFFFFFFFu;
+    TIMER0_CTRL = 1u;
+}
+/* Complemented, so that it counts up like the DWT's. */
+static inline uint32_t clock_now(void)
+{
+    return ~TIMER0_VALUE;
+}
+#endif
 
 static crane_sample out2[CAPACITY]; /* crane_predict_model's, to compare with crane_predict's */
 static char line[BOARD_LINE_MAX];
@@ -133,11 +162,11 @@ static void expect(crane_status st, crane_status want, const char *what)
     do {                                                                                           \
         uint32_t sp0_ = stack_pointer(), t0_, t1_;                                                 \
         paint_below_sp(__stack_limit);                                                             \
-        t0_ = TIMER0_VALUE;                                                                        \
+        t0_ = clock_now();                                                                         \
         call;                                                                                      \
-        t1_ = TIMER0_VALUE;                                                                        \
+        t1_ = clock_now();                                                                         \
         print2("stack", (name), (unsigned long)stack_used(sp0_));                                  \
-        print2("ticks", (name), (unsigned long)(t0_ - t1_));                                       \
+        print2("ticks", (name), (unsigned long)(t1_ - t0_));                                       \
     } while (0)
 
 static void run_scenario(const board_scenario *sc)
@@ -223,14 +252,12 @@ int main(void)
     uint32_t t0, t1;
 
     semihost_write("board mps2-an386 cortex-m4f\n");
-    TIMER0_RELOAD = 0xFFFFFFFFu;
-    TIMER0_VALUE = 0xFFFFFFFFu;
-    TIMER0_CTRL = 1u;
-    t0 = TIMER0_VALUE;
+    clock_start();
+    t0 = clock_now();
     spin(CALIBRATION_LOOPS);
-    t1 = TIMER0_VALUE;
+    t1 = clock_now();
     print2("calibration", NULL, (unsigned long)CALIBRATION_LOOPS);
-    print2("calibration_ticks", NULL, (unsigned long)(t0 - t1));
+    print2("calibration_ticks", NULL, (unsigned long)(t1 - t0));
     print2("stack_region", NULL, (unsigned long)(stack_pointer() - (uint32_t)(uintptr_t)__stack_limit));
 
     sc = board_scenarios(&n_sc);
