@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
  * cranepredict C core: faster-than-real-time prediction of a hydraulic crane's lift and
  * outer boom (2-DOF Newton-Euler, fixed-step RK4). The model is specified in docs/model.md.
@@ -71,7 +72,7 @@ typedef struct {
     crane_real static_;            /* F_S >= F_C, N */
     crane_real viscous;            /* sigma, N s/m */
     crane_real stribeck_velocity;  /* v_S > 0, m/s */
-    crane_real tanh_velocity;      /* v_T > 0, m/s: smoothing of the sign at v = 0 */
+    crane_real factor;             /* k >= 0: multiplies F_C and F_S, not sigma ([S1]: 4 on the lift) */
 } crane_friction;
 
 typedef struct {
@@ -154,7 +155,7 @@ typedef enum {
     CRANE_FIELD_LIFT_CYLINDER_FRICTION_STATIC,
     CRANE_FIELD_LIFT_CYLINDER_FRICTION_VISCOUS,
     CRANE_FIELD_LIFT_CYLINDER_FRICTION_STRIBECK_VELOCITY,
-    CRANE_FIELD_LIFT_CYLINDER_FRICTION_TANH_VELOCITY,
+    CRANE_FIELD_LIFT_CYLINDER_FRICTION_FACTOR,
     CRANE_FIELD_TILT_CYLINDER_BORE,
     CRANE_FIELD_TILT_CYLINDER_ROD,
     CRANE_FIELD_TILT_CYLINDER_LENGTH_RETRACTED,
@@ -164,7 +165,7 @@ typedef enum {
     CRANE_FIELD_TILT_CYLINDER_FRICTION_STATIC,
     CRANE_FIELD_TILT_CYLINDER_FRICTION_VISCOUS,
     CRANE_FIELD_TILT_CYLINDER_FRICTION_STRIBECK_VELOCITY,
-    CRANE_FIELD_TILT_CYLINDER_FRICTION_TANH_VELOCITY,
+    CRANE_FIELD_TILT_CYLINDER_FRICTION_FACTOR,
     CRANE_FIELD_COUNT
 } crane_field;
 

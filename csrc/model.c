@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
  * Crane parameter checks and the derived model constants (docs/model.md, "Bad input", "Bodies and
  * the lumped outer boom", "End stops"), and the status messages.
@@ -70,8 +71,8 @@ static void cylinder_rules(verdict *v, int i, const crane_cylinder *c)
          f->viscous >= 0, CRANE_E_FRICTION);
     rule(v, cylinder_field(i, CRANE_FIELD_LIFT_CYLINDER_FRICTION_STRIBECK_VELOCITY),
          f->stribeck_velocity, f->stribeck_velocity > 0, CRANE_E_FRICTION);
-    rule(v, cylinder_field(i, CRANE_FIELD_LIFT_CYLINDER_FRICTION_TANH_VELOCITY), f->tanh_velocity,
-         f->tanh_velocity > 0, CRANE_E_FRICTION);
+    rule(v, cylinder_field(i, CRANE_FIELD_LIFT_CYLINDER_FRICTION_FACTOR), f->factor,
+         f->factor >= 0, CRANE_E_FRICTION);
 }
 
 crane_status crane__check_params(const crane_params *p, crane_field *field)
@@ -109,9 +110,9 @@ crane_status crane__check_params(const crane_params *p, crane_field *field)
 
 const char *crane_field_rule(crane_field field)
 {
-    /* The cylinder block's rules, in the order of its fields (bore .. friction.tanh_velocity). */
+    /* The cylinder block's rules, in the order of its fields (bore .. friction.factor). */
     static const char *const cylinder[CRANE_FIELD_TILT_CYLINDER_BORE - CRANE_FIELD_LIFT_CYLINDER_BORE] = {
-        "> rod", "> 0", "> 0", ">= 0", "> stroke_min", ">= 0", ">= coulomb", ">= 0", "> 0", "> 0"};
+        "> rod", "> 0", "> 0", ">= 0", "> stroke_min", ">= 0", ">= coulomb", ">= 0", "> 0", ">= 0"};
     const int n_cyl = (int)CRANE_FIELD_TILT_CYLINDER_BORE - (int)CRANE_FIELD_LIFT_CYLINDER_BORE;
     const int k = (int)field - (int)CRANE_FIELD_LIFT_CYLINDER_BORE;
 

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
  * The prediction entry point: validates every input before anything is written, then hands over
  * to the integrator (docs/model.md, "Integration and samples", "Bad input").

@@ -53,7 +53,7 @@ SIDE_LINKS = [("side_link1", "side_link1"), ("side_link2", "side_link2")]
 CYLINDERS = [("CRANE_LIFT", "lift_cylinder"), ("CRANE_TILT", "tilt_cylinder")]
 CYL_FIELDS = ["bore", "rod", "length_retracted", "stroke_min", "stroke_max"]
 FRICTION = [("coulomb", "coulomb"), ("static_", "static"), ("viscous", "viscous"),
-            ("stribeck_velocity", "stribeck_velocity"), ("tanh_velocity", "tanh_velocity")]
+            ("stribeck_velocity", "stribeck_velocity"), ("factor", "factor")]
 # keys of the crane file that the 2-DOF C model does not use (the pillar only slews)
 UNUSED = {"name", "estimates", "pillar"}
 
@@ -149,7 +149,8 @@ def generate(toml_path, name):
     guard = re.sub(r"[^A-Z0-9]", "_", f"CRANE_{name.upper()}_H")
     macro = re.sub(r"[^A-Z0-9]", "_", f"CRANE_{name.upper()}_INIT")
     rel = os.path.relpath(os.path.abspath(toml_path), ROOT).replace(os.sep, "/")
-    head = f"""/*
+    head = f"""/* SPDX-License-Identifier: MIT */
+/*
  * {crane_name}: crane parameters for the cranepredict C core.
  *
  * GENERATED from {rel} by tools/crane2header.py -- do not edit.

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
  * Fuzz target of the cranepredict C core (libFuzzer entry point LLVMFuzzerTestOneInput; also
  * driven without libFuzzer by replay.c over the files of fuzz/corpus/).
@@ -120,7 +121,7 @@ static size_t real_fields(universe *u, crane_real **f)
         f[n++] = &c->stroke_min; f[n++] = &c->stroke_max;
         f[n++] = &c->friction.coulomb; f[n++] = &c->friction.static_;
         f[n++] = &c->friction.viscous; f[n++] = &c->friction.stribeck_velocity;
-        f[n++] = &c->friction.tanh_velocity;
+        f[n++] = &c->friction.factor;
     }
     for (i = 0; i < 2; ++i) {
         f[n++] = &u->state.stroke[i]; f[n++] = &u->state.stroke_rate[i];

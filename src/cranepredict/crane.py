@@ -34,13 +34,14 @@ class Body:
 
 @dataclass(frozen=True)
 class Friction:
-    """Smooth Stribeck friction of a cylinder (N, N s/m, m/s); see docs/model.md."""
+    """Smooth Stribeck friction of a cylinder, [S1]'s law (N, N s/m, m/s); see docs/model.md.
+    ``factor`` (k, dimensionless) multiplies the Coulomb and static levels, not the viscous one."""
 
     coulomb: float
     static: float
     viscous: float
     stribeck_velocity: float
-    tanh_velocity: float
+    factor: float
 
 
 @dataclass(frozen=True)
