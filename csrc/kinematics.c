@@ -3,6 +3,7 @@
  * Joint kinematics (docs/model.md, "Lift kinematics" and "Tilt kinematics") and the crane's
  * point positions.
  */
+#include <stdint.h>
 #include "crane_internal.h"
 
 /* circle() of docs/model.md; returns h2 (the mechanism closes only if h2 > 0). With h2 <= 0 the
@@ -392,6 +393,10 @@ crane_status crane_points(const crane_model *model, crane_real slew, size_t n,
         return CRANE_E_NULL;
     if (n > 0 && (!theta || !xyz))
         return CRANE_E_NULL;
+    /* n poses are 2 n angles in and 3 CRANE_N_POINTS n coordinates out: a count whose sizes do
+     * not fit a size_t describes no caller's array (and 2 n would wrap). */
+    if (n > SIZE_MAX / (3 * (size_t)CRANE_N_POINTS * sizeof(crane_real)))
+        return CRANE_E_OVERFLOW;
     if (!crane__finite(slew))
         return CRANE_E_NONFINITE;
     /* Validate every pose before the first write. */

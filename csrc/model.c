@@ -345,15 +345,16 @@ const char *crane_status_message(crane_status status)
     case CRANE_E_PRESSURE: return "a pressure is outside [0, 1e8] Pa";
     case CRANE_E_SAMPLES: return "pressure sample times are not strictly increasing or do not cover [0, horizon]";
     case CRANE_E_DT: return "dt <= 0 or dt > horizon";
-    case CRANE_E_HORIZON: return "horizon <= 0, or too many steps";
+    case CRANE_E_HORIZON: return "horizon <= 0";
     case CRANE_E_CAPACITY: return "the output buffer is smaller than the number of samples";
     case CRANE_E_ANGLE: return "an angle is outside the range reachable by the cylinder";
     case CRANE_E_SAMPLE_EVERY: return "sample_every must be >= 1";
     case CRANE_E_DIVERGED: return "the prediction diverged (the state stopped being finite): the parameters are not physical";
     case CRANE_E_FIELD: return "a crane parameter is outside its range";
-    case CRANE_E_OVERFLOW: return "a result is not finite: an argument is too large";
-    case CRANE_E_STEPS: return "horizon / dt asks for more than CRANE_MAX_STEPS steps";
-    case CRANE_E_SAMPLE_COUNT: return "more than CRANE_MAX_SAMPLES samples: raise dt or sample_every or shorten the horizon";
+    case CRANE_E_OVERFLOW: return "an argument is too large: a result would not be finite or a size would overflow";
+    case CRANE_E_STEPS: return "horizon / dt asks for more than CRANE_MAX_STEPS (1048576) steps: raise dt or shorten the horizon";
+    case CRANE_E_SAMPLE_COUNT: return "more than CRANE_MAX_SAMPLES (8388608) samples in one call: raise sample_every or dt, shorten the horizon or split the futures";
+    case CRANE_E_BATCH: return "futures x steps over CRANE_MAX_BATCH_STEPS (33554432) in one call: split the futures into several calls";
     }
     return "unknown status";
 }

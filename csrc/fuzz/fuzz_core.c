@@ -37,7 +37,7 @@
 #include "crane.h"
 #include "crane_patu655.h"
 
-#define CRANE_STATUS_LAST CRANE_E_SAMPLE_COUNT
+#define CRANE_STATUS_LAST CRANE_E_BATCH
 #define MAX_SAMPLES 16   /* pressure samples per cylinder */
 #define MAX_CAPACITY 600 /* output samples (bounds the work per input) */
 #define MAX_POSES 4      /* crane_points poses */
