@@ -190,3 +190,27 @@ print("ok")
 def test_twin_and_types_import_without_the_compiled_extension():
     r = subprocess.run([sys.executable, "-c", BLOCKED], capture_output=True, text=True, timeout=60)
     assert r.returncode == 0 and r.stdout.strip() == "ok", r.stderr
+
+
+# -- the trajectory's arrays are named once (issue 8, finding 9) --------------------------------
+
+def test_the_trajectory_arrays_are_named_once(crane):
+    import dataclasses
+
+    from cranepredict.types import ARRAYS
+
+    tr = cp.predict(crane, STATE, INPUTS, 0.01)
+    py = twin.simulate(crane, STATE, INPUTS, 0.01, 2e-3)
+    assert tuple(py) == ARRAYS  # the twin's keys
+    for cls in (cp.Trajectory, cp.TrajectoryBatch):
+        arrays = [f.name for f in dataclasses.fields(cls) if "ndarray" in str(f.type)]
+        assert set(ARRAYS) <= set(arrays), cls
+    assert all(isinstance(getattr(tr, name), np.ndarray) for name in ARRAYS)
+
+
+def test_params_of_a_crane_is_built_without_deriving_a_model(crane, monkeypatch):
+    """The crane's validator reads params() of a crane that may not pass crane_model_init."""
+    other = cp.Crane.from_dict(crane.to_dict())
+    _core._CACHE.pop(id(other), None)
+    monkeypatch.setattr(_core, "ensure", lambda *a: (_ for _ in ()).throw(AssertionError("checked")))
+    assert _core.params(other).lift_boom.mass == crane.lift_boom.mass

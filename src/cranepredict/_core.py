@@ -101,28 +101,33 @@ _CACHE: dict = {}
 _CACHE_MAX = 64
 
 
-def _cached(crane: "Crane", extension: float) -> Tuple[Any, Any]:
-    """(crane_params *, crane_model *) of a crane at an extension."""
+def _entry(crane: "Crane") -> Tuple[Any, Any, dict]:
+    """(crane, crane_params *, {extension bits: crane_model *}) of a crane."""
     entry = _CACHE.get(id(crane))
     if entry is None or entry[0] is not crane:
         if len(_CACHE) >= _CACHE_MAX:
             _CACHE.clear()
         entry = (crane, _new_params(crane), {})
         _CACHE[id(crane)] = entry
-    models = entry[2]
+    return entry
+
+
+def _cached(crane: "Crane", extension: float) -> Tuple[Any, Any]:
+    """(crane_params *, crane_model *) of a crane at an extension."""
+    _, prm, models = _entry(crane)
     key = float(extension).hex()
     m = models.get(key)
     if m is None:
         m = ffi.new("crane_model *")
-        ensure(lib.crane_model_init(m, entry[1], extension), "crane")
+        ensure(lib.crane_model_init(m, prm, extension), "crane")
         if len(models) < _CACHE_MAX:
             models[key] = m
-    return entry[1], m
+    return prm, m
 
 
 def params(crane: "Crane") -> Any:
-    """The crane_params struct of a crane (cached)."""
-    return _cached(crane, crane.geometry.extension_min)[0]
+    """The crane_params struct of a crane (cached; no check of the crane)."""
+    return _entry(crane)[1]
 
 
 def model(crane: "Crane", extension: float) -> Any:

@@ -9,15 +9,11 @@ once per implementation.
 from __future__ import annotations
 
 import dataclasses
-import functools
 import math
-import typing
 from dataclasses import dataclass, field
 from importlib import resources
 from pathlib import Path
-from typing import Any, Mapping, Sequence, Tuple, Union
-
-import numpy as np
+from typing import Any, Mapping, Tuple, Union
 
 from ._checks import number as _number
 from ._checks import tomllib
@@ -35,9 +31,6 @@ class Body:
     com: Vec2
     izz: float
 
-    def __post_init__(self) -> None:
-        _coerce_fields(self)
-
 
 @dataclass(frozen=True)
 class Friction:
@@ -48,9 +41,6 @@ class Friction:
     viscous: float
     stribeck_velocity: float
     tanh_velocity: float
-
-    def __post_init__(self) -> None:
-        _coerce_fields(self)
 
 
 @dataclass(frozen=True)
@@ -63,9 +53,6 @@ class Cylinder:
     stroke_min: float
     stroke_max: float
     friction: Friction
-
-    def __post_init__(self) -> None:
-        _coerce_fields(self)
 
     @property
     def area_a(self) -> float:
@@ -96,9 +83,6 @@ class Geometry:
     extension_min: float
     extension_max: float
 
-    def __post_init__(self) -> None:
-        _coerce_fields(self)
-
 
 @dataclass(frozen=True)
 class Crane:
@@ -119,7 +103,6 @@ class Crane:
     estimates: Tuple[str, ...] = field(default=())
 
     def __post_init__(self) -> None:
-        _coerce_fields(self)
         _check_crane(self)
 
     # -- construction -------------------------------------------------------------------------
@@ -170,42 +153,12 @@ class Crane:
 # -- loading ----------------------------------------------------------------------------------
 
 def _vec2(value: Any, name: str) -> Vec2:
-    if isinstance(value, (str, bytes)) or not isinstance(value, (Sequence, np.ndarray)) \
-            or len(value) != 2:
+    # A table ({x = 1.0, y = 0.0}) has a length of 2 too, but no value[0].
+    if isinstance(value, (str, bytes, Mapping)) or not hasattr(value, "__len__") or len(value) != 2:
         table = " (a table)" if isinstance(value, Mapping) else ""
         raise TypeError(f"{name} must be a pair [x, y] of numbers, as in `{name.rsplit('.', 1)[-1]} "
                         f"= [0.5, 0.1]`, got {value!r}{table}")
     return (_number(value[0], f"{name}[0]"), _number(value[1], f"{name}[1]"))
-
-
-def _field_value(hint: Any, value: Any, name: str) -> Any:
-    """A field's value in its declared type (floats, float pairs, strings, a tuple of strings,
-    a part of the crane); TypeError/ValueError naming the field otherwise."""
-    if dataclasses.is_dataclass(hint):
-        if not isinstance(value, hint):
-            raise TypeError(f"{name} must be a cranepredict.{hint.__name__}, got {type(value).__name__}")
-        return value
-    if hint is Vec2:
-        return _vec2(value, name)
-    if hint is str:
-        if not isinstance(value, str):
-            raise TypeError(f"{name} must be a string, got {type(value).__name__}")
-        return value
-    if hint == Tuple[str, ...]:
-        if isinstance(value, str) or not isinstance(value, (Sequence, np.ndarray)) \
-                or not all(isinstance(v, str) for v in value):
-            raise TypeError(f"{name} must be a list of strings, got {value!r}")
-        return tuple(value)
-    return _number(value, name)
-
-
-def _coerce_fields(obj: Any) -> None:
-    """Checks (and converts: ints to floats, lists to tuples) every field of a crane dataclass
-    built directly, naming the field as Class.field."""
-    hints = _hints(type(obj))
-    for f in dataclasses.fields(obj):
-        value = _field_value(hints[f.name], getattr(obj, f.name), f"{type(obj).__name__}.{f.name}")
-        object.__setattr__(obj, f.name, value)
 
 
 def _build(cls: type, data: Mapping[str, Any], prefix: str) -> Any:
@@ -228,13 +181,24 @@ def _build(cls: type, data: Mapping[str, Any], prefix: str) -> Any:
         value, hint = data[f.name], hints[f.name]
         if dataclasses.is_dataclass(hint):
             kwargs[f.name] = _build(hint, value, name + ".")
+        elif hint is Vec2:
+            kwargs[f.name] = _vec2(value, name)
+        elif hint is str:
+            if not isinstance(value, str):
+                raise TypeError(f"{name} must be a string")
+            kwargs[f.name] = value
+        elif hint == Tuple[str, ...]:
+            if isinstance(value, str) or not all(isinstance(v, str) for v in value):
+                raise TypeError(f"{name} must be a list of strings")
+            kwargs[f.name] = tuple(value)
         else:
-            kwargs[f.name] = _field_value(hint, value, name)
+            kwargs[f.name] = _number(value, name)
     return cls(**kwargs)
 
 
-@functools.lru_cache(maxsize=None)
 def _hints(cls: type) -> dict:
+    import typing
+
     return typing.get_type_hints(cls, globalns=globals())
 
 
