@@ -35,7 +35,7 @@ def test_too_many_steps_is_refused_before_anything_runs(crane, horizon, dt):
     state, inputs = _args()
     n = ffi.new("size_t *")
     assert lib.crane_sample_count(horizon, dt, n) == lib.CRANE_E_STEPS
-    with pytest.raises(ValueError, match="CRANE_MAX_STEPS.*raise dt or shorten the horizon"):
+    with pytest.raises(ValueError, match="MAX_STEPS"):
         cp.predict(crane, state, inputs, horizon, dt=dt)
 
 
@@ -43,7 +43,7 @@ def test_huge_sample_every_with_a_huge_horizon_is_refused_at_once(crane):
     # Finding 3: predict_many(..., horizon=1e9, sample_every=10**12) ran for hours.
     state, inputs = _args()
     t0 = time.perf_counter()
-    with pytest.raises(ValueError, match="CRANE_MAX_STEPS"):
+    with pytest.raises(ValueError, match="MAX_STEPS"):
         cp.predict_many(crane, [state], [inputs], 1e9, dt=1e-3, sample_every=10**12)
     assert time.perf_counter() - t0 < 1.0
 

@@ -35,7 +35,8 @@ def _verdicts(crane, geometry: dict):
     for k, v in geometry.items():
         setattr(ns.geometry, k, tuple(float(x) for x in v))
     field = ffi.new("crane_field *")
-    status = lib.crane_params_check(_core.params.__wrapped__(ns), field)
+    params = getattr(_core.params, "__wrapped__", _core.params)  # uncached: ns is not hashable
+    status = lib.crane_params_check(params(ns), field)
     try:
         twin.TwinModel(ns, 0.0)
         twin_ok = True
