@@ -51,8 +51,9 @@ def test_step_count_is_the_c_cores():
     (1e9, None, r"horizon / dt must be at most 10,000,000 steps \(cranepredict.MAX_STEPS\), got "
                 r"horizon 1e\+09 s / dt 0.002 s"),
     (1.0, 1e-12, r"at most 10,000,000 steps .* dt 1e-12 s"),
-    (1e300, 1e-300, r"at most 10,000,000 steps"),           # horizon / dt overflows to inf
-    (1e5, None, r"at most 10,000,000 steps .* = 5e\+07 steps"),
+    (1e300, 1e-300, r"at most 10,000,000 steps .* = inf steps"),  # horizon / dt overflows
+    (1e5, None, r"at most 10,000,000 steps .* = 50,000,000 steps"),
+    (20002.0, None, r"at most 10,000,000 steps .* = 10,001,000 steps"),
     (1e4, None, r"at most 4,000,000 samples per call \(cranepredict.MAX_SAMPLES\), got horizon "
                 r"10000 s / dt 0.002 s = 5,000,001 samples"),
 ])
