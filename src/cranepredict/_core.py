@@ -67,7 +67,7 @@ def _cylinder(dst: Any, cyl: Any) -> None:
     dst.stroke_min, dst.stroke_max = cyl.stroke_min, cyl.stroke_max
     f = cyl.friction
     dst.friction.coulomb, dst.friction.static_, dst.friction.viscous = f.coulomb, f.static, f.viscous
-    dst.friction.stribeck_velocity, dst.friction.tanh_velocity = f.stribeck_velocity, f.tanh_velocity
+    dst.friction.stribeck_velocity, dst.friction.factor = f.stribeck_velocity, f.factor
 
 
 def _new_params(crane: "Crane") -> Any:

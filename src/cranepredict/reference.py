@@ -161,11 +161,13 @@ def _cylinder_law(cyl, drive, t_offset: float):
     pfun = _pressure_fn(drive)
     Aa, Ab = cyl.area_a, cyl.area_b
     fr = cyl.friction
-    Fc, dFs, sig, vS, vT = fr.coulomb, fr.static - fr.coulomb, fr.viscous, fr.stribeck_velocity, fr.tanh_velocity
+    k, Fc, dFs, sig, vS = fr.factor, fr.coulomb, fr.static - fr.coulomb, fr.viscous, fr.stribeck_velocity
 
     def law(mbs, t, itemNumber, stroke, rate, stiffness, damping, force):
         pa, pb = pfun(t + t_offset)
-        ffric = (Fc + dFs * math.exp(-(rate / vS) ** 2)) * math.tanh(rate / vT) + sig * rate
+        x = abs(rate) / vS  # [S1]'s friction law (docs/model.md, "Cylinders")
+        q = x * x / 4 + 0.75
+        ffric = math.copysign(k * (Fc * math.tanh(4 * x) + dFs * x / (q * q)), rate) + sig * math.tanh(4) * rate
         return -(pa * Aa - pb * Ab - ffric)
 
     return law
