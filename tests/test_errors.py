@@ -4,6 +4,8 @@ dataclasses built directly with wrong types: the crane's type/shape check, tests
 
 from __future__ import annotations
 
+import dataclasses
+
 import pytest
 
 import cranepredict as cp
@@ -106,3 +108,18 @@ def test_a_huge_horizon_in_a_scenario_names_the_file_and_field():
             "inputs": {"lift": {"hold": True}, "tilt": {"hold": True}}}
     with pytest.raises(ValueError, match="huge.toml.horizon must be a finite number"):
         cp.scenarios.from_dict(data, "huge.toml")
+
+
+@pytest.mark.parametrize("change, name", [
+    (lambda c: dataclasses.replace(c, gravity=HUGE), "gravity"),
+    (lambda c: dataclasses.replace(c, lift_boom=dataclasses.replace(c.lift_boom, mass=HUGE)),
+     "lift_boom.mass"),
+    (lambda c: dataclasses.replace(c, outer_boom=dataclasses.replace(c.outer_boom, com=(0.1, -HUGE))),
+     r"outer_boom.com\[1\]"),
+    (lambda c: dataclasses.replace(c, tilt_cylinder=dataclasses.replace(
+        c.tilt_cylinder, friction=dataclasses.replace(c.tilt_cylinder.friction, coulomb=HUGE))),
+     "tilt_cylinder.friction.coulomb"),
+])
+def test_a_huge_int_in_a_crane_built_directly_names_the_field(crane, change, name):
+    with pytest.raises(ValueError, match=rf"^{name} must be a finite number, got an int too large"):
+        change(crane)

@@ -7,6 +7,7 @@ user's fields happens in api.py before the core is called; the core checks every
 
 from __future__ import annotations
 
+import dataclasses
 import threading
 from typing import TYPE_CHECKING, Any, Sequence, Tuple
 
@@ -70,8 +71,33 @@ def _cylinder(dst: Any, cyl: Any) -> None:
     dst.friction.stribeck_velocity, dst.friction.factor = f.stribeck_velocity, f.factor
 
 
+def _too_large(obj: Any, prefix: str = "") -> str:
+    """The dotted name of the first int in a crane (dataclasses, pairs) too large for a double."""
+    for f in dataclasses.fields(obj):
+        value, name = getattr(obj, f.name), prefix + f.name
+        if dataclasses.is_dataclass(value):
+            found = _too_large(value, name + ".")
+            if found:
+                return found
+        for i, v in enumerate(value if isinstance(value, tuple) else (value,)):
+            if isinstance(v, int):
+                try:
+                    float(v)
+                except OverflowError:
+                    return f"{name}[{i}]" if isinstance(value, tuple) else name
+    return ""
+
+
 def _new_params(crane: "Crane") -> Any:
     """A new crane_params struct holding the crane's parameters."""
+    try:
+        return _fill_params(crane)
+    except OverflowError:  # a crane built directly (the file loader converts its numbers)
+        name = _too_large(crane) or "a number of the crane"
+        raise ValueError(f"{name} must be a finite number, got an int too large for a float") from None
+
+
+def _fill_params(crane: "Crane") -> Any:
     prm = ffi.new("crane_params *")
     g = crane.geometry
     prm.gravity = crane.gravity
@@ -95,7 +121,7 @@ def _new_params(crane: "Crane") -> Any:
 # (one per extension) are built once per Crane object. It is keyed by identity (the entry holds the
 # crane, so its id is not reused while cached) and the models by the extension's exact bits, never
 # by equality: -0.0 == 0.0, yet the sign of a zero in a point changes the branch of atan2 and so
-# the angles (tests/test_api.py); an equality key would hand one crane another's struct. Identity
+# the angles (tests/test_bounds.py); an equality key would hand one crane another's struct. Identity
 # is also cheaper: hashing a Crane (nested frozen dataclasses) costs microseconds per call.
 _CACHE: dict = {}
 _CACHE_MAX = 64
