@@ -8,6 +8,7 @@ user's fields happens in api.py before the core is called; the core checks every
 from __future__ import annotations
 
 import dataclasses
+import math
 import threading
 from typing import TYPE_CHECKING, Any, Sequence, Tuple
 
@@ -141,7 +142,8 @@ def _entry(crane: "Crane") -> Tuple[Any, Any, dict]:
 def _cached(crane: "Crane", extension: float) -> Tuple[Any, Any]:
     """(crane_params *, crane_model *) of a crane at an extension."""
     _, prm, models = _entry(crane)
-    key = float(extension).hex()
+    # By exact bits: only the zeros are two floats that compare equal (NaN never gets here).
+    key: Any = extension if extension != 0.0 else ("-0" if math.copysign(1.0, extension) < 0 else "+0")
     m = models.get(key)
     if m is None:
         m = ffi.new("crane_model *")
