@@ -54,7 +54,7 @@ def test_a_huge_horizon_is_a_value_error_naming_horizon(crane):
 
 
 def test_a_huge_sample_every_is_a_value_error_naming_sample_every(crane):
-    with pytest.raises(ValueError, match=r"sample_every must be an int in \[1, 10,000,000\]"):
+    with pytest.raises(ValueError, match=r"sample_every must be an int in \[1, 1,048,576\]"):
         cp.predict_many(crane, [cp.State(**STATE)], [INPUTS], 1.0, sample_every=HUGE)
 
 
