@@ -175,3 +175,42 @@ def test_params_of_a_crane_is_built_without_deriving_a_model(crane, monkeypatch)
     _core._CACHE.pop(id(other), None)
     monkeypatch.setattr(_core, "ensure", lambda *a: (_ for _ in ()).throw(AssertionError("checked")))
     assert _core.params(other).lift_boom.mass == crane.lift_boom.mass
+
+
+def test_ctrl_c_while_waiting_for_the_other_threads_stops_them(crane, monkeypatch):
+    """This thread's slice done, it waits for the other thread's: Ctrl-C there stops that one at
+    its next chunk, and predict_many raises only once it has stopped (it writes into the output
+    through raw pointers). A Thread.join() interrupted by Ctrl-C returned at once and left it
+    running, chunk after chunk."""
+    import signal
+    import threading
+    import time
+
+    main = threading.main_thread()
+    worker_chunks = []
+    running = []
+    real = _core._run_chunk
+
+    def chunk(*args):
+        if threading.current_thread() is main:
+            return real(*args)
+        running.append(1)
+        worker_chunks.append(args[1])
+        if len(worker_chunks) == 1:
+            time.sleep(0.2)  # let this thread finish its slice and wait
+            signal.pthread_kill(main.ident, signal.SIGINT)  # a real signal: it wakes a blocked wait
+        time.sleep(0.05)
+        status = real(*args)
+        running.pop()
+        return status
+
+    monkeypatch.setattr(_core, "CHUNK_STEPS", 500)  # 2 futures of 250 steps per chunk
+    monkeypatch.setattr(_core, "_run_chunk", chunk)
+    with pytest.raises(KeyboardInterrupt):
+        cp.predict_many(crane, [STATE] * 80, [INPUTS] * 80, 0.5, threads=2)
+        for _ in range(10 ** 6):
+            pass
+    assert not running, "predict_many raised while the other thread was inside a chunk"
+    chunks = len(worker_chunks)
+    time.sleep(0.3)  # a worker left running would go on: 6 chunks in this time
+    assert len(worker_chunks) == chunks and 1 <= chunks <= 3, worker_chunks  # of its 20

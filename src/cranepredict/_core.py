@@ -281,33 +281,45 @@ def predict_many(crane: "Crane", states: Sequence["State"], inputs: Sequence["In
     bounds = [f * i // threads for i in range(threads + 1)]
     errors: list = []  # (status, index of the failed future, or f for a shared argument)
     stop = threading.Event()
+    done = [threading.Event() for _ in range(threads)]
 
     def run(i: int) -> None:
-        failed = ffi.new("size_t *")
-        for lo in range(bounds[i], bounds[i + 1], per_call):
-            if stop.is_set():
-                return
-            hi = min(bounds[i + 1], lo + per_call)
-            status = _run_chunk(prm, hi - lo, st + lo, inp + lo, horizon, dt, sample_every,
-                                base + lo * n, n, failed)
-            if status != lib.CRANE_OK:
-                k = int(failed[0])
-                errors.append((status, lo + k if k < hi - lo else f))
-                stop.set()
-                return
+        try:
+            failed = ffi.new("size_t *")
+            for lo in range(bounds[i], bounds[i + 1], per_call):
+                if stop.is_set():
+                    return
+                hi = min(bounds[i + 1], lo + per_call)
+                status = _run_chunk(prm, hi - lo, st + lo, inp + lo, horizon, dt, sample_every,
+                                    base + lo * n, n, failed)
+                if status != lib.CRANE_OK:
+                    k = int(failed[0])
+                    errors.append((status, lo + k if k < hi - lo else f))
+                    stop.set()
+                    return
+        finally:
+            done[i].set()
 
-    workers = [threading.Thread(target=run, args=(i,)) for i in range(1, threads)]
+    # The workers write into `out` through raw pointers: this call must not return or raise before
+    # they have finished. Their own events are waited for, not Thread.join(): a join interrupted by
+    # Ctrl-C marks a running thread as stopped (bpo-45274's clean-up) and then returns at once.
+    started = []
     try:
-        for w in workers:
-            w.start()
+        for i in range(1, threads):
+            threading.Thread(target=run, args=(i,)).start()
+            started.append(i)
         run(0)
-    except BaseException:  # Ctrl-C in this thread: the other slices stop at their next chunk
+        for i in started:
+            done[i].wait()
+    except BaseException:  # Ctrl-C here (running or waiting): the others stop at their next chunk
         stop.set()
+        for i in started:
+            while not done[i].is_set():
+                try:
+                    done[i].wait()
+                except KeyboardInterrupt:  # a second Ctrl-C: the first is raised once they stop
+                    pass
         raise
-    finally:
-        for w in workers:
-            if w.ident is not None:
-                w.join()
     for status, k in sorted(errors, key=lambda e: e[1]):
         _ensure_many(status, k, f)
     return out
