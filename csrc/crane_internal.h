@@ -145,11 +145,14 @@ crane_real crane__cylinder_force(const crane_model *m, int joint, crane_real p_a
 
 /* ---- model.c ---- */
 
-crane_status crane__check_params(const crane_params *p);
+/* The field rules of crane_params_check (not the kinematic ones); *field names the first broken. */
+crane_status crane__check_params(const crane_params *p, crane_field *field);
 
 /* crane_model_init without its NULL checks, deriving straight into *m (which is left partly
- * written on an error): for callers that own a scratch model, like crane_predict. */
-crane_status crane__model_derive(crane_model *m, const crane_params *params, crane_real extension);
+ * written on an error): for callers that own a scratch model, like crane_predict. On an error
+ * *field is the crane field at fault (CRANE_FIELD_NONE for the extension, which is not one). */
+crane_status crane__model_derive(crane_model *m, const crane_params *params, crane_real extension,
+                                 crane_field *field);
 
 /* ---- integrator.c ---- */
 
