@@ -27,3 +27,23 @@ def test_staleness_check_can_fail():
     assert not golden.same(text, text.replace("CRANE_R(17500000.0)", "CRANE_R(17600000.0)", 1))
     assert not golden.same(text, text.replace("CRANE_DRIVE_HOLD", "CRANE_DRIVE_PRESSURE", 1))
     assert golden.same("x = 0.1;", "x = 0.10000000000000002;")
+
+
+def test_a_scenario_with_a_drive_the_generator_cannot_write_is_listed_not_dropped(monkeypatch):
+    import dataclasses
+
+    import cranepredict as cp
+
+    class Valve:  # a drive type the generator does not know
+        held = False
+
+    sc = cp.scenarios.get("load-0")
+    odd = dataclasses.replace(sc, name="valve-x", inputs=object.__new__(cp.Inputs))
+    object.__setattr__(odd.inputs, "lift", Valve())
+    object.__setattr__(odd.inputs, "tilt", cp.Hold())
+    monkeypatch.setattr(golden.cp.scenarios, "all_scenarios", lambda: [sc, odd])
+    monkeypatch.setattr(golden.cp.scenarios, "names", lambda: ["load-0", "valve-x"])
+    assert [s.name for s in golden.written()] == ["load-0"]
+    text = golden.scenarios_header()
+    assert "Left out (drive types this generator does not write yet): valve-x" in text
+    assert "CRANE_SCENARIO_LOAD_0_STATE" in text and "VALVE_X" not in text
