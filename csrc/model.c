@@ -73,8 +73,8 @@ static void cylinder_rules(verdict *v, int i, const crane_cylinder *c)
          f->viscous >= 0, CRANE_E_FRICTION);
     rule(v, cylinder_field(i, CRANE_FIELD_LIFT_CYLINDER_FRICTION_STRIBECK_VELOCITY),
          f->stribeck_velocity, f->stribeck_velocity > 0, CRANE_E_FRICTION);
-    rule(v, cylinder_field(i, CRANE_FIELD_LIFT_CYLINDER_FRICTION_FACTOR), f->factor, f->factor >= 0,
-         CRANE_E_FRICTION);
+    rule(v, cylinder_field(i, CRANE_FIELD_LIFT_CYLINDER_FRICTION_FACTOR), f->factor,
+         f->factor >= 0, CRANE_E_FRICTION);
 }
 
 crane_status crane__check_params(const crane_params *p, crane_field *field)

@@ -118,7 +118,13 @@ class Crane:
     @classmethod
     def from_toml(cls, path: Union[str, Path]) -> "Crane":
         """Loads a crane file. Raises ValueError/TypeError naming the field at fault."""
-        return cls.from_toml_string(Path(path).read_text("utf-8"))
+        try:
+            text = Path(path).read_text("utf-8")
+        except UnicodeDecodeError as exc:
+            bad = exc.object[exc.start:exc.start + 1]
+            raise ValueError(f"crane file {str(path)!r} is not UTF-8 text (TOML must be): at byte "
+                             f"offset {exc.start}, {bad!r}") from None
+        return cls.from_toml_string(text)
 
     @classmethod
     def from_toml_string(cls, text: str) -> "Crane":
@@ -150,8 +156,11 @@ class Crane:
 # -- loading ----------------------------------------------------------------------------------
 
 def _vec2(value: Any, name: str) -> Vec2:
-    if isinstance(value, (str, bytes)) or not hasattr(value, "__len__") or len(value) != 2:
-        raise TypeError(f"{name} must be a pair [x, y] of numbers, got {value!r}")
+    # A table ({x = 1.0, y = 0.0}) has a length of 2 too, but no value[0].
+    if isinstance(value, (str, bytes, Mapping)) or not hasattr(value, "__len__") or len(value) != 2:
+        table = " (a table)" if isinstance(value, Mapping) else ""
+        raise TypeError(f"{name} must be a pair [x, y] of numbers, as in `{name.rsplit('.', 1)[-1]} "
+                        f"= [0.5, 0.1]`, got {value!r}{table}")
     return (_number(value[0], f"{name}[0]"), _number(value[1], f"{name}[1]"))
 
 

@@ -589,6 +589,13 @@ def predict_reference(crane: Crane, initial: State, inputs: Inputs, horizon: flo
 
 # -- comparison with the fast model --------------------------------------------------------------
 
+#: The fast model's targets against this reference (docs/validation.md), used by ``cranepredict
+#: validate`` and the tests: per scenario a tip error of at most 20 mm (max) and 10 mm (RMS), and
+#: the fast model at least 100 times faster.
+TARGET_MAX_MM = 20.0
+TARGET_RMS_MM = 10.0
+TARGET_SPEED_RATIO = 100.0
+
 def compare(scenario, *, dt_ref: float = DEFAULT_REFERENCE_DT, dt_fast: Optional[float] = None,
             repeat_fast: int = 21) -> dict:
     """Runs a scenario on the fast model (C) and on the reference; the tip error (m) is measured at

@@ -10,7 +10,6 @@ from __future__ import annotations
 
 from typing import Optional
 
-from . import _core
 from ._checks import number as _number
 from .crane import Crane
 from .types import PRESSURE_MAX, State
@@ -30,6 +29,8 @@ def holding_pressure(crane: Crane, state: State, joint: str = "lift", *,
     only a rod-side pressure holds). Raises ValueError naming the field if the state is not at
     rest or outside the crane's ranges, or if no pressure in [0, PRESSURE_MAX] holds the boom.
     """
+    from . import _core  # the compiled core; imported here so the twin imports without it
+
     if not isinstance(crane, Crane):
         raise TypeError(f"crane must be a cranepredict.Crane, got {type(crane).__name__}")
     if not isinstance(state, State):
