@@ -133,13 +133,14 @@ static void spin(uint32_t n)
     __asm__ volatile("1: subs %0, %0, #1\n\tbne 1b" : "+r"(n)::"cc");
 }
 
-static void print2(const char *a, const char *b, unsigned long v)
+/* One output line: "KEY NAME VALUE" (or "KEY VALUE" when name is NULL). */
+static void report(const char *key, const char *name, unsigned long v)
 {
-    char *p = board_put_str(line, a);
+    char *p = board_put_str(line, key);
 
-    if (b != NULL) {
+    if (name != NULL) {
         p = board_put_str(p, " ");
-        p = board_put_str(p, b);
+        p = board_put_str(p, name);
     }
     p = board_put_str(p, " ");
     p = board_put_u32(p, v);
@@ -147,12 +148,17 @@ static void print2(const char *a, const char *b, unsigned long v)
     semihost_write(line);
 }
 
+/* A call that did not do what it should: "error WHAT VALUE", and the exit status becomes 1. */
+static void fail(const char *what, unsigned long value)
+{
+    report("error", what, value);
+    ++failures;
+}
+
 static void expect(crane_status st, crane_status want, const char *what)
 {
-    if (st != want) {
-        print2("error", what, (unsigned long)st);
-        ++failures;
-    }
+    if (st != want)
+        fail(what, (unsigned long)st);
 }
 
 /* Runs CALL with the stack painted below this function's frame; prints the depth and the timer
@@ -165,8 +171,8 @@ static void expect(crane_status st, crane_status want, const char *what)
         t0_ = clock_now();                                                                         \
         call;                                                                                      \
         t1_ = clock_now();                                                                         \
-        print2("stack", (name), (unsigned long)stack_used(sp0_));                                  \
-        print2("ticks", (name), (unsigned long)(t1_ - t0_));                                       \
+        report("stack", (name), (unsigned long)stack_used(sp0_));                                  \
+        report("ticks", (name), (unsigned long)(t1_ - t0_));                                       \
     } while (0)
 
 static void run_scenario(const board_scenario *sc)
@@ -175,13 +181,13 @@ static void run_scenario(const board_scenario *sc)
     size_t n = 0, count = 0, k;
 
     expect(crane_sample_count(sc->horizon, sc->dt, &count), CRANE_OK, "crane_sample_count");
-    print2("scenario", sc->name, (unsigned long)count);
+    report("scenario", sc->name, (unsigned long)count);
     MEASURED("crane_predict", st = crane_predict(&crane, &sc->state0, &sc->inputs, sc->horizon,
                                                  sc->dt, out, CAPACITY, &n));
     expect(st, CRANE_OK, sc->name);
     if (n != count)
-        expect(CRANE_E_CAPACITY, CRANE_OK, "sample count");
-    print2("samples", sc->name, (unsigned long)n);
+        fail("sample_count", (unsigned long)n);
+    report("samples", sc->name, (unsigned long)n);
     for (k = 0; k < n; ++k) {
         board_format_sample(line, sc->name, k, &out[k]);
         semihost_write(line);
@@ -218,7 +224,7 @@ static void run_entry_points(const board_scenario *sc)
     expect(st, CRANE_OK, "crane_predict_model");
     (void)crane_predict(&crane, &sc->state0, &sc->inputs, sc->horizon, sc->dt, out, CAPACITY, &n);
     if (memcmp(out, out2, n * sizeof out[0]) != 0)
-        expect(CRANE_E_SAMPLES, CRANE_OK, "crane_predict_model differs from crane_predict");
+        fail("crane_predict_model_differs_from_crane_predict", (unsigned long)n);
     states[0] = states[1] = sc->state0;
     states[1].stroke[CRANE_LIFT] = (crane_real)0.2;
     inputs[0] = inputs[1] = sc->inputs;
@@ -242,7 +248,7 @@ static void run_entry_points(const board_scenario *sc)
     expect(st, CRANE_OK, "crane_cylinder_force");
     MEASURED("crane_status_message", msg = crane_status_message(CRANE_E_DIVERGED));
     if (msg == NULL || msg[0] == '\0')
-        expect(CRANE_E_NULL, CRANE_OK, "crane_status_message");
+        fail("crane_status_message", 0);
 }
 
 int main(void)
@@ -256,15 +262,16 @@ int main(void)
     t0 = clock_now();
     spin(CALIBRATION_LOOPS);
     t1 = clock_now();
-    print2("calibration", NULL, (unsigned long)CALIBRATION_LOOPS);
-    print2("calibration_ticks", NULL, (unsigned long)(t1 - t0));
-    print2("stack_region", NULL, (unsigned long)(stack_pointer() - (uint32_t)(uintptr_t)__stack_limit));
+    report("calibration", NULL, (unsigned long)CALIBRATION_LOOPS);
+    report("calibration_ticks", NULL, (unsigned long)(t1 - t0));
+    report("stack_region", NULL,
+           (unsigned long)(stack_pointer() - (uint32_t)(uintptr_t)__stack_limit));
 
     sc = board_scenarios(&n_sc);
     for (k = 0; k < n_sc; ++k)
         run_scenario(&sc[k]);
     run_entry_points(&sc[0]);
-    print2("failures", NULL, (unsigned long)failures);
+    report("failures", NULL, (unsigned long)failures);
     return failures == 0 ? 0 : 1;
 }
 
