@@ -177,7 +177,8 @@ def main(argv=None):
             check("stack painting self-test", 256 <= used <= 256 + 32,
                   f"a function with a 256-byte local array measured {used}")
         elif entry in static:
-            check(f"stack {k}", used <= static[entry], f"measured {used} <= static {static[entry]}")
+            check(f"stack {k}", used <= static[entry],
+                  f"measured {used}, static worst case {static[entry]}")
         elif entry in NO_STATIC_YET:
             print(f"note  stack {k}: measured {used} (tools/footprint.py has no figure for it)")
         else:
