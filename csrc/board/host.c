@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
  * The board program's host twin: the same scenarios (scenarios.c), the same calls and the same
  * output lines for the samples, built for the host in float against the host's float library

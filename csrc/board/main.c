@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
  * The cranepredict core on a Cortex-M4F without an OS (Arm MPS2 AN386, as QEMU's mps2-an386
  * models it). The crane is compiled in from the generated header crane_patu655.h (const: in

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
  * The board's scenarios (scenarios.h). The paper's Figure 4 (src/cranepredict/scenarios/
  * paper-fig4.toml: lift at 175e5 Pa bore side, 0 rod side, tilt held, lift stroke 0.116 m, tilt

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
  * The scenarios the board runs, shared by the board program (main.c) and its host twin (host.c)
  * so that both run exactly the same calls, and the one output format both print.

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
  * Arm semihosting calls (Arm "Semihosting for AArch32 and AArch64", version 2): the operation in
  * r0, its argument in r1, then BKPT 0xAB on M-profile cores. Without a debugger or an emulator

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
  * Arm semihosting: the board's only output channel (QEMU: -semihosting-config enable=on; on a
  * real board a debug probe with semihosting enabled, or replace these two functions with a UART).

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
  * Startup for a Cortex-M4F without an OS: the vector table, the reset handler (FPU on, .data
  * copied from flash, .bss zeroed, then main) and a fault handler that reports over semihosting.
