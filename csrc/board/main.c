@@ -208,10 +208,18 @@ static void run_entry_points(const board_scenario *sc)
     crane_real tau[2], th = 0, ds = 0, stroke = 0, force = 0;
     size_t n = 0, count = 0, failed = 0;
     const char *msg = NULL;
+    crane_field field = CRANE_FIELD_NONE;
     crane_status st = CRANE_OK;
 
     semihost_write("entry_points\n");
     MEASURED("probe_256", (void)stack_probe());
+    MEASURED("crane_params_check", st = crane_params_check(&crane, &field));
+    expect(st, CRANE_OK, "crane_params_check");
+    if (field != CRANE_FIELD_NONE)
+        fail("crane_params_check_field", (unsigned long)field);
+    MEASURED("crane_field_rule", msg = crane_field_rule(CRANE_FIELD_GRAVITY));
+    if (msg == NULL || msg[0] == '\0')
+        fail("crane_field_rule", 0);
     MEASURED("crane_model_init", st = crane_model_init(&model, &crane, sc->state0.extension));
     expect(st, CRANE_OK, "crane_model_init");
     MEASURED("crane_sample_count", st = crane_sample_count(sc->horizon, sc->dt, &count));
