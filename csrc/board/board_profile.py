@@ -51,10 +51,12 @@ class FlashAccelerator:
         self.spent = 0       # cycles spent in the current line so far
         self.stall = 0
         self.misses = 0
+        self.seen = set()    # every line executed: the code's working set
 
     def execute(self, addr, cycles):
         line = addr >> 4
         if line != self.line:
+            self.seen.add(line)
             if line in self.cache:
                 self.cache.move_to_end(line)
             else:
@@ -231,7 +233,8 @@ def main(argv=None):
           f"(CPI {hi / total:.3f}; {FLASH_WAIT} flash wait states on every taken branch)")
     est = lo + art.stall
     print(f"with a model of the STM32F4 flash accelerator: {est:,} cycles (CPI {est / total:.3f}; "
-          f"{art.misses:,} instruction cache misses, {art.stall:,} stall cycles)")
+          f"{art.misses:,} instruction cache misses, {art.stall:,} stall cycles; the code executed "
+          f"spans {len(art.seen):,} lines = {16 * len(art.seen):,} bytes)")
     print(f"cpi_range {lo / total:.4f} {hi / total:.4f}")
     print(f"cpi_art {est / total:.4f}")
     print(f"profile_instructions {total}")
