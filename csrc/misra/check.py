@@ -42,6 +42,8 @@ def deviations(path):
 def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     ap.add_argument("--deviations", default=os.path.join(HERE, "deviations.txt"))
+    ap.add_argument("--table", action="store_true",
+                    help="also print the deviations as docs/embedding.md's Markdown table")
     a = ap.parse_args(argv)
     sources = sorted(glob.glob(os.path.join(CSRC, "*.c")))
     cmd = ["cppcheck", "--addon=misra", "--std=c99", "--error-exitcode=0", "-q",
@@ -82,6 +84,11 @@ def main(argv=None):
             status = "NEW VIOLATION"
             problems.append(f"rule {rule} (not deviated): {', '.join(by_rule[rule])}")
         print(f"  {rule:<7}{category:<10}{n:>6}  {status}")
+    if a.table:
+        print("\n| rule | category | count | reason |\n|---|---|---|---|")
+        for rule in sorted(dev, key=key):
+            reason = re.sub(r"(\|\|)", r"`\\|\\|`", dev[rule][1])
+            print(f"| {rule} | {dev[rule][0]} | {len(by_rule.get(rule, []))} | {reason} |")
     for p in problems:
         print("FAIL  " + p)
     print(f"misra: {sum(len(v) for v in by_rule.values())} violations of {len(by_rule)} rules, "
