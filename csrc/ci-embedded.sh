@@ -5,7 +5,8 @@
 #   bash csrc/ci-embedded.sh
 #
 # 1. installs the Debian packages it needs (SKIP_APT=1 to skip: then they must be there);
-# 2. checks the generated crane header against the crane file (python3 >= 3.11);
+# 2. checks the generated crane header against the crane file, and the board's scenarios against
+#    the scenario files (python3 >= 3.11 with the cranepredict package);
 # 3. builds and tests with gcc and clang, double and float, warnings as errors;
 # 4. the footprint on a Cortex-M4F (float, -Os) against the budget (FOOTPRINT_ENFORCE=0: report only);
 #    the core on an emulated Cortex-M4F board (csrc/board, QEMU mps2-an386, no OS): its samples vs
@@ -68,8 +69,9 @@ if [ "${SKIP_APT:-0}" != 1 ]; then
     echo "packages installed ($(( $(date +%s) - t )) s)"
 fi
 
-# ---- 2. the crane header ----
+# ---- 2. the crane header (and the board's scenarios, generated the same way) ----
 step crane-header make check-header
+step board-scenarios python3 board/scenarios2header.py --check
 
 # ---- 3. host builds: gcc and clang, double and float, -Werror ----
 for cc in gcc clang; do

@@ -1,30 +1,27 @@
 /* SPDX-License-Identifier: MIT */
 /*
- * The board's scenarios (scenarios.h). The paper's Figure 4 (src/cranepredict/scenarios/
- * paper-fig4.toml: lift at 175e5 Pa bore side, 0 rod side, tilt held, lift stroke 0.116 m, tilt
- * stroke 0.20 m, at rest, 2 s; the 200 kg load is the crane header's) at the Python API's default
- * step of 2 ms and at the C example's 1 ms.
+ * The board's scenarios (scenarios.h), generated from the scenario files into board_scenarios.h
+ * (scenarios2header.py): the paper's Figure 4 (paper-fig4.toml) at the Python API's default step
+ * of 2 ms and at the C example's 1 ms.
  */
 #include <string.h>
 #include "scenarios.h"
+#include "board_scenarios.h"
+#include "crane_patu655.h"
 
-#define R(x) ((crane_real)(x))
-
-static const board_scenario scenarios[] = {
-    {"paper-dt2ms", R(2.0), R(2e-3),
-     {.stroke = {R(0.116), R(0.20)}},
-     {.drive = {{.mode = CRANE_DRIVE_PRESSURE, .p_a = R(175e5), .p_b = R(0.0)},
-                {.mode = CRANE_DRIVE_HOLD}}}},
-    {"paper-dt1ms", R(2.0), R(1e-3),
-     {.stroke = {R(0.116), R(0.20)}},
-     {.drive = {{.mode = CRANE_DRIVE_PRESSURE, .p_a = R(175e5), .p_b = R(0.0)},
-                {.mode = CRANE_DRIVE_HOLD}}}},
-};
+static const board_scenario scenarios[] = BOARD_SCENARIOS_INIT;
+static const crane_params crane = CRANE_PATU655_INIT;
 
 const board_scenario *board_scenarios(size_t *count)
 {
     *count = sizeof scenarios / sizeof scenarios[0];
     return scenarios;
+}
+
+void board_crane(const board_scenario *sc, crane_params *params)
+{
+    *params = crane;
+    params->load_mass = sc->load_mass;
 }
 
 char *board_put_str(char *p, const char *s)
