@@ -9,10 +9,10 @@
     bit equal and where the largest difference is;
   * instructions: the board's timer ticks under QEMU's -icount shift=0, turned into instructions
     with the board's own calibration loop (which must show 40 instructions per tick, i.e. icount
-    on and the 25 MHz timer clock), per entry point; for the paper scenario at the default step,
-    the time on a 168 MHz Cortex-M4F over the cycles-per-instruction range of --profile
-    (board_profile.py; without it the range is not known and only instructions are printed) and
-    the faster-than-real-time ratio, and the estimate of board_profile.py's flash accelerator model;
+    on and the 25 MHz timer clock), per entry point, checked against the count of --profile
+    (board_profile.py, QEMU's execution log); for every scenario, the time on a 168 MHz
+    Cortex-M4F and the faster-than-real-time ratio with the cycles per instruction of that
+    profile (low, flash accelerator model, high; without --profile only instructions);
   * stack: the depth measured by painting for every entry point the board called, next to the
     static worst case of tools/footprint.py (--footprint: its output; else it is run on
     csrc/build-m4); measured > static fails, and so does an entry point without a static figure
