@@ -98,9 +98,27 @@ def nregs(ops):
     return n
 
 
+# Mnemonics whose last two letters are not a condition although they look like one (shorter
+# ones, such as movs or lsls, are told apart by their length in base_mnemonic).
+NOT_CONDITIONAL = {"vmls", "vnmls", "teq"}
+CONDITIONS = set(COND.strip("()?").split("|"))
+
+
+def base_mnemonic(mnem):
+    """The mnemonic without its width qualifier and, inside an IT block, its condition (QEMU's
+    disassembler prints e.g. vldrgt, bleq, popgt)."""
+    m = mnem.split(".")[0]
+    if m in NOT_CONDITIONAL or re.fullmatch(r"b" + COND, m):
+        return m
+    base = m[:-2]
+    if m[-2:] in CONDITIONS and (len(base) >= 3 or base in ("bl", "bx")):
+        return base
+    return m
+
+
 def classify(mnem, ops):
     """(class, low cycles, high cycles, is_branch) of one instruction, without refill/wait."""
-    m = mnem.split(".")[0]
+    m = base_mnemonic(mnem)
     if re.fullmatch(r"b" + COND, m) or m in ("bl", "blx", "bx", "cbz", "cbnz", "tbb", "tbh"):
         return "branch", 1, 1, True
     if m in ("pop", "ldm", "ldmia", "ldmfd") and "pc" in ops:
