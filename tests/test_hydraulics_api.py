@@ -118,3 +118,51 @@ def test_lever_open_extends_and_trajectory_carries_the_circuit(crane):
     tp = cp.predict(crane, cp.State(0.116, 0.32), cp.Inputs(lift=cp.Pressure(175e5, 0), tilt=cp.Hold()),
                     0.1)
     assert np.all(tp.p_a[:, 0] == 175e5) and np.all(tp.p_a[:, 1] == 0)
+
+
+def test_the_core_refuses_bad_valve_drives_itself(crane):
+    """The C core checks a valve drive again (the Python layer checks it first): a lever outside
+    [-1, 1], a drive on a cylinder without a circuit, a chamber pressure out of range or NaN."""
+    from cranepredict import _core
+    from cranepredict._cranepredict import ffi, lib
+
+    def run(mutate):
+        prm = ffi.new("crane_params *")
+        prm[0] = _core.params(crane)[0]
+        st = ffi.new("crane_state *")
+        st.stroke = (0.2, 0.3)
+        st.p_a = (50e5, 1e5)
+        st.p_b = (1e5, 20e5)
+        inp = ffi.new("crane_inputs *")
+        for d in inp.drive:
+            d.mode = lib.CRANE_DRIVE_VALVE
+            d.u = 0.5
+        mutate(prm, st, inp)
+        out = ffi.new("crane_sample[]", 11)
+        n = ffi.new("size_t *")
+        return lib.crane_predict(prm, st, inp, 0.01, 1e-3, out, 11, n)
+
+    def nothing(prm, st, inp):
+        pass
+
+    def lever(prm, st, inp):
+        inp.drive[1].u = 1.5
+
+    def no_circuit(prm, st, inp):
+        prm.cylinder[0].hydraulics.valve = lib.CRANE_VALVE_NONE
+
+    def pressure(prm, st, inp):
+        st.p_b = (1e5, -2e5)
+
+    def nan(prm, st, inp):
+        st.spool = (float("nan"), 0.0)
+
+    def circuit(prm, st, inp):
+        prm.cylinder[1].hydraulics.laminar_pressure_drop = 0.0
+
+    assert run(nothing) == lib.CRANE_OK
+    assert run(lever) == lib.CRANE_E_VALVE
+    assert run(no_circuit) == lib.CRANE_E_VALVE
+    assert run(pressure) == lib.CRANE_E_VALVE
+    assert run(nan) == lib.CRANE_E_NONFINITE
+    assert run(circuit) == lib.CRANE_E_HYDRAULICS
