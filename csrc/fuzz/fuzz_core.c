@@ -38,7 +38,7 @@
 #include "crane_patu655.h"
 #include "crane_scenarios.h"
 
-#define CRANE_STATUS_LAST CRANE_E_BATCH
+#define CRANE_STATUS_LAST CRANE_E_VALVE
 #define MAX_SAMPLES 16   /* pressure samples per cylinder */
 #define MAX_CAPACITY 600 /* output samples (bounds the work per input) */
 #define MAX_POSES 4      /* crane_points poses */
