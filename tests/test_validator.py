@@ -144,3 +144,14 @@ def test_crane2header_uses_the_core_validator(crane, tmp_path):
                        capture_output=True, text=True, timeout=60)
     assert r.returncode == 0, r.stdout + r.stderr
     assert ".side_link1.mass = CRANE_R(0.0)" in (tmp_path / "paper.h").read_text()
+
+
+def test_crane_model_is_opaque_to_the_binding(crane):
+    # Issue 8, item 9: the binding depended on crane_model's layout; now it knows only its size
+    # (from the compiled header), and the fields are the core's (documented in crane.h).
+    m = _core.model(crane, 0.0)
+    assert ffi.sizeof("crane_model") > 0  # known from the compiled header
+    with pytest.raises(AttributeError):
+        m.theta_min
+    assert lib.crane_joint_angle(m, lib.CRANE_LIFT, 0.1, ffi.new("crane_real *"),
+                                 ffi.new("crane_real *")) == lib.CRANE_OK
