@@ -53,8 +53,9 @@ def step_count(horizon: float, dt: float) -> int:
     MAX_STEPS when it is above the limit. horizon and dt are finite, > 0, dt <= horizon."""
     q = horizon / dt - 1e-9
     if not q <= MAX_STEPS:  # also catches horizon/dt overflowing to inf
+        steps = f"{math.ceil(q):,}" if q < 1e18 else f"{q:.3g}"
         raise ValueError(f"horizon / dt must be at most {MAX_STEPS:,} steps (cranepredict.MAX_STEPS), "
-                         f"got horizon {horizon:g} s / dt {dt:g} s = {q:.4g} steps: shorten the "
+                         f"got horizon {horizon:g} s / dt {dt:g} s = {steps} steps: shorten the "
                          "horizon or take a larger dt")
     return max(1, math.ceil(q))
 
