@@ -60,9 +60,11 @@ enum { CRANE_N_POINTS = 11 };
 enum { CRANE_PRESSURE_MAX = 100000000 };   /* Pa (1000 bar): the largest pressure accepted */
 
 /* Bounded work and memory: checked before anything runs or is written (CRANE_E_STEPS,
- * CRANE_E_SAMPLE_COUNT, CRANE_E_BATCH), so that no accepted call runs for more than seconds.
+ * CRANE_E_SAMPLE_COUNT, CRANE_E_BATCH), so that no accepted call runs for more than seconds
+ * (measured on the project's shared 2-core CI machine, both cylinders driven: 1.0 s for one
+ * prediction of CRANE_MAX_STEPS, 0.5 us a step; a PC core is about twice as fast).
  *   CRANE_MAX_STEPS: RK4 steps per prediction (one future), n = ceil(horizon/dt - 1e-9): 2^20,
- *     17 min of crane time at dt = 1 ms, about 0.3 s of one core of a 2020s PC (0.25 us a step).
+ *     17 min of crane time at dt = 1 ms.
  *     Why 2^20: the step times are t_k = k dt in every build (never accumulated), and in the float
  *     build horizon/dt is uncertain by about 4 eps n steps (both operands rounded to 24 bits; the
  *     step count allows for it): up to 2^20 steps that stays under a quarter step, so the last
@@ -70,9 +72,9 @@ enum { CRANE_PRESSURE_MAX = 100000000 };   /* Pa (1000 bar): the largest pressur
  *     stay strictly increasing.
  *   CRANE_MAX_SAMPLES: samples written by one call (all futures of crane_predict_many): 2^23,
  *     0.74 GB of crane_sample in double; a single prediction (n + 1 <= 2^20 + 1) never reaches it.
- *   CRANE_MAX_BATCH_STEPS: steps of one crane_predict_many call, n_futures x n: 2^25, about 8 s of
- *     one core; split larger batches into several calls (they may run on several threads). */
-enum { CRANE_MAX_STEPS = 1048576, CRANE_MAX_SAMPLES = 8388608, CRANE_MAX_BATCH_STEPS = 33554432 };
+ *   CRANE_MAX_BATCH_STEPS: steps of one crane_predict_many call, n_futures x n: 2^23, about 4 s;
+ *     split larger batches into several calls (they may run on several threads). */
+enum { CRANE_MAX_STEPS = 1048576, CRANE_MAX_SAMPLES = 8388608, CRANE_MAX_BATCH_STEPS = 8388608 };
 
 typedef struct {
     crane_real x, y;
