@@ -3,6 +3,7 @@
  * the lumped outer boom", "End stops"), and the status messages.
  */
 #include "crane_internal.h"
+#include "guard_internal.h"
 
 enum { FOURBAR_POINTS = 101 };
 
@@ -282,5 +283,5 @@ const char *crane_status_message(crane_status status)
     case CRANE_E_SAMPLE_EVERY: return "sample_every must be >= 1";
     case CRANE_E_DIVERGED: return "the prediction diverged (the state stopped being finite): the parameters are not physical";
     }
-    return "unknown status";
+    return crane__guard_status_message(status);
 }
