@@ -9,8 +9,13 @@ from .crane import Body, Crane, Cylinder, Friction, Geometry
 from .types import (POINT_NAMES, Hold, Inputs, Pressure, PressureSeries, State, Trajectory,
                     TrajectoryBatch)
 from . import scenarios
+from .guard import Contact, StopAnalysis, Verdict, guard, stop_inputs
+from .shape import Part, Shape
+from .world import Obstacle, World
+from . import worlds
 
 __all__ = ["predict", "predict_many", "TrajectoryBatch", "DEFAULT_DT", "BACKENDS", "Crane", "Body", "Cylinder", "Friction", "Geometry",
            "State", "Pressure", "PressureSeries", "Hold", "Inputs", "Trajectory", "POINT_NAMES",
-           "scenarios"]
+           "scenarios", "guard", "Verdict", "Contact", "StopAnalysis", "stop_inputs", "Shape", "Part",
+           "World", "Obstacle", "worlds"]
 __version__ = "0.1.0"

@@ -13,10 +13,11 @@ import math
 from dataclasses import dataclass, field
 from importlib import resources
 from pathlib import Path
-from typing import Any, Mapping, Tuple, Union
+from typing import Any, Mapping, Optional, Tuple, Union
 
 from ._checks import number as _number
 from ._checks import tomllib
+from .shape import Shape
 
 Vec2 = Tuple[float, float]
 
@@ -101,6 +102,8 @@ class Crane:
     lift_cylinder: Cylinder
     tilt_cylinder: Cylinder
     estimates: Tuple[str, ...] = field(default=())
+    #: The parts for the collision guard (the crane file's ``[shape]``; docs/guard.md), if given.
+    shape: Optional[Shape] = None
 
     def __post_init__(self) -> None:
         _check_crane(self)
@@ -170,7 +173,9 @@ def _build(cls: type, data: Mapping[str, Any], prefix: str) -> Any:
                 continue
             raise ValueError(f"{name} is missing from the crane file")
         value, hint = data[f.name], hints[f.name]
-        if dataclasses.is_dataclass(hint):
+        if hint == Optional[Shape]:
+            kwargs[f.name] = None if value is None else Shape.from_dict(value)
+        elif dataclasses.is_dataclass(hint):
             kwargs[f.name] = _build(hint, value, name + ".")
         elif hint is Vec2:
             kwargs[f.name] = _vec2(value, name)
@@ -243,8 +248,11 @@ def _check_crane(c: Crane) -> None:
 # -- writing ----------------------------------------------------------------------------------
 
 def _to_plain(obj: Any) -> Any:
+    if hasattr(obj, "to_plain"):
+        return obj.to_plain()
     if dataclasses.is_dataclass(obj):
-        return {f.name: _to_plain(getattr(obj, f.name)) for f in dataclasses.fields(obj)}
+        return {f.name: _to_plain(getattr(obj, f.name)) for f in dataclasses.fields(obj)
+                if getattr(obj, f.name) is not None}
     if isinstance(obj, tuple):
         return [_to_plain(v) for v in obj]
     return obj
