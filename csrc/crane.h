@@ -313,7 +313,7 @@ crane_status crane_part_solids(const crane_model *model, const crane_part *parts
  * given slew): per-part minimum clearance over the samples (part_clearance[n_parts]), the first
  * contact, between samples too (docs/guard.md, "Nothing is missed"), the stop analysis for a stop
  * that freezes the crane after config->reaction, and the signal. work is scratch of
- * n_parts * (n_obstacles + 3) reals (CRANE_E_CAPACITY if work_capacity is smaller). Nothing is
+ * n_parts * (n_obstacles + 5) reals (CRANE_E_CAPACITY if work_capacity is smaller). Nothing is
  * written on an error. */
 crane_status crane_guard(const crane_model *model, const crane_part *parts, size_t n_parts,
                          const crane_solid *obstacles, size_t n_obstacles, crane_real slew,

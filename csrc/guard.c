@@ -145,15 +145,21 @@ typedef struct {
     size_t evaluations;
 } scene;
 
+static crane_real solid_to_obstacle(scene *sc, const crane_solid *s, size_t j, crane__v3 *pa,
+                                    crane__v3 *pb)
+{
+    crane_real d = 0;
+    (void)crane__solid_distance(s, sc->obstacles + j, &d, pa, pb); /* pairs checked valid */
+    sc->evaluations++;
+    return d;
+}
+
 static crane_real pair_distance(scene *sc, size_t i, size_t j, const pose *p, crane__v3 *pa,
                                 crane__v3 *pb)
 {
     crane_solid s;
-    crane_real d = 0;
     part_solid(sc->m, sc->parts + i, p, sc->cpsi, sc->spsi, &s);
-    (void)crane__solid_distance(&s, sc->obstacles + j, &d, pa, pb); /* pairs checked valid */
-    sc->evaluations++;
-    return d;
+    return solid_to_obstacle(sc, &s, j, pa, pb);
 }
 
 static void pose_between(const crane_model *m, const crane_sample *s0, const crane_sample *s1,
@@ -355,7 +361,7 @@ crane_status crane_guard(const crane_model *model, const crane_part *parts, size
                          crane_real *work, size_t work_capacity, crane_guard_result *result)
 {
     const size_t n_pairs = n_parts * n_obstacles;
-    crane_real *lower, *rates;
+    crane_real *key, *per;
     crane_real margin, hit_omega[2] = {0, 0};
     scene sc;
     pose prev, cur;
@@ -378,7 +384,7 @@ crane_status crane_guard(const crane_model *model, const crane_part *parts, size
     st = check_samples(model, samples, n_samples);
     if (st != CRANE_OK)
         return st;
-    if (n_parts && (n_obstacles > ((size_t)-1) / n_parts - 3 || work_capacity < n_pairs + 3 * n_parts))
+    if (n_parts && (n_obstacles > ((size_t)-1) / n_parts - 5 || work_capacity < n_pairs + 5 * n_parts))
         return CRANE_E_CAPACITY;
 
     sc.m = model;
@@ -386,10 +392,12 @@ crane_status crane_guard(const crane_model *model, const crane_part *parts, size
     sc.obstacles = obstacles;
     sc.evaluations = 0;
     crane__sincos(slew, &sc.spsi, &sc.cpsi);
-    lower = work;
-    rates = work + n_pairs;
+    key = work;
+    per = work + n_pairs; /* per part: its 3 motion rates, cumulative bound, smallest key */
     for (i = 0; i < n_parts; ++i) {
-        part_rates(model, parts + i, rates + 3 * i);
+        part_rates(model, parts + i, per + 5 * i);
+        per[5 * i + 3] = 0;
+        per[5 * i + 4] = (crane_real)INFINITY;
         part_clearance[i] = (crane_real)INFINITY;
     }
     result->signal = CRANE_GO;
@@ -406,12 +414,20 @@ crane_status crane_guard(const crane_model *model, const crane_part *parts, size
     result->stop_latest = 0;
     margin = config->margin;
 
+    /* Each pair keeps key = its clearance when last evaluated + the part's cumulative motion bound
+     * then, so its lower bound now is key - cum (cum: the part's bound summed from t = 0); a part
+     * whose smallest key keeps every pair above its threshold costs O(1) per step. */
     pose_at(model, samples[0].theta[0], samples[0].theta[1], &cur);
     for (i = 0; i < n_parts; ++i) {
+        crane_real *pp = per + 5 * i;
+        crane_solid ps;
+        part_solid(model, parts + i, &cur, sc.cpsi, sc.spsi, &ps);
         for (j = 0; j < n_obstacles; ++j) {
             crane__v3 pa, pb;
-            const crane_real d = pair_distance(&sc, i, j, &cur, &pa, &pb);
-            lower[i * n_obstacles + j] = d;
+            const crane_real d = solid_to_obstacle(&sc, &ps, j, &pa, &pb);
+            key[i * n_obstacles + j] = d;
+            if (d < pp[4])
+                pp[4] = d;
             if (d < part_clearance[i])
                 part_clearance[i] = d;
             if (d <= margin && (!result->contact || d < result->clearance)) {
@@ -426,20 +442,31 @@ crane_status crane_guard(const crane_model *model, const crane_part *parts, size
 
     for (k = 1; k < n_samples; ++k) {
         const crane_sample *s0 = samples + k - 1, *s1 = samples + k;
+        crane_real dth0, dth1, dphi;
         int found = 0;
         prev = cur;
         pose_at(model, s1->theta[0], s1->theta[1], &cur);
+        dth0 = crane__fabs(cur.th[0] - prev.th[0]);
+        dth1 = crane__fabs(cur.th[1] - prev.th[1]);
+        dphi = link_turn(model, &prev, &cur);
         for (i = 0; i < n_parts; ++i) {
-            const crane_real *kr = rates + 3 * i;
-            const crane_real step = motion_bound(kr, model, &prev, &cur);
+            crane_real *pp = per + 5 * i;
+            const crane_real floor_min = part_clearance[i] - config->clearance_tolerance;
+            crane_real least, min_key = (crane_real)INFINITY;
+            crane_solid ps; /* the part at this sample, posed when first needed */
+            int posed = 0;
+            pp[3] += pp[0] * dth0 + pp[1] * dth1 + pp[2] * dphi;
+            least = pp[4] - pp[3];
+            if ((!searching || least > margin) && least >= floor_min)
+                continue;
             for (j = 0; j < n_obstacles; ++j) {
-                crane_real *lb = lower + i * n_obstacles + j;
+                crane_real *kj = key + i * n_obstacles + j;
+                const crane_real lb = *kj - pp[3];
                 crane_real d;
                 crane__v3 pa, pb;
-                *lb -= step;
-                if (searching && *lb <= margin) {
+                if (searching && lb <= margin) {
                     crane_real t_hit;
-                    if (advance(&sc, i, j, kr, s0, s1, &prev, margin, config->time_tolerance,
+                    if (advance(&sc, i, j, pp, s0, s1, &prev, margin, config->time_tolerance,
                                 &t_hit, &d)) {
                         if (!found || t_hit < result->t) {
                             pose p;
@@ -452,17 +479,27 @@ crane_status crane_guard(const crane_model *model, const crane_part *parts, size
                             hit_omega[1] = s0->omega[1] + u * (s1->omega[1] - s0->omega[1]);
                             found = 1;
                         }
-                        d = pair_distance(&sc, i, j, &cur, &pa, &pb);
+                        if (!posed)
+                            part_solid(model, parts + i, &cur, sc.cpsi, sc.spsi, &ps);
+                        posed = 1;
+                        d = solid_to_obstacle(&sc, &ps, j, &pa, &pb);
                     }
-                } else if (*lb < part_clearance[i] - config->clearance_tolerance) {
-                    d = pair_distance(&sc, i, j, &cur, &pa, &pb);
-                } else {
-                    continue;
+                    *kj = d + pp[3];
+                    if (d < part_clearance[i])
+                        part_clearance[i] = d;
+                } else if (lb < floor_min) {
+                    if (!posed)
+                        part_solid(model, parts + i, &cur, sc.cpsi, sc.spsi, &ps);
+                    posed = 1;
+                    d = solid_to_obstacle(&sc, &ps, j, &pa, &pb);
+                    *kj = d + pp[3];
+                    if (d < part_clearance[i])
+                        part_clearance[i] = d;
                 }
-                *lb = d;
-                if (d < part_clearance[i])
-                    part_clearance[i] = d;
+                if (*kj < min_key)
+                    min_key = *kj;
             }
+            pp[4] = min_key;
         }
         if (found)
             searching = 0;

@@ -412,7 +412,7 @@ def _c_call(crane, world, work_capacity, solids=None):
 
 def test_c_guard_buffer_too_small_and_bad_obstacle_write_nothing(crane):
     world = cp.worlds.get("cab")
-    need = len(crane.shape.parts) * (len(world.obstacles) + 3)
+    need = len(crane.shape.parts) * (len(world.obstacles) + 5)
     status, clearance, res = _c_call(crane, world, need - 1)
     assert status == lib.CRANE_E_CAPACITY
     assert np.all(clearance == 77.0) and res.signal == 9 and res.t == 55.0

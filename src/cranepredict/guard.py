@@ -33,6 +33,9 @@ DEFAULT_REACTION = 0.2
 DEFAULT_CYCLE = 0.01
 DEFAULT_TIME_TOLERANCE = 1e-4        # s: the first contact is located this closely
 DEFAULT_CLEARANCE_TOLERANCE = 1e-3   # m: per-part minima may be this much too large
+#: Default spacing of the samples the guard judges, s: every round(GUARD_SPACING / dt)-th step of
+#: the prediction (which still integrates at dt). Between them the motion bound finds any contact.
+GUARD_SPACING = 0.01
 SIGNALS = ("GO", "WARN", "STOP")
 JOINTS = ("lift", "tilt")
 
@@ -254,7 +257,7 @@ def guard(crane: Crane, world: World, state: State, inputs: Inputs, horizon: flo
           cycle: float = DEFAULT_CYCLE, margin: Optional[float] = None,
           time_tolerance: float = DEFAULT_TIME_TOLERANCE,
           clearance_tolerance: float = DEFAULT_CLEARANCE_TOLERANCE,
-          shape: Optional[Shape] = None) -> Verdict:
+          sample_every: Optional[int] = None, shape: Optional[Shape] = None) -> Verdict:
     """Predicts the future under ``inputs`` and judges it against the world's obstacles.
 
     Returns a :class:`Verdict`: the minimum clearance of each part over the samples (m; at most
@@ -264,7 +267,10 @@ def guard(crane: Crane, world: World, state: State, inputs: Inputs, horizon: flo
     ``cycle``), STOP (stopping must begin now, or the clearance is already within the margin).
     The stop is :func:`stop_inputs`: for pressure-driven cylinders Hold, which stops instantly and
     so under-estimates the stopping distance (``Verdict.stop.note``). ``margin`` defaults to the
-    world's. Slew and extension stay as in ``state`` (as in :func:`predict`).
+    world's. Slew and extension stay as in ``state`` (as in :func:`predict`). The prediction
+    integrates at ``dt``; the guard judges every ``sample_every``-th step (default: about every
+    GUARD_SPACING = 10 ms), the per-part minima are over those samples, and contacts are found
+    between them too (docs/guard.md, "Nothing is missed"). ``Verdict.trajectory`` holds those samples.
     """
     shape = _shape(crane, shape)
     if not isinstance(world, World):
@@ -279,7 +285,12 @@ def guard(crane: Crane, world: World, state: State, inputs: Inputs, horizon: flo
         if not (math.isfinite(v) and (v >= low if closed else v > low)):
             raise ValueError(f"{name} must be {'>=' if closed else '>'} {low:g} and finite, got {v}")
         values[name] = v
-    traj = api.predict(crane, state, inputs, horizon, dt=dt)   # checks crane, state, inputs, horizon
+    dt = api.DEFAULT_DT if dt is None else dt
+    if sample_every is None:
+        step = _number(dt, "dt")
+        sample_every = max(1, int(round(GUARD_SPACING / step))) if step > 0 else 1
+    # checks crane, state, inputs, horizon, dt and sample_every, naming the field
+    traj = api.predict_many(crane, [state], [inputs], horizon, dt=dt, sample_every=sample_every)[0]
     stop = stop_inputs(inputs)
     if not all(isinstance(d, Hold) for d in (stop.lift, stop.tilt)):  # pragma: no cover
         raise NotImplementedError("the stop analysis handles stops by Hold (a frozen crane) only")
@@ -295,7 +306,7 @@ def guard(crane: Crane, world: World, state: State, inputs: Inputs, horizon: flo
     samples = np.zeros(len(traj.t), dtype=SAMPLE_DTYPE)
     samples["t"], samples["theta"], samples["omega"] = traj.t, traj.theta, traj.omega
     clearance = np.empty(n_parts)
-    work = np.empty(n_parts * (n_obs + 3))
+    work = np.empty(n_parts * (n_obs + 5))
     cfg = ffi.new("crane_guard_config *", {
         "margin": values["margin"], "reaction": values["reaction"], "cycle": values["cycle"],
         "time_tolerance": values["time_tolerance"],
