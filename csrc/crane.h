@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
  * cranepredict C core: faster-than-real-time prediction of a hydraulic crane's lift and
  * outer boom (2-DOF Newton-Euler, fixed-step RK4). The model is specified in docs/model.md.
@@ -44,7 +45,11 @@ typedef enum {
     CRANE_E_CAPACITY = 17,      /* output buffer smaller than the number of samples */
     CRANE_E_ANGLE = 18,         /* an angle outside the range reachable by the cylinder */
     CRANE_E_SAMPLE_EVERY = 19,  /* sample_every is 0 (or does not fit a long) */
-    CRANE_E_DIVERGED = 20       /* the state stopped being finite (absurd parameters, e.g. gravity) */
+    CRANE_E_DIVERGED = 20,      /* the state stopped being finite (absurd parameters, e.g. gravity) */
+    CRANE_E_FIELD = 21,         /* a crane parameter outside its range (crane_params_check names it) */
+    CRANE_E_OVERFLOW = 22,      /* a result is not finite: an argument too large for the formula */
+    CRANE_E_STEPS = 23,         /* horizon / dt asks for more than CRANE_MAX_STEPS steps */
+    CRANE_E_SAMPLE_COUNT = 24   /* more than CRANE_MAX_SAMPLES samples (horizon, dt, sample_every) */
 } crane_status;
 
 enum { CRANE_LIFT = 0, CRANE_TILT = 1 };
@@ -67,7 +72,7 @@ typedef struct {
     crane_real static_;            /* F_S >= F_C, N */
     crane_real viscous;            /* sigma, N s/m */
     crane_real stribeck_velocity;  /* v_S > 0, m/s */
-    crane_real tanh_velocity;      /* v_T > 0, m/s: smoothing of the sign at v = 0 */
+    crane_real factor;             /* k >= 0: multiplies F_C and F_S, not sigma ([S1]: 4 on the lift) */
 } crane_friction;
 
 typedef struct {
@@ -102,6 +107,67 @@ typedef struct {
     crane_body side_link1;           /* side link 1 frame (origin P1) */
     crane_body side_link2;           /* side link 2 frame (origin Q) */
 } crane_params;
+
+/* The crane file's fields, for crane_params_check to say which one breaks a rule. Each name is the
+ * crane file's dotted name in capitals with '.' -> '_' (cylinder i = lift_cylinder, tilt_cylinder;
+ * the Python layer maps the codes back to dotted names by that rule). A body's block is MASS, COM,
+ * IZZ, and the tilt cylinder's block mirrors the lift cylinder's, in the same order (model.c
+ * counts on both). To add a field: an enumerator here (in both cylinder blocks for a cylinder
+ * field), its check in model.c (crane__check_params) and its rule in crane_field_rule. */
+typedef enum {
+    CRANE_FIELD_NONE = 0,
+    CRANE_FIELD_GRAVITY,
+    CRANE_FIELD_LOAD_MASS,
+    CRANE_FIELD_GEOMETRY_LIFT_PIVOT,
+    CRANE_FIELD_GEOMETRY_LIFT_CYLINDER_BASE,
+    CRANE_FIELD_GEOMETRY_LIFT_CYLINDER_ROD,
+    CRANE_FIELD_GEOMETRY_TILT_CYLINDER_BASE,
+    CRANE_FIELD_GEOMETRY_LINK1_PIVOT,
+    CRANE_FIELD_GEOMETRY_TILT_PIVOT,
+    CRANE_FIELD_GEOMETRY_LINK_PIN,
+    CRANE_FIELD_GEOMETRY_LINK2_END,
+    CRANE_FIELD_GEOMETRY_LINK2_ATTACH,
+    CRANE_FIELD_GEOMETRY_EXTENSION_MOUNT,
+    CRANE_FIELD_GEOMETRY_TIP_DISTANCE,
+    CRANE_FIELD_GEOMETRY_EXTENSION_MIN,
+    CRANE_FIELD_GEOMETRY_EXTENSION_MAX,
+    CRANE_FIELD_LIFT_BOOM_MASS,
+    CRANE_FIELD_LIFT_BOOM_COM,
+    CRANE_FIELD_LIFT_BOOM_IZZ,
+    CRANE_FIELD_OUTER_BOOM_MASS,
+    CRANE_FIELD_OUTER_BOOM_COM,
+    CRANE_FIELD_OUTER_BOOM_IZZ,
+    CRANE_FIELD_EXTENSION_BOOM_MASS,
+    CRANE_FIELD_EXTENSION_BOOM_COM,
+    CRANE_FIELD_EXTENSION_BOOM_IZZ,
+    CRANE_FIELD_SIDE_LINK1_MASS,
+    CRANE_FIELD_SIDE_LINK1_COM,
+    CRANE_FIELD_SIDE_LINK1_IZZ,
+    CRANE_FIELD_SIDE_LINK2_MASS,
+    CRANE_FIELD_SIDE_LINK2_COM,
+    CRANE_FIELD_SIDE_LINK2_IZZ,
+    CRANE_FIELD_LIFT_CYLINDER_BORE,
+    CRANE_FIELD_LIFT_CYLINDER_ROD,
+    CRANE_FIELD_LIFT_CYLINDER_LENGTH_RETRACTED,
+    CRANE_FIELD_LIFT_CYLINDER_STROKE_MIN,
+    CRANE_FIELD_LIFT_CYLINDER_STROKE_MAX,
+    CRANE_FIELD_LIFT_CYLINDER_FRICTION_COULOMB,
+    CRANE_FIELD_LIFT_CYLINDER_FRICTION_STATIC,
+    CRANE_FIELD_LIFT_CYLINDER_FRICTION_VISCOUS,
+    CRANE_FIELD_LIFT_CYLINDER_FRICTION_STRIBECK_VELOCITY,
+    CRANE_FIELD_LIFT_CYLINDER_FRICTION_FACTOR,
+    CRANE_FIELD_TILT_CYLINDER_BORE,
+    CRANE_FIELD_TILT_CYLINDER_ROD,
+    CRANE_FIELD_TILT_CYLINDER_LENGTH_RETRACTED,
+    CRANE_FIELD_TILT_CYLINDER_STROKE_MIN,
+    CRANE_FIELD_TILT_CYLINDER_STROKE_MAX,
+    CRANE_FIELD_TILT_CYLINDER_FRICTION_COULOMB,
+    CRANE_FIELD_TILT_CYLINDER_FRICTION_STATIC,
+    CRANE_FIELD_TILT_CYLINDER_FRICTION_VISCOUS,
+    CRANE_FIELD_TILT_CYLINDER_FRICTION_STRIBECK_VELOCITY,
+    CRANE_FIELD_TILT_CYLINDER_FRICTION_FACTOR,
+    CRANE_FIELD_COUNT
+} crane_field;
 
 typedef struct {
     crane_real stroke[2];        /* m */
@@ -157,7 +223,20 @@ typedef struct {
     crane_real link_ca[2], link_cb[2];     /* com = ca v + cb perp(v), v = link_pin, link2_end */
 } crane_model;
 
-/* Checks the parameters (all the checks of docs/model.md) and derives the model constants. */
+/* The crane's rules, the one validator of a crane (the Python layer and tools/crane2header.py call
+ * it too): every field's range, then the lift triangle and the tilt four-bar over their whole
+ * stroke ranges (docs/model.md, "Bad input"). Returns CRANE_OK or the status of the first rule
+ * broken; then, if field is not NULL, *field names the field at fault: the field itself for a
+ * range, for the lift triangle or the four-bar the point or stroke limit at which it fails.
+ * CRANE_FIELD_NONE only with CRANE_OK or CRANE_E_NULL. */
+crane_status crane_params_check(const crane_params *params, crane_field *field);
+
+/* The rule a field must keep, in the crane file's terms (e.g. "> 0", "> rod"; a static string;
+ * "" for CRANE_FIELD_NONE or an unknown code). */
+const char *crane_field_rule(crane_field field);
+
+/* crane_params_check, then the extension against [extension_min, extension_max], then derives
+ * the model constants. On an error *model is left untouched. */
 crane_status crane_model_init(crane_model *model, const crane_params *params, crane_real extension);
 
 /* Number of samples a prediction writes: ceil(horizon/dt - 1e-9) + 1. */
@@ -237,9 +316,10 @@ enum {
 };
 enum { CRANE_SOLID_PLANE = 0, CRANE_SOLID_BOX = 1, CRANE_SOLID_CAPSULE = 2, CRANE_SOLID_SPHERE = 3,
        CRANE_SOLID_CYLINDER = 4 };
-/* The field at fault (crane_solid_check, crane_guard_check). */
-enum { CRANE_FIELD_KIND = 1, CRANE_FIELD_A = 2, CRANE_FIELD_B = 3, CRANE_FIELD_RADIUS = 4,
-       CRANE_FIELD_AXES = 5, CRANE_FIELD_HALF = 6, CRANE_FIELD_DROP = 7 };
+/* The field of a solid or part at fault (crane_solid_check, crane_guard_check). */
+enum { CRANE_GUARD_FIELD_KIND = 1, CRANE_GUARD_FIELD_A = 2, CRANE_GUARD_FIELD_B = 3,
+       CRANE_GUARD_FIELD_RADIUS = 4, CRANE_GUARD_FIELD_AXES = 5, CRANE_GUARD_FIELD_HALF = 6,
+       CRANE_GUARD_FIELD_DROP = 7 };
 /* Frames a part's points are given in (docs/model.md "Frames"): the boom plane, the lift boom,
  * the pin Q of the side links (a point given relative to Q, in lift boom axes), the outer boom, the
  * extension boom. */
@@ -293,7 +373,7 @@ typedef struct {
     size_t evaluations;          /* pair distances computed */
 } crane_guard_result;
 
-/* The checks of one solid: CRANE_E_SOLID with *field = the CRANE_FIELD_* at fault, else 0. */
+/* The checks of one solid: CRANE_E_SOLID with *field = the CRANE_GUARD_FIELD_* at fault, else 0. */
 crane_status crane_solid_check(const crane_solid *solid, int *field);
 
 /* Exact distance between two solids (any pair but two planes) and the closest points. */
@@ -301,7 +381,7 @@ crane_status crane_solid_distance(const crane_solid *a, const crane_solid *b, cr
                                   crane_real on_a[3], crane_real on_b[3]);
 
 /* Checks the parts and the obstacles; on an error *which is the index of the bad part (CRANE_E_PART)
- * or obstacle (CRANE_E_SOLID) and *field its CRANE_FIELD_*. */
+ * or obstacle (CRANE_E_SOLID) and *field its CRANE_GUARD_FIELD_*. */
 crane_status crane_guard_check(const crane_part *parts, size_t n_parts, const crane_solid *obstacles,
                                size_t n_obstacles, size_t *which, int *field);
 

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
  * Internal helpers of the cranepredict C core: precision-neutral math wrappers, 2-D vector
  * algebra and the prototypes shared between the core's source files. Not part of the public API.
@@ -29,7 +30,6 @@ static inline crane_real crane__sin(crane_real x) { crane_real s, c; crane__sinc
 static inline crane_real crane__cos(crane_real x) { crane_real s, c; crane__sincosf(x, &s, &c); return c; }
 static inline crane_real crane__acos(crane_real x) { return acosf(x); }
 static inline crane_real crane__atan2(crane_real y, crane_real x) { return atan2f(y, x); }
-static inline crane_real crane__exp(crane_real x) { return expf(x); }
 static inline crane_real crane__tanh(crane_real x) { return tanhf(x); }
 static inline crane_real crane__fabs(crane_real x) { return fabsf(x); }
 #else
@@ -39,7 +39,6 @@ static inline crane_real crane__cos(crane_real x) { return cos(x); }
 static inline void crane__sincos(crane_real x, crane_real *s, crane_real *c) { *s = sin(x); *c = cos(x); }
 static inline crane_real crane__acos(crane_real x) { return acos(x); }
 static inline crane_real crane__atan2(crane_real y, crane_real x) { return atan2(y, x); }
-static inline crane_real crane__exp(crane_real x) { return exp(x); }
 static inline crane_real crane__tanh(crane_real x) { return tanh(x); }
 static inline crane_real crane__fabs(crane_real x) { return fabs(x); }
 #endif
@@ -146,11 +145,14 @@ crane_real crane__cylinder_force(const crane_model *m, int joint, crane_real p_a
 
 /* ---- model.c ---- */
 
-crane_status crane__check_params(const crane_params *p);
+/* The field rules of crane_params_check (not the kinematic ones); *field names the first broken. */
+crane_status crane__check_params(const crane_params *p, crane_field *field);
 
 /* crane_model_init without its NULL checks, deriving straight into *m (which is left partly
- * written on an error): for callers that own a scratch model, like crane_predict. */
-crane_status crane__model_derive(crane_model *m, const crane_params *params, crane_real extension);
+ * written on an error): for callers that own a scratch model, like crane_predict. On an error
+ * *field is the crane field at fault (CRANE_FIELD_NONE for the extension, which is not one). */
+crane_status crane__model_derive(crane_model *m, const crane_params *params, crane_real extension,
+                                 crane_field *field);
 
 /* ---- integrator.c ---- */
 

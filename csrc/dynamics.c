@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
  * Planar iterative Newton-Euler inverse dynamics of the two booms (docs/model.md, "Dynamics").
  */

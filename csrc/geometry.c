@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
  * Exact distances between the solids of the collision guard (docs/guard.md, "Distances").
  *
@@ -18,93 +19,80 @@ static crane__v3 lerp3(crane__v3 a, crane__v3 d, crane_real t)
     return crane__v3_add(a, crane__v3_scale(t, d));
 }
 
-/* Squared distance between p0 + s d1 and q0 + t d2. */
-static crane_real seg_gap2(crane__v3 p0, crane__v3 d1, crane_real s, crane__v3 q0, crane__v3 d2,
-                           crane_real t)
-{
-    const crane__v3 g = crane__v3_sub(lerp3(p0, d1, s), lerp3(q0, d2, t));
-    return crane__v3_dot(g, g);
-}
-
 /* Segment-segment: the squared distance is a convex quadratic in (s, t) on the unit square; its
  * minimum is the interior stationary point or lies on one of the four edges, where it is a 1-D
  * clamped minimum. Every candidate is evaluated and the smallest kept, so near-parallel segments
  * (an ill-conditioned stationary point) still get the exact boundary minimum. */
-static crane_real seg_seg(crane__v3 p0, crane__v3 p1, crane__v3 q0, crane__v3 q1, crane__v3 *pa,
-                          crane__v3 *pb)
-{
-    const crane__v3 d1 = crane__v3_sub(p1, p0), d2 = crane__v3_sub(q1, q0);
-    const crane__v3 r = crane__v3_sub(p0, q0);
-    const crane_real a = crane__v3_dot(d1, d1), e = crane__v3_dot(d2, d2);
-    const crane_real b = crane__v3_dot(d1, d2), c = crane__v3_dot(d1, r), f = crane__v3_dot(d2, r);
-    crane_real cs[5], ct[5], best, bs = 0, bt = 0;
-    int n = 0, i;
-
-    /* edges s = 0, s = 1 (t free), t = 0, t = 1 (s free) */
-    cs[n] = 0;
-    ct[n++] = e > 0 ? clamp01(f / e) : 0;
-    cs[n] = 1;
-    ct[n++] = e > 0 ? clamp01((b + f) / e) : 0;
-    ct[n] = 0;
-    cs[n++] = a > 0 ? clamp01(-c / a) : 0;
-    ct[n] = 1;
-    cs[n++] = a > 0 ? clamp01((b - c) / a) : 0;
-    {
-        const crane_real den = a * e - b * b;
-        if (den > 0) {
-            const crane_real s = (b * f - c * e) / den, t = (a * f - b * c) / den;
-            if (s >= 0 && s <= 1 && t >= 0 && t <= 1) {
-                cs[n] = s;
-                ct[n++] = t;
-            }
-        }
-    }
-    best = seg_gap2(p0, d1, cs[0], q0, d2, ct[0]);
-    bs = cs[0];
-    bt = ct[0];
-    for (i = 1; i < n; ++i) {
-        const crane_real g = seg_gap2(p0, d1, cs[i], q0, d2, ct[i]);
-        if (g < best) {
-            best = g;
-            bs = cs[i];
-            bt = ct[i];
-        }
-    }
-    *pa = lerp3(p0, d1, bs);
-    *pb = lerp3(q0, d2, bt);
-    return crane__sqrt(best);
-}
-
-/* Box axes and centre. */
 typedef struct {
-    crane__v3 c, u[3];
-    crane_real h[3];
-} box3;
+    crane__v3 p0, d1, q0, d2;
+    crane_real best, s, t;
+} seg_pair;
 
-static box3 box_of(const crane_solid *s)
+static void seg_try(seg_pair *c, crane_real s, crane_real t)
 {
-    box3 b;
-    int i;
-    b.c = crane__v3_load(s->a);
-    for (i = 0; i < 3; ++i) {
-        b.u[i] = crane__v3_load(s->axes + 3 * i);
-        b.h[i] = s->half[i];
+    const crane__v3 g = crane__v3_sub(lerp3(c->p0, c->d1, s), lerp3(c->q0, c->d2, t));
+    const crane_real g2 = crane__v3_dot(g, g);
+    if (c->best < 0 || g2 < c->best) {
+        c->best = g2;
+        c->s = s;
+        c->t = t;
     }
-    return b;
 }
 
-static crane__v3 to_box(const box3 *b, crane__v3 p)
+static CRANE__NOINLINE crane_real seg_seg(crane__v3 p0, crane__v3 p1, crane__v3 q0, crane__v3 q1,
+                                          crane__v3 *pa, crane__v3 *pb)
 {
-    const crane__v3 r = crane__v3_sub(p, b->c);
-    return crane__v3_make(crane__v3_dot(r, b->u[0]), crane__v3_dot(r, b->u[1]),
-                          crane__v3_dot(r, b->u[2]));
+    seg_pair c;
+    crane_real a, e, b, cc, f, den;
+    crane__v3 r;
+
+    c.p0 = p0;
+    c.q0 = q0;
+    c.d1 = crane__v3_sub(p1, p0);
+    c.d2 = crane__v3_sub(q1, q0);
+    c.best = -1;
+    c.s = c.t = 0;
+    r = crane__v3_sub(p0, q0);
+    a = crane__v3_dot(c.d1, c.d1);
+    e = crane__v3_dot(c.d2, c.d2);
+    b = crane__v3_dot(c.d1, c.d2);
+    cc = crane__v3_dot(c.d1, r);
+    f = crane__v3_dot(c.d2, r);
+    /* edges s = 0, s = 1 (t free), t = 0, t = 1 (s free) */
+    seg_try(&c, 0, e > 0 ? clamp01(f / e) : 0);
+    seg_try(&c, 1, e > 0 ? clamp01((b + f) / e) : 0);
+    seg_try(&c, a > 0 ? clamp01(-cc / a) : 0, 0);
+    seg_try(&c, a > 0 ? clamp01((b - cc) / a) : 0, 1);
+    den = a * e - b * b;
+    if (den > 0) {
+        const crane_real s = (b * f - cc * e) / den, t = (a * f - b * cc) / den;
+        if (s >= 0 && s <= 1 && t >= 0 && t <= 1)
+            seg_try(&c, s, t);
+    }
+    *pa = lerp3(c.p0, c.d1, c.s);
+    *pb = lerp3(c.q0, c.d2, c.t);
+    return crane__sqrt(c.best);
 }
 
-static crane__v3 from_box(const box3 *b, crane__v3 q)
+/* A box solid's frame: its axes are the rows of s->axes, its centre s->a. */
+static crane__v3 box_axis(const crane_solid *b, int i)
 {
-    return crane__v3_add(b->c, crane__v3_add(crane__v3_scale(q.x, b->u[0]),
-                                             crane__v3_add(crane__v3_scale(q.y, b->u[1]),
-                                                           crane__v3_scale(q.z, b->u[2]))));
+    return crane__v3_load(b->axes + 3 * i);
+}
+
+static crane__v3 to_box(const crane_solid *b, crane__v3 p)
+{
+    const crane__v3 r = crane__v3_sub(p, crane__v3_load(b->a));
+    return crane__v3_make(crane__v3_dot(r, box_axis(b, 0)), crane__v3_dot(r, box_axis(b, 1)),
+                          crane__v3_dot(r, box_axis(b, 2)));
+}
+
+static crane__v3 from_box(const crane_solid *b, crane__v3 q)
+{
+    return crane__v3_add(crane__v3_load(b->a),
+                         crane__v3_add(crane__v3_scale(q.x, box_axis(b, 0)),
+                                       crane__v3_add(crane__v3_scale(q.y, box_axis(b, 1)),
+                                                     crane__v3_scale(q.z, box_axis(b, 2)))));
 }
 
 static crane_real excess(crane_real x, crane_real h)
@@ -125,75 +113,70 @@ static crane_real box_gap2(const crane_real p0[3], const crane_real d[3], const 
     return s;
 }
 
+/* The breakpoint of p0_i + t d_i = +-h_i that comes first after t, or 1 if none: the pieces of
+ * seg_box are visited in order without storing (and sorting) the breakpoints. */
+static crane_real next_break(const crane_real p0[3], const crane_real d[3], const crane_real h[3],
+                             crane_real t)
+{
+    crane_real next = 1;
+    int i, k;
+    for (i = 0; i < 3; ++i) {
+        if (d[i] == 0)
+            continue;
+        for (k = -1; k <= 1; k += 2) {
+            const crane_real b = ((crane_real)k * h[i] - p0[i]) / d[i];
+            if (b > t && b < next)
+                next = b;
+        }
+    }
+    return next;
+}
+
 /* Segment-box, exact: in the box frame the squared distance from p(t) = p0 + t d is
  * sum_i excess_i(t)^2, a convex piecewise quadratic whose pieces change where p_i(t) = +-h_i. On
  * each piece it is one quadratic A t^2 + B t + C (the axes outside the slab at the piece's middle),
- * minimised in closed form; the minimum over the pieces is the exact distance. */
-static crane_real seg_box(crane__v3 s0, crane__v3 s1, const box3 *bx, crane__v3 *pa, crane__v3 *pb)
+ * minimised in closed form; the minimum over the pieces (and their ends) is the exact distance. */
+static crane_real seg_box(crane__v3 s0, crane__v3 s1, const crane_solid *bx, crane__v3 *pa,
+                          crane__v3 *pb)
 {
     const crane__v3 l0 = to_box(bx, s0), l1 = to_box(bx, s1);
     const crane_real p0[3] = {l0.x, l0.y, l0.z};
     const crane_real d[3] = {l1.x - l0.x, l1.y - l0.y, l1.z - l0.z};
-    crane_real brk[8], best, bt = 0;
-    int nb = 0, i, j, k;
+    crane_real best = box_gap2(p0, d, bx->half, 0), bt = 0, ta = 0;
+    int j;
 
-    brk[nb++] = 0;
-    brk[nb++] = 1;
-    for (i = 0; i < 3; ++i) {
-        if (d[i] != 0) {
-            for (k = -1; k <= 1; k += 2) {
-                const crane_real t = ((crane_real)k * bx->h[i] - p0[i]) / d[i];
-                if (t > 0 && t < 1)
-                    brk[nb++] = t;
-            }
-        }
-    }
-    for (i = 1; i < nb; ++i) { /* insertion sort of at most 8 */
-        const crane_real v = brk[i];
-        j = i - 1;
-        while (j >= 0 && brk[j] > v) {
-            brk[j + 1] = brk[j];
-            --j;
-        }
-        brk[j + 1] = v;
-    }
-    best = box_gap2(p0, d, bx->h, 0);
-    for (i = 0; i < nb; ++i) {
-        const crane_real g = box_gap2(p0, d, bx->h, brk[i]);
-        if (g < best) {
-            best = g;
-            bt = brk[i];
-        }
-    }
-    for (i = 0; i + 1 < nb; ++i) {
-        const crane_real ta = brk[i], tb = brk[i + 1], tm = (ta + tb) / 2;
-        crane_real A = 0, B = 0;
-        if (!(tb > ta))
-            continue;
+    while (ta < 1) {
+        const crane_real tb = next_break(p0, d, bx->half, ta), tm = (ta + tb) / 2;
+        crane_real A = 0, B = 0, g;
         for (j = 0; j < 3; ++j) {
             const crane_real x = p0[j] + tm * d[j];
-            if (x > bx->h[j] || x < -bx->h[j]) {
-                const crane_real off = p0[j] - (x > 0 ? bx->h[j] : -bx->h[j]);
+            if (x > bx->half[j] || x < -bx->half[j]) {
+                const crane_real off = p0[j] - (x > 0 ? bx->half[j] : -bx->half[j]);
                 A += d[j] * d[j];
                 B += 2 * d[j] * off;
             }
         }
+        g = box_gap2(p0, d, bx->half, tb);
+        if (g < best) {
+            best = g;
+            bt = tb;
+        }
         if (A > 0) {
             crane_real t = -B / (2 * A);
             t = t < ta ? ta : (t > tb ? tb : t);
-            {
-                const crane_real g = box_gap2(p0, d, bx->h, t);
-                if (g < best) {
-                    best = g;
-                    bt = t;
-                }
+            g = box_gap2(p0, d, bx->half, t);
+            if (g < best) {
+                best = g;
+                bt = t;
             }
         }
+        ta = tb;
     }
     {
         const crane__v3 p = crane__v3_make(p0[0] + bt * d[0], p0[1] + bt * d[1], p0[2] + bt * d[2]);
-        const crane__v3 q = crane__v3_make(p.x - excess(p.x, bx->h[0]), p.y - excess(p.y, bx->h[1]),
-                                           p.z - excess(p.z, bx->h[2]));
+        const crane__v3 q = crane__v3_make(p.x - excess(p.x, bx->half[0]),
+                                           p.y - excess(p.y, bx->half[1]),
+                                           p.z - excess(p.z, bx->half[2]));
         *pa = from_box(bx, p);
         *pb = from_box(bx, q);
     }
@@ -214,22 +197,24 @@ static crane_real seg_plane(crane__v3 s0, crane__v3 s1, crane__v3 p, crane__v3 n
     return h > 0 ? h : 0;
 }
 
-static crane__v3 box_vertex(const box3 *b, int v)
+static crane__v3 box_vertex(const crane_solid *b, int v)
 {
-    return from_box(b, crane__v3_make((v & 1) ? b->h[0] : -b->h[0], (v & 2) ? b->h[1] : -b->h[1],
-                                      (v & 4) ? b->h[2] : -b->h[2]));
+    return from_box(b, crane__v3_make((v & 1) ? b->half[0] : -b->half[0],
+                                      (v & 2) ? b->half[1] : -b->half[1],
+                                      (v & 4) ? b->half[2] : -b->half[2]));
 }
 
 /* Box-box: if the boxes are apart, a closest pair has a vertex or an edge point of one box on the
  * other (vertex-face, edge-edge, face-vertex; parallel faces and edges have such a pair too); if
  * they overlap, an edge of one meets the other or one contains the other (its edges are inside).
  * So the minimum over the 12 edges of each box against the other box is exact. */
-static crane_real box_box(const box3 *x, const box3 *y, crane__v3 *pa, crane__v3 *pb)
+static CRANE__NOINLINE crane_real box_box(const crane_solid *x, const crane_solid *y, crane__v3 *pa,
+                                          crane__v3 *pb)
 {
     crane_real best = -1;
     int side, v, i;
     for (side = 0; side < 2 && best != 0; ++side) {
-        const box3 *m = side ? y : x, *o = side ? x : y;
+        const crane_solid *m = side ? y : x, *o = side ? x : y;
         for (v = 0; v < 8 && best != 0; ++v) {
             for (i = 0; i < 3; ++i) {
                 const int w = v | (1 << i);
@@ -249,7 +234,7 @@ static crane_real box_box(const box3 *x, const box3 *y, crane__v3 *pa, crane__v3
     return best;
 }
 
-static crane_real box_plane(const box3 *b, crane__v3 p, crane__v3 n, crane__v3 *pa, crane__v3 *pb)
+static CRANE__NOINLINE crane_real box_plane(const crane_solid *b, crane__v3 p, crane__v3 n, crane__v3 *pa, crane__v3 *pb)
 {
     crane_real best = 0;
     int v;
@@ -297,21 +282,17 @@ static int core_distance(const crane_solid *a, const crane_solid *b, crane_real 
             segment_of(b, &b0, &b1);
             *d = seg_seg(a0, a1, b0, b1, pa, pb);
         } else if (b->kind == CRANE_SOLID_BOX) {
-            const box3 bx = box_of(b);
-            *d = seg_box(a0, a1, &bx, pa, pb);
+            *d = seg_box(a0, a1, b, pa, pb);
         } else {
             *d = seg_plane(a0, a1, crane__v3_load(b->a), crane__v3_load(b->b), pa, pb);
         }
         return 1;
     }
     if (a->kind == CRANE_SOLID_BOX) {
-        const box3 ba = box_of(a);
-        if (b->kind == CRANE_SOLID_BOX) {
-            const box3 bb = box_of(b);
-            *d = box_box(&ba, &bb, pa, pb);
-        } else {
-            *d = box_plane(&ba, crane__v3_load(b->a), crane__v3_load(b->b), pa, pb);
-        }
+        if (b->kind == CRANE_SOLID_BOX)
+            *d = box_box(a, b, pa, pb);
+        else
+            *d = box_plane(a, crane__v3_load(b->a), crane__v3_load(b->b), pa, pb);
         return 1;
     }
     return 0;
@@ -368,41 +349,41 @@ int crane__solid_field(const crane_solid *s)
     int i, j;
 
     if (s->kind < CRANE_SOLID_PLANE || s->kind > CRANE_SOLID_CYLINDER)
-        return CRANE_FIELD_KIND;
+        return CRANE_GUARD_FIELD_KIND;
     if (!finite3(s->a))
-        return CRANE_FIELD_A;
+        return CRANE_GUARD_FIELD_A;
     if (s->kind == CRANE_SOLID_PLANE) {
         const crane__v3 n = crane__v3_load(s->b);
         if (!finite3(s->b) || crane__fabs(crane__v3_dot(n, n) - 1) > tol)
-            return CRANE_FIELD_B;
+            return CRANE_GUARD_FIELD_B;
         return 0;
     }
     if (s->kind == CRANE_SOLID_BOX) {
         for (i = 0; i < 3; ++i)
             if (!(crane__finite(s->half[i]) && s->half[i] > 0))
-                return CRANE_FIELD_HALF;
+                return CRANE_GUARD_FIELD_HALF;
         for (i = 0; i < 9; ++i)
             if (!crane__finite(s->axes[i]))
-                return CRANE_FIELD_AXES;
+                return CRANE_GUARD_FIELD_AXES;
         for (i = 0; i < 3; ++i) {
             const crane__v3 ui = crane__v3_load(s->axes + 3 * i);
             for (j = i; j < 3; ++j) {
                 const crane_real want = i == j ? 1 : 0;
                 if (crane__fabs(crane__v3_dot(ui, crane__v3_load(s->axes + 3 * j)) - want) > tol)
-                    return CRANE_FIELD_AXES;
+                    return CRANE_GUARD_FIELD_AXES;
             }
         }
         return 0;
     }
     if (s->kind != CRANE_SOLID_SPHERE && !finite3(s->b))
-        return CRANE_FIELD_B;
+        return CRANE_GUARD_FIELD_B;
     if (!(crane__finite(s->radius) && s->radius >= 0) ||
         (s->kind != CRANE_SOLID_CAPSULE && !(s->radius > 0)))
-        return CRANE_FIELD_RADIUS;
+        return CRANE_GUARD_FIELD_RADIUS;
     if (s->kind == CRANE_SOLID_CYLINDER) {
         const crane__v3 g = crane__v3_sub(crane__v3_load(s->b), crane__v3_load(s->a));
         if (!(crane__v3_dot(g, g) > 0))
-            return CRANE_FIELD_B;
+            return CRANE_GUARD_FIELD_B;
     }
     return 0;
 }

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
  * The collision guard's verdict on a predicted future (docs/guard.md): the crane's parts posed
  * along the samples, their clearance to every obstacle, the first contact found between samples
@@ -141,25 +142,27 @@ typedef struct {
     const crane_model *m;
     const crane_part *parts;
     const crane_solid *obstacles;
+    crane_solid *posed;          /* the caller's one posed part: shared to keep frames small */
     crane_real cpsi, spsi;
     size_t evaluations;
 } scene;
 
-static crane_real solid_to_obstacle(scene *sc, const crane_solid *s, size_t j, crane__v3 *pa,
-                                    crane__v3 *pb)
+/* The clearance of the posed part (sc->posed) to obstacle j; the closest points if pa, pb. */
+static crane_real clearance(scene *sc, size_t j, crane__v3 *pa, crane__v3 *pb)
 {
+    crane__v3 qa, qb;
     crane_real d = 0;
-    (void)crane__solid_distance(s, sc->obstacles + j, &d, pa, pb); /* pairs checked valid */
+    (void)crane__solid_distance(sc->posed, &sc->obstacles[j], &d, pa ? pa : &qa, pb ? pb : &qb);
     sc->evaluations++;
     return d;
 }
 
+/* Poses part i at p into sc->posed and measures it against obstacle j. */
 static crane_real pair_distance(scene *sc, size_t i, size_t j, const pose *p, crane__v3 *pa,
                                 crane__v3 *pb)
 {
-    crane_solid s;
-    part_solid(sc->m, sc->parts + i, p, sc->cpsi, sc->spsi, &s);
-    return solid_to_obstacle(sc, &s, j, pa, pb);
+    part_solid(sc->m, &sc->parts[i], p, sc->cpsi, sc->spsi, sc->posed);
+    return clearance(sc, j, pa, pb);
 }
 
 static void pose_between(const crane_model *m, const crane_sample *s0, const crane_sample *s1,
@@ -176,14 +179,13 @@ static void pose_between(const crane_model *m, const crane_sample *s0, const cra
  * *t_hit if the clearance is <= margin at *t_hit, or cannot be shown to stay above it beyond
  * *t_hit (the jump shrank below the time tolerance); 0 if it stays above over the whole step,
  * with *d_end the clearance at s1. */
-static int advance(scene *sc, size_t i, size_t j, const crane_real k[3], const crane_sample *s0,
+static CRANE__NOINLINE int advance(scene *sc, size_t i, size_t j, const crane_real k[3], const crane_sample *s0,
                    const crane_sample *s1, const pose *p0, crane_real margin, crane_real tol,
                    crane_real *t_hit, crane_real *d_end)
 {
-    crane__v3 pa, pb;
     pose a = *p0, b;
     crane_real ta = s0->t;
-    crane_real d = pair_distance(sc, i, j, &a, &pa, &pb);
+    crane_real d = pair_distance(sc, i, j, &a, NULL, NULL);
 
     for (;;) {
         crane_real tb = s1->t;
@@ -203,12 +205,12 @@ static int advance(scene *sc, size_t i, size_t j, const crane_real k[3], const c
         }
         if (tb >= s1->t) {
             pose_at(sc->m, s1->theta[0], s1->theta[1], &b);
-            *d_end = pair_distance(sc, i, j, &b, &pa, &pb);
+            *d_end = pair_distance(sc, i, j, &b, NULL, NULL);
             return 0;
         }
         ta = tb;
         a = b;
-        d = pair_distance(sc, i, j, &a, &pa, &pb);
+        d = pair_distance(sc, i, j, &a, NULL, NULL);
     }
 }
 
@@ -233,23 +235,23 @@ static int part_field(const crane_part *p)
 {
     int i;
     if (p->kind != CRANE_SOLID_CAPSULE && p->kind != CRANE_SOLID_SPHERE && p->kind != CRANE_SOLID_BOX)
-        return CRANE_FIELD_KIND;
+        return CRANE_GUARD_FIELD_KIND;
     if (!anchor_ok(p->a))
-        return CRANE_FIELD_A;
+        return CRANE_GUARD_FIELD_A;
     if (p->kind == CRANE_SOLID_CAPSULE) {
         if (!anchor_ok(p->b))
-            return CRANE_FIELD_B;
+            return CRANE_GUARD_FIELD_B;
         if (!(crane__finite(p->radius) && p->radius >= 0))
-            return CRANE_FIELD_RADIUS;
+            return CRANE_GUARD_FIELD_RADIUS;
         return 0;
     }
     if (!crane__finite(p->drop))
-        return CRANE_FIELD_DROP;
+        return CRANE_GUARD_FIELD_DROP;
     if (p->kind == CRANE_SOLID_SPHERE)
-        return crane__finite(p->radius) && p->radius > 0 ? 0 : CRANE_FIELD_RADIUS;
+        return crane__finite(p->radius) && p->radius > 0 ? 0 : CRANE_GUARD_FIELD_RADIUS;
     for (i = 0; i < 3; ++i)
         if (!(crane__finite(p->half[i]) && p->half[i] > 0))
-            return CRANE_FIELD_HALF;
+            return CRANE_GUARD_FIELD_HALF;
     return 0;
 }
 
@@ -260,7 +262,7 @@ crane_status crane_guard_check(const crane_part *parts, size_t n_parts, const cr
     if ((n_parts && !parts) || (n_obstacles && !obstacles) || !which || !field)
         return CRANE_E_NULL;
     for (i = 0; i < n_parts; ++i) {
-        const int f = part_field(parts + i);
+        const int f = part_field(&parts[i]);
         if (f) {
             *which = i;
             *field = f;
@@ -268,7 +270,7 @@ crane_status crane_guard_check(const crane_part *parts, size_t n_parts, const cr
         }
     }
     for (i = 0; i < n_obstacles; ++i) {
-        const int f = crane__solid_field(obstacles + i);
+        const int f = crane__solid_field(&obstacles[i]);
         if (f) {
             *which = i;
             *field = f;
@@ -297,7 +299,7 @@ crane_status crane_part_solids(const crane_model *model, const crane_part *parts
     crane__sincos(slew, &spsi, &cpsi);
     pose_at(model, theta[0], theta[1], &p);
     for (i = 0; i < n_parts; ++i)
-        part_solid(model, parts + i, &p, cpsi, spsi, out + i);
+        part_solid(model, &parts[i], &p, cpsi, spsi, &out[i]);
     return CRANE_OK;
 }
 
@@ -321,25 +323,24 @@ static crane_status check_samples(const crane_model *m, const crane_sample *s, s
 }
 
 /* The pair's clearance gradient in the joint angles and its rate from each joint's motion. */
-static void approach(scene *sc, crane_guard_result *r, crane_real omega0, crane_real omega1)
+static CRANE__NOINLINE void approach(scene *sc, crane_guard_result *r, crane_real omega0, crane_real omega1)
 {
     const crane_real h = sizeof(crane_real) < sizeof(double) ? (crane_real)1e-3 : (crane_real)1e-6;
     const crane_real omega[2] = {omega0, omega1};
-    crane__v3 pa, pb;
     int j;
     for (j = 0; j < 2; ++j) {
         pose p;
         crane_real dp, dm;
         pose_at(sc->m, r->theta[0] + (j == 0 ? h : 0), r->theta[1] + (j == 1 ? h : 0), &p);
-        dp = pair_distance(sc, (size_t)r->part, (size_t)r->obstacle, &p, &pa, &pb);
+        dp = pair_distance(sc, (size_t)r->part, (size_t)r->obstacle, &p, NULL, NULL);
         pose_at(sc->m, r->theta[0] - (j == 0 ? h : 0), r->theta[1] - (j == 1 ? h : 0), &p);
-        dm = pair_distance(sc, (size_t)r->part, (size_t)r->obstacle, &p, &pa, &pb);
+        dm = pair_distance(sc, (size_t)r->part, (size_t)r->obstacle, &p, NULL, NULL);
         r->gradient[j] = (dp - dm) / (2 * h);
         r->approach[j] = r->gradient[j] * omega[j];
     }
 }
 
-static void record_contact(scene *sc, crane_guard_result *r, size_t i, size_t j, crane_real t,
+static CRANE__NOINLINE void record_contact(scene *sc, crane_guard_result *r, size_t i, size_t j, crane_real t,
                            const pose *p)
 {
     crane__v3 pa, pb;
@@ -354,6 +355,19 @@ static void record_contact(scene *sc, crane_guard_result *r, size_t i, size_t j,
     crane__v3_store(r->on_obstacle, pb);
 }
 
+/* A contact of pair (i, j) at t_hit inside the step s0 -> s1: its pose, points and joint rates. */
+static CRANE__NOINLINE void note_contact(scene *sc, crane_guard_result *r, size_t i, size_t j,
+                                         const crane_sample *s0, const crane_sample *s1,
+                                         crane_real t_hit, crane_real omega[2])
+{
+    pose p;
+    const crane_real u = (t_hit - s0->t) / (s1->t - s0->t);
+    pose_between(sc->m, s0, s1, t_hit, &p);
+    record_contact(sc, r, i, j, t_hit, &p);
+    omega[0] = s0->omega[0] + u * (s1->omega[0] - s0->omega[0]);
+    omega[1] = s0->omega[1] + u * (s1->omega[1] - s0->omega[1]);
+}
+
 crane_status crane_guard(const crane_model *model, const crane_part *parts, size_t n_parts,
                          const crane_solid *obstacles, size_t n_obstacles, crane_real slew,
                          const crane_sample *samples, size_t n_samples,
@@ -365,6 +379,7 @@ crane_status crane_guard(const crane_model *model, const crane_part *parts, size
     crane_real margin, hit_omega[2] = {0, 0};
     scene sc;
     pose prev, cur;
+    crane_solid ps;
     size_t i, j, k, which;
     int field, searching = 1;
     crane_status st;
@@ -390,12 +405,13 @@ crane_status crane_guard(const crane_model *model, const crane_part *parts, size
     sc.m = model;
     sc.parts = parts;
     sc.obstacles = obstacles;
+    sc.posed = &ps;
     sc.evaluations = 0;
     crane__sincos(slew, &sc.spsi, &sc.cpsi);
     key = work;
-    per = work + n_pairs; /* per part: its 3 motion rates, cumulative bound, smallest key */
+    per = &work[n_pairs]; /* per part: its 3 motion rates, cumulative bound, smallest key */
     for (i = 0; i < n_parts; ++i) {
-        part_rates(model, parts + i, per + 5 * i);
+        part_rates(model, &parts[i], &per[5 * i]);
         per[5 * i + 3] = 0;
         per[5 * i + 4] = (crane_real)INFINITY;
         part_clearance[i] = (crane_real)INFINITY;
@@ -419,19 +435,17 @@ crane_status crane_guard(const crane_model *model, const crane_part *parts, size
      * whose smallest key keeps every pair above its threshold costs O(1) per step. */
     pose_at(model, samples[0].theta[0], samples[0].theta[1], &cur);
     for (i = 0; i < n_parts; ++i) {
-        crane_real *pp = per + 5 * i;
-        crane_solid ps;
-        part_solid(model, parts + i, &cur, sc.cpsi, sc.spsi, &ps);
+        crane_real *pp = &per[5 * i];
+        part_solid(model, &parts[i], &cur, sc.cpsi, sc.spsi, &ps);
         for (j = 0; j < n_obstacles; ++j) {
-            crane__v3 pa, pb;
-            const crane_real d = solid_to_obstacle(&sc, &ps, j, &pa, &pb);
+            const crane_real d = clearance(&sc, j, NULL, NULL);
             key[i * n_obstacles + j] = d;
             if (d < pp[4])
                 pp[4] = d;
             if (d < part_clearance[i])
                 part_clearance[i] = d;
             if (d <= margin && (!result->contact || d < result->clearance)) {
-                record_contact(&sc, result, i, j, samples[0].t, &cur);
+                record_contact(&sc, result, i, j, samples[0].t, &cur); /* re-poses ps: same pose */
                 result->at_start = 1;
                 hit_omega[0] = samples[0].omega[0];
                 hit_omega[1] = samples[0].omega[1];
@@ -441,7 +455,7 @@ crane_status crane_guard(const crane_model *model, const crane_part *parts, size
     searching = !result->contact;
 
     for (k = 1; k < n_samples; ++k) {
-        const crane_sample *s0 = samples + k - 1, *s1 = samples + k;
+        const crane_sample *s0 = &samples[k - 1], *s1 = &samples[k];
         crane_real dth0, dth1, dphi;
         int found = 0;
         prev = cur;
@@ -450,48 +464,39 @@ crane_status crane_guard(const crane_model *model, const crane_part *parts, size
         dth1 = crane__fabs(cur.th[1] - prev.th[1]);
         dphi = link_turn(model, &prev, &cur);
         for (i = 0; i < n_parts; ++i) {
-            crane_real *pp = per + 5 * i;
+            crane_real *pp = &per[5 * i];
             const crane_real floor_min = part_clearance[i] - config->clearance_tolerance;
             crane_real least, min_key = (crane_real)INFINITY;
-            crane_solid ps; /* the part at this sample, posed when first needed */
-            int posed = 0;
+            int posed = 0; /* ps: the part at this sample, posed when first needed */
             pp[3] += pp[0] * dth0 + pp[1] * dth1 + pp[2] * dphi;
             least = pp[4] - pp[3];
             if ((!searching || least > margin) && least >= floor_min)
                 continue;
             for (j = 0; j < n_obstacles; ++j) {
-                crane_real *kj = key + i * n_obstacles + j;
+                crane_real *kj = &key[i * n_obstacles + j];
                 const crane_real lb = *kj - pp[3];
                 crane_real d;
-                crane__v3 pa, pb;
                 if (searching && lb <= margin) {
                     crane_real t_hit;
                     if (advance(&sc, i, j, pp, s0, s1, &prev, margin, config->time_tolerance,
                                 &t_hit, &d)) {
                         if (!found || t_hit < result->t) {
-                            pose p;
-                            const crane_real u = (t_hit - s0->t) / (s1->t - s0->t);
-                            pose_between(model, s0, s1, t_hit, &p);
-                            record_contact(&sc, result, i, j, t_hit, &p);
+                            note_contact(&sc, result, i, j, s0, s1, t_hit, hit_omega);
                             if (result->clearance < part_clearance[i])
                                 part_clearance[i] = result->clearance;
-                            hit_omega[0] = s0->omega[0] + u * (s1->omega[0] - s0->omega[0]);
-                            hit_omega[1] = s0->omega[1] + u * (s1->omega[1] - s0->omega[1]);
                             found = 1;
                         }
-                        if (!posed)
-                            part_solid(model, parts + i, &cur, sc.cpsi, sc.spsi, &ps);
-                        posed = 1;
-                        d = solid_to_obstacle(&sc, &ps, j, &pa, &pb);
+                        d = pair_distance(&sc, i, j, &cur, NULL, NULL);
                     }
+                    posed = 1; /* both ways end with ps posed at this sample */
                     *kj = d + pp[3];
                     if (d < part_clearance[i])
                         part_clearance[i] = d;
                 } else if (lb < floor_min) {
                     if (!posed)
-                        part_solid(model, parts + i, &cur, sc.cpsi, sc.spsi, &ps);
+                        part_solid(model, &parts[i], &cur, sc.cpsi, sc.spsi, &ps);
                     posed = 1;
-                    d = solid_to_obstacle(&sc, &ps, j, &pa, &pb);
+                    d = clearance(&sc, j, NULL, NULL);
                     *kj = d + pp[3];
                     if (d < part_clearance[i])
                         part_clearance[i] = d;

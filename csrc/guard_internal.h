@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
  * Internal helpers of the collision guard (geometry.c, guard.c): 3-D vector algebra and the exact
  * distance routines. Not part of the public API.
@@ -6,6 +7,14 @@
 #define CRANE_GUARD_INTERNAL_H
 
 #include "crane_internal.h"
+
+/* Keeps a helper out of line so that its locals are not stacked on its caller's frame along every
+ * path (the stack budget of docs/embedding.md is per entry point's deepest path). */
+#if defined(__GNUC__)
+#define CRANE__NOINLINE __attribute__((noinline))
+#else
+#define CRANE__NOINLINE
+#endif
 
 typedef struct {
     crane_real x, y, z;
@@ -34,7 +43,7 @@ static inline crane_real crane__v3_norm(crane__v3 a) { return crane__sqrt(crane_
 int crane__solid_distance(const crane_solid *a, const crane_solid *b, crane_real *distance,
                           crane__v3 *pa, crane__v3 *pb);
 
-/* The checks of one solid: 0 if valid, else the CRANE_FIELD_* of the first bad field. */
+/* The checks of one solid: 0 if valid, else the CRANE_GUARD_FIELD_* of the first bad field. */
 int crane__solid_field(const crane_solid *s);
 
 /* The messages of the guard's status codes (crane_status_message's fallback). */

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
  * Joint kinematics (docs/model.md, "Lift kinematics" and "Tilt kinematics") and the crane's
  * point positions.

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
  * The prediction entry point: validates every input before anything is written, then hands over
  * to the integrator (docs/model.md, "Integration and samples", "Bad input").
@@ -140,11 +141,12 @@ crane_status crane_predict(const crane_params *params, const crane_state *state0
                            crane_sample *out, size_t capacity, size_t *n_written)
 {
     crane_model model;
+    crane_field field;
     crane_status st;
 
     if (!params || !state0 || !inputs || !out || !n_written)
         return CRANE_E_NULL;
-    st = crane__model_derive(&model, params, state0->extension);
+    st = crane__model_derive(&model, params, state0->extension, &field);
     if (st != CRANE_OK)
         return st;
     return predict(&model, state0, inputs, horizon, dt, out, capacity, n_written);
@@ -182,6 +184,7 @@ crane_status crane_predict_many(const crane_params *params, size_t n_futures,
                                 crane_sample *out, size_t stride, size_t *failed)
 {
     crane_model model;
+    crane_field field;
     crane_status st;
     size_t k, count;
     long n_steps;
@@ -191,7 +194,7 @@ crane_status crane_predict_many(const crane_params *params, size_t n_futures,
     *failed = n_futures;
     if (!params || (n_futures > 0 && (!states || !inputs || !out)))
         return CRANE_E_NULL;
-    st = crane__check_params(params);
+    st = crane__check_params(params, &field);
     if (st != CRANE_OK)
         return st;
     st = crane_sample_count_every(horizon, dt, sample_every, &count);

@@ -18,7 +18,7 @@ def crane() -> cp.Crane:
 def frictionless(crane: cp.Crane, gravity: float | None = None) -> cp.Crane:
     """The crane with every friction coefficient zero (energy is then conserved)."""
     zero = cp.Friction(coulomb=0.0, static=0.0, viscous=0.0, stribeck_velocity=0.005,
-                       tanh_velocity=0.001)
+                       factor=1.0)
     c = dataclasses.replace(
         crane,
         lift_cylinder=dataclasses.replace(crane.lift_cylinder, friction=zero),

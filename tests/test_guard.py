@@ -426,7 +426,7 @@ def test_c_guard_buffer_too_small_and_bad_obstacle_write_nothing(crane):
     which, field = ffi.new("size_t *"), ffi.new("int *")
     assert lib.crane_guard_check(g._parts(crane, crane.shape), len(crane.shape.parts), solids, 3,
                                  which, field) == lib.CRANE_E_SOLID
-    assert which[0] == 1 and field[0] == lib.CRANE_FIELD_HALF
+    assert which[0] == 1 and field[0] == lib.CRANE_GUARD_FIELD_HALF
     # the Python layer names the obstacle and field for what reaches the core
     with pytest.raises(ValueError, match=r"obstacle 'cab' \(obstacle\[1\]\)\.size is not valid"):
         g._check_layout(g._parts(crane, crane.shape), len(crane.shape.parts), solids, world, crane.shape)

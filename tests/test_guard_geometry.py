@@ -190,16 +190,16 @@ def test_hand_box_plane_and_sphere_box() -> None:
 
 
 def test_bad_solids_are_named() -> None:
-    """Each bad field gives CRANE_E_SOLID and its CRANE_FIELD_*, and nothing is written."""
+    """Each bad field gives CRANE_E_SOLID and its CRANE_GUARD_FIELD_*, and nothing is written."""
     field = ffi.new("int *")
     cases = [({"kind": "box", "a": np.zeros(3), "R": np.eye(3), "half": np.array([0.5, 0.0, 0.5])},
-              lib.CRANE_FIELD_HALF),
+              lib.CRANE_GUARD_FIELD_HALF),
              ({"kind": "box", "a": np.zeros(3), "R": 2 * np.eye(3), "half": np.full(3, 0.5)},
-              lib.CRANE_FIELD_AXES),
-             ({"kind": "sphere", "a": np.array([0.0, math.nan, 0.0]), "r": 0.5}, lib.CRANE_FIELD_A),
-             ({"kind": "sphere", "a": np.zeros(3), "r": 0.0}, lib.CRANE_FIELD_RADIUS),
-             ({"kind": "cylinder", "a": np.zeros(3), "b": np.zeros(3), "r": 0.2}, lib.CRANE_FIELD_B),
-             ({"kind": "plane", "a": np.zeros(3), "n": np.array([0.0, 0.0, 2.0])}, lib.CRANE_FIELD_B)]
+              lib.CRANE_GUARD_FIELD_AXES),
+             ({"kind": "sphere", "a": np.array([0.0, math.nan, 0.0]), "r": 0.5}, lib.CRANE_GUARD_FIELD_A),
+             ({"kind": "sphere", "a": np.zeros(3), "r": 0.0}, lib.CRANE_GUARD_FIELD_RADIUS),
+             ({"kind": "cylinder", "a": np.zeros(3), "b": np.zeros(3), "r": 0.2}, lib.CRANE_GUARD_FIELD_B),
+             ({"kind": "plane", "a": np.zeros(3), "n": np.array([0.0, 0.0, 2.0])}, lib.CRANE_GUARD_FIELD_B)]
     good = {"kind": "sphere", "a": np.zeros(3), "r": 0.5}
     for bad, want in cases:
         assert lib.crane_solid_check(_solid(bad), field) == lib.CRANE_E_SOLID
@@ -210,7 +210,7 @@ def test_bad_solids_are_named() -> None:
         assert d[0] == 123.0 and list(pa) == [7.0] * 3
     unknown = ffi.new("crane_solid *")
     unknown.kind = 9
-    assert lib.crane_solid_check(unknown, field) == lib.CRANE_E_SOLID and field[0] == lib.CRANE_FIELD_KIND
+    assert lib.crane_solid_check(unknown, field) == lib.CRANE_E_SOLID and field[0] == lib.CRANE_GUARD_FIELD_KIND
     plane = _solid({"kind": "plane", "a": np.zeros(3), "n": np.array([0.0, 0.0, 1.0])})
     d = ffi.new("crane_real *")
     assert lib.crane_solid_distance(plane, plane, d, ffi.new("crane_real[3]"),

@@ -14,7 +14,7 @@ exudyn = pytest.importorskip("exudyn", reason="the reference model needs Exudyn 
 import cranepredict as cp  # noqa: E402
 from cranepredict import reference as ref  # noqa: E402
 
-MAX_MM, RMS_MM = 20.0, 10.0
+MAX_MM, RMS_MM = ref.TARGET_MAX_MM, ref.TARGET_RMS_MM
 NAMES = cp.scenarios.names()
 
 # Scenarios known to miss the targets (strict xfail: they turn red when they start to pass). Empty
@@ -54,7 +54,7 @@ def test_expected_misses_are_scenarios():
 
 def test_fast_model_is_100x_faster(results):
     ratio = sum(r["wall_reference_s"] for r in results.values()) / sum(r["wall_fast_s"] for r in results.values())
-    assert ratio >= 100
+    assert ratio >= ref.TARGET_SPEED_RATIO
 
 
 def test_paper_reaches_upper_edge_in_both_models(results):

@@ -34,9 +34,10 @@ BUDGET = {"data+bss": 1024, "stack": 1024, "text": 16 * 1024, "guard text": 8 * 
 # The collision guard (issue 10) is an optional module: a controller that only predicts does not
 # link it (--gc-sections). Its code has its own budget; the 16 kB of issue 5 stay the prediction's.
 GUARD_OBJECTS = {"geometry.o", "guard.o"}
-ENTRY_POINTS = ["crane_predict", "crane_predict_model", "crane_model_init", "crane_points", "crane_sample_count",
-                "crane_joint_angle", "crane_joint_stroke", "crane_inverse_dynamics",
-                "crane_cylinder_force", "crane_status_message",
+ENTRY_POINTS = ["crane_predict", "crane_predict_model", "crane_model_init", "crane_params_check",
+                "crane_points", "crane_sample_count", "crane_joint_angle", "crane_joint_stroke",
+                "crane_inverse_dynamics", "crane_cylinder_force", "crane_status_message",
+                "crane_field_rule",
                 # the collision guard (csrc/geometry.c, csrc/guard.c)
                 "crane_solid_check", "crane_solid_distance", "crane_guard_check",
                 "crane_part_solids", "crane_guard"]
@@ -58,10 +59,13 @@ static crane_guard_result result;
 int main(void)
 {
     size_t n;
+    crane_field field;
     int s = 0;
     s += (int)crane_predict(&params, &state, &inputs, v, v, out, 4, &n);
     s += (int)crane_predict_model(&model, &state, &inputs, v, v, out, 4, &n);
     s += (int)crane_model_init(&model, &params, v);
+    s += (int)crane_params_check(&params, &field);
+    s += (int)crane_field_rule(field)[0];
     s += (int)crane_points(&model, v, 1, th, buf);
     s += (int)crane_sample_count(v, v, &n);
     s += (int)crane_joint_angle(&model, s, v, th, w);

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
  * Bare C benchmark of the prediction core: no Python, the same crane as the pytest benchmarks
  * (benchmarks/), timed with the monotonic clock.

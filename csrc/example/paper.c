@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
  * The paper's experiment (Figure 4) on the C core alone, with the crane compiled in from the
  * generated header crane_patu655.h (source: src/cranepredict/cranes/patu655.toml).

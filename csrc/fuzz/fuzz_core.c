@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
  * Fuzz target of the cranepredict C core (libFuzzer entry point LLVMFuzzerTestOneInput; also
  * driven without libFuzzer by replay.c over the files of fuzz/corpus/).
@@ -36,7 +37,7 @@
 #include "crane.h"
 #include "crane_patu655.h"
 
-#define CRANE_STATUS_LAST CRANE_E_DIVERGED
+#define CRANE_STATUS_LAST CRANE_E_SAMPLE_COUNT
 #define MAX_SAMPLES 16   /* pressure samples per cylinder */
 #define MAX_CAPACITY 600 /* output samples (bounds the work per input) */
 #define MAX_POSES 4      /* crane_points poses */
@@ -120,7 +121,7 @@ static size_t real_fields(universe *u, crane_real **f)
         f[n++] = &c->stroke_min; f[n++] = &c->stroke_max;
         f[n++] = &c->friction.coulomb; f[n++] = &c->friction.static_;
         f[n++] = &c->friction.viscous; f[n++] = &c->friction.stribeck_velocity;
-        f[n++] = &c->friction.tanh_velocity;
+        f[n++] = &c->friction.factor;
     }
     for (i = 0; i < 2; ++i) {
         f[n++] = &u->state.stroke[i]; f[n++] = &u->state.stroke_rate[i];

@@ -4,18 +4,21 @@ Data flow: crane file (TOML) -> :class:`Crane` -> :func:`predict` (C core, or th
 with ``backend="python"``) -> :class:`Trajectory` (numpy arrays) -> checks and plots.
 """
 
+from ._checks import MAX_SAMPLES, MAX_STEPS
 from .api import BACKENDS, DEFAULT_DT, predict, predict_many
 from .crane import Body, Crane, Cylinder, Friction, Geometry
-from .types import (POINT_NAMES, Hold, Inputs, Pressure, PressureSeries, State, Trajectory,
-                    TrajectoryBatch)
+from .statics import holding_pressure
+from .types import (POINT_NAMES, STROKE_RATE_MAX, Hold, Inputs, Pressure, PressureSeries, State,
+                    Trajectory, TrajectoryBatch)
 from . import scenarios
 from .guard import Contact, StopAnalysis, Verdict, guard, stop_inputs
 from .shape import Part, Shape
 from .world import Obstacle, World
 from . import worlds
 
-__all__ = ["predict", "predict_many", "TrajectoryBatch", "DEFAULT_DT", "BACKENDS", "Crane", "Body", "Cylinder", "Friction", "Geometry",
+__all__ = ["predict", "predict_many", "TrajectoryBatch", "DEFAULT_DT", "BACKENDS", "MAX_STEPS",
+           "MAX_SAMPLES", "STROKE_RATE_MAX", "Crane", "Body", "Cylinder", "Friction", "Geometry",
            "State", "Pressure", "PressureSeries", "Hold", "Inputs", "Trajectory", "POINT_NAMES",
-           "scenarios", "guard", "Verdict", "Contact", "StopAnalysis", "stop_inputs", "Shape", "Part",
-           "World", "Obstacle", "worlds"]
+           "scenarios", "holding_pressure", "guard", "Verdict", "Contact", "StopAnalysis",
+           "stop_inputs", "Shape", "Part", "World", "Obstacle", "worlds"]
 __version__ = "0.1.0"

@@ -17,8 +17,6 @@ import numpy as np
 
 from . import api
 from ._checks import number as _number
-from ._core import SAMPLE_DTYPE, ensure
-from ._cranepredict import ffi, lib
 from .crane import Crane
 from .shape import Shape
 from .types import Hold, Inputs, Pressure, PressureSeries, State, Trajectory
@@ -39,14 +37,37 @@ GUARD_SPACING = 0.01
 SIGNALS = ("GO", "WARN", "STOP")
 JOINTS = ("lift", "tilt")
 
-_KIND = {"plane": lib.CRANE_SOLID_PLANE, "box": lib.CRANE_SOLID_BOX,
-         "capsule": lib.CRANE_SOLID_CAPSULE, "sphere": lib.CRANE_SOLID_SPHERE,
-         "cylinder": lib.CRANE_SOLID_CYLINDER}
-_FIELD = {lib.CRANE_FIELD_KIND: "kind", lib.CRANE_FIELD_A: "a", lib.CRANE_FIELD_B: "b",
-          lib.CRANE_FIELD_RADIUS: "radius", lib.CRANE_FIELD_AXES: "axes",
-          lib.CRANE_FIELD_HALF: "size", lib.CRANE_FIELD_DROP: "drop"}
-_BODY_FRAME = {"boom_plane": lib.CRANE_FRAME_BASE, "lift_boom": lib.CRANE_FRAME_LIFT,
-               "outer_boom": lib.CRANE_FRAME_OUTER, "extension_boom": lib.CRANE_FRAME_EXTENSION}
+
+
+def _c() -> Any:
+    """(ffi, lib) of the compiled core, imported on first use (the twin works without it)."""
+    from ._cranepredict import ffi, lib
+
+    return ffi, lib
+
+
+def _kind(name: str) -> int:
+    return int(getattr(_c()[1], "CRANE_SOLID_" + name.upper()))
+
+
+def _kind_name(code: int) -> str:
+    return next(k for k in ("plane", "box", "capsule", "sphere", "cylinder") if _kind(k) == code)
+
+
+def _field_name(code: int) -> str:
+    """The world file's / shape's name of a CRANE_GUARD_FIELD_* code (half extents are given as size)."""
+    for name in ("kind", "a", "b", "radius", "axes", "half", "drop"):
+        if int(getattr(_c()[1], "CRANE_GUARD_FIELD_" + name.upper())) == code:
+            return "size" if name == "half" else name
+    return "?"
+
+
+_FRAMES = {"boom_plane": "BASE", "lift_boom": "LIFT", "link_pin": "LINK_PIN",
+           "outer_boom": "OUTER", "extension_boom": "EXTENSION"}
+
+
+def _frame(body: str) -> int:
+    return int(getattr(_c()[1], "CRANE_FRAME_" + _FRAMES[body]))
 
 
 # -- what "stop" means -----------------------------------------------------------------------------
@@ -140,29 +161,31 @@ class Verdict:
 
 def _anchor(dst: Any, point: Any, crane: Crane) -> None:
     g = crane.geometry
-    named = {"pillar_base": (lib.CRANE_FRAME_BASE, (0.0, 0.0)),
-             "lift_pivot": (lib.CRANE_FRAME_BASE, g.lift_pivot),
-             "lift_cylinder_base": (lib.CRANE_FRAME_BASE, g.lift_cylinder_base),
-             "lift_cylinder_rod": (lib.CRANE_FRAME_LIFT, g.lift_cylinder_rod),
-             "tilt_cylinder_base": (lib.CRANE_FRAME_LIFT, g.tilt_cylinder_base),
-             "link1_pivot": (lib.CRANE_FRAME_LIFT, g.link1_pivot),
-             "link_pin": (lib.CRANE_FRAME_LINK_PIN, (0.0, 0.0)),
-             "link2_attach": (lib.CRANE_FRAME_OUTER, g.link2_attach),
-             "tilt_pivot": (lib.CRANE_FRAME_LIFT, g.tilt_pivot),
-             "extension_mount": (lib.CRANE_FRAME_OUTER, g.extension_mount),
-             "tip": (lib.CRANE_FRAME_EXTENSION, (g.tip_distance, 0.0))}
+    # each named point: the body whose frame it is given in (docs/model.md "Frames") and where
+    named = {"pillar_base": ("boom_plane", (0.0, 0.0)),
+             "lift_pivot": ("boom_plane", g.lift_pivot),
+             "lift_cylinder_base": ("boom_plane", g.lift_cylinder_base),
+             "lift_cylinder_rod": ("lift_boom", g.lift_cylinder_rod),
+             "tilt_cylinder_base": ("lift_boom", g.tilt_cylinder_base),
+             "link1_pivot": ("lift_boom", g.link1_pivot),
+             "link_pin": ("link_pin", (0.0, 0.0)),
+             "link2_attach": ("outer_boom", g.link2_attach),
+             "tilt_pivot": ("lift_boom", g.tilt_pivot),
+             "extension_mount": ("outer_boom", g.extension_mount),
+             "tip": ("extension_boom", (g.tip_distance, 0.0))}
     if isinstance(point, str):
-        frame, at = named[point]
+        body, at = named[point]
     else:
-        frame, at = _BODY_FRAME[point[0]], (point[1], point[2])
-    dst.frame = frame
+        body, at = point[0], (point[1], point[2])
+    dst.frame = _frame(body)
     dst.at.x, dst.at.y = at
 
 
 def _parts(crane: Crane, shape: Shape) -> Any:
+    ffi, _ = _c()
     arr = ffi.new("crane_part[]", len(shape.parts))
     for dst, p in zip(arr, shape.parts):
-        dst.kind = _KIND[p.kind]
+        dst.kind = _kind(p.kind)
         _anchor(dst.a, p.a, crane)
         if p.b is not None:
             _anchor(dst.b, p.b, crane)
@@ -172,10 +195,11 @@ def _parts(crane: Crane, shape: Shape) -> Any:
 
 
 def _solids(world: World) -> Any:
+    ffi, _ = _c()
     arr = ffi.new("crane_solid[]", max(1, len(world.obstacles)))
     for dst, o in zip(arr, world.obstacles):
         s = o.solid()
-        dst.kind = _KIND[s["kind"]]
+        dst.kind = _kind(s["kind"])
         dst.a = list(s["a"])
         if "b" in s:
             dst.b = list(s["b"])
@@ -203,13 +227,16 @@ def _cached(kind: str, key: Tuple[Any, ...], build: Any) -> Any:
 
 
 def _check_layout(parts: Any, n_parts: int, solids: Any, world: World, shape: Shape) -> None:
+    from ._core import ensure
+
+    ffi, lib = _c()
     which, fld = ffi.new("size_t *"), ffi.new("int *")
     status = lib.crane_guard_check(parts, n_parts, solids, len(world.obstacles), which, fld)
     if status == lib.CRANE_E_PART:
-        raise ValueError(f"shape.{shape.parts[which[0]].name}.{_FIELD.get(fld[0], '?')} is not valid")
+        raise ValueError(f"shape.{shape.parts[which[0]].name}.{_field_name(fld[0])} is not valid")
     if status == lib.CRANE_E_SOLID:
         o = world.obstacles[which[0]]
-        raise ValueError(f"obstacle {o.name!r} (obstacle[{which[0]}]).{_FIELD.get(fld[0], '?')} "
+        raise ValueError(f"obstacle {o.name!r} (obstacle[{which[0]}]).{_field_name(fld[0])} "
                          f"is not valid")
     ensure(status, "guard")
 
@@ -226,13 +253,13 @@ def part_solids(crane: Crane, state: State, theta: Optional[np.ndarray] = None,
                           _core.joint_angle(crane, 1, state.tilt_stroke, state.extension)[0]])
     from . import _core
 
+    ffi, lib = _c()
     model = _core.model(crane, state.extension)
     parts = _cached("parts", (crane, shape), lambda: _parts(crane, shape))
     out = ffi.new("crane_solid[]", len(shape.parts))
-    ensure(lib.crane_part_solids(model, parts, len(shape.parts), state.slew,
-                                 [float(theta[0]), float(theta[1])], out), "part_solids")
-    kinds = {v: k for k, v in _KIND.items()}
-    return {p.name: {"kind": kinds[s.kind], "a": np.array(list(s.a)), "b": np.array(list(s.b)),
+    _core.ensure(lib.crane_part_solids(model, parts, len(shape.parts), state.slew,
+                                       [float(theta[0]), float(theta[1])], out), "part_solids")
+    return {p.name: {"kind": _kind_name(s.kind), "a": np.array(list(s.a)), "b": np.array(list(s.b)),
                      "radius": float(s.radius), "axes": np.array(list(s.axes)).reshape(3, 3),
                      "half": np.array(list(s.half))}
             for p, s in zip(shape.parts, out)}
@@ -297,13 +324,14 @@ def guard(crane: Crane, world: World, state: State, inputs: Inputs, horizon: flo
 
     from . import _core
 
+    ffi, lib = _c()
     model = _core.model(crane, state.extension)
     parts = _cached("parts", (crane, shape), lambda: _parts(crane, shape))
     solids = _cached("solids", (world,), lambda: _solids(world))
     n_parts, n_obs = len(shape.parts), len(world.obstacles)
     _check_layout(parts, n_parts, solids, world, shape)
 
-    samples = np.zeros(len(traj.t), dtype=SAMPLE_DTYPE)
+    samples = np.zeros(len(traj.t), dtype=_core.SAMPLE_DTYPE)
     samples["t"], samples["theta"], samples["omega"] = traj.t, traj.theta, traj.omega
     clearance = np.empty(n_parts)
     work = np.empty(n_parts * (n_obs + 5))
@@ -316,7 +344,7 @@ def guard(crane: Crane, world: World, state: State, inputs: Inputs, horizon: flo
                              ffi.cast("crane_sample *", ffi.from_buffer(samples)), len(samples),
                              cfg, ffi.cast("crane_real *", ffi.from_buffer(clearance)),
                              ffi.cast("crane_real *", ffi.from_buffer(work)), work.size, res)
-    ensure(status, "guard")
+    _core.ensure(status, "guard")
     return _verdict(res, clearance, shape, world, values, float(horizon), traj)
 
 

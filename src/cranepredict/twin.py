@@ -291,7 +291,7 @@ class TwinModel:
             math.pi * (float(c.bore) ** 2 - float(c.rod) ** 2) / 4.0 for c in cylinders)  # type: ignore
         self.friction = tuple(
             (float(c.friction.coulomb), float(c.friction.static), float(c.friction.viscous),
-             float(c.friction.stribeck_velocity), float(c.friction.tanh_velocity))
+             float(c.friction.stribeck_velocity), float(c.friction.factor))
             for c in cylinders)
 
         # --- bodies ----------------------------------------------------------------------
@@ -600,12 +600,15 @@ class TwinModel:
     # ---------------------------------------------------------------------------------
 
     def friction_force(self, joint: int, stroke_rate: float) -> float:
-        """Smooth Stribeck friction opposing the stroke rate (tanh instead of sign so the right
-        side stays smooth for RK4)."""
-        f_c, f_s, sigma, v_s, v_t = self.friction[joint]
-        ratio = stroke_rate / v_s
-        return (f_c + (f_s - f_c) * math.exp(-ratio * ratio)) * math.tanh(stroke_rate / v_t) \
-            + sigma * stroke_rate
+        """[S1]'s smooth Stribeck friction opposing the stroke rate: with x = |v| / v_S,
+        k [F_C tanh(4x) + (F_S - F_C) x / (x^2/4 + 3/4)^2] sign(v) + sigma tanh(4) v."""
+        f_c, f_s, sigma, v_s, k = self.friction[joint]
+        if stroke_rate == 0.0:
+            return 0.0
+        x = abs(stroke_rate) / v_s
+        q = x * x / 4.0 + 0.75
+        levels = k * (f_c * math.tanh(4.0 * x) + (f_s - f_c) * x / (q * q))
+        return math.copysign(levels, stroke_rate) + sigma * math.tanh(4.0) * stroke_rate
 
     def cylinder_force(self, joint: int, p_a: float, p_b: float, stroke_rate: float) -> float:
         """Piston force (N, positive extends): pressures on both areas minus friction."""

@@ -12,15 +12,24 @@ from typing import Callable, Dict, Optional, Tuple, Union
 import numpy as np
 
 __all__ = ["State", "Pressure", "PressureSeries", "Hold", "Drive", "Inputs", "Trajectory",
-           "TrajectoryBatch", "POINT_NAMES", "PRESSURE_MAX"]
+           "TrajectoryBatch", "POINT_NAMES", "PRESSURE_MAX", "STROKE_RATE_MAX", "ARRAYS"]
 
+from ._checks import PRESSURE_MAX
 from ._checks import number as _number
-from ._core import PRESSURE_MAX  # Pa: the largest pressure accepted (the C core's CRANE_PRESSURE_MAX)
 
 #: Names of the points in ``Trajectory.points`` (the C core's and the twin's order).
 POINT_NAMES = ("pillar_base", "lift_pivot", "lift_cylinder_base", "lift_cylinder_rod",
                "tilt_cylinder_base", "link1_pivot", "link_pin", "link2_attach", "tilt_pivot",
                "extension_mount", "tip")
+
+
+#: The arrays of a Trajectory (and a TrajectoryBatch), in their order; the twin returns these keys.
+ARRAYS = ("t", "strokes", "theta", "omega", "tip", "stop")
+
+#: m/s: the largest initial stroke rate accepted (either sign). Hydraulic cylinders move below
+#: about 1 m/s; far above this the end-stop events of the C core and the twin stop agreeing (they
+#: differ by metres at 1e10 m/s) and at about 1e100 m/s the state overflows.
+STROKE_RATE_MAX = 10.0
 
 
 def _pressure(value: object, name: str) -> float:
@@ -50,6 +59,11 @@ class State:
         for name in ("lift_stroke", "tilt_stroke", "slew", "extension",
                      "lift_stroke_rate", "tilt_stroke_rate"):
             object.__setattr__(self, name, _number(getattr(self, name), f"State.{name}"))
+        for name in ("lift_stroke_rate", "tilt_stroke_rate"):
+            v = getattr(self, name)
+            if not -STROKE_RATE_MAX <= v <= STROKE_RATE_MAX:
+                raise ValueError(f"State.{name} must be in [-{STROKE_RATE_MAX:g}, {STROKE_RATE_MAX:g}] "
+                                 f"m/s (cranepredict.STROKE_RATE_MAX), got {v:g}")
 
 
 @dataclass(frozen=True)
@@ -84,6 +98,9 @@ class PressureSeries:
         for name in ("t", "p_a", "p_b"):
             try:
                 a = np.array(getattr(self, name), dtype=float, copy=True)
+            except OverflowError:
+                raise ValueError(f"PressureSeries.{name} must be finite: it holds an int too large "
+                                 "for a float") from None
             except (TypeError, ValueError):
                 raise TypeError(f"PressureSeries.{name} must be a sequence of numbers") from None
             if a.ndim != 1 or a.size < 2:
@@ -214,8 +231,8 @@ class TrajectoryBatch:
         if not -n <= k < n:
             raise IndexError(f"future index {k} out of range for {n} futures")
         k = int(k) % n
-        return Trajectory(t=self.t, strokes=self.strokes[k], theta=self.theta[k],
-                          omega=self.omega[k], tip=self.tip[k], stop=self.stop[k],
-                          slew=float(self.slew[k]), extension=float(self.extension[k]),
+        arrays = {name: getattr(self, name) if name == "t" else getattr(self, name)[k]
+                  for name in ARRAYS}
+        return Trajectory(**arrays, slew=float(self.slew[k]), extension=float(self.extension[k]),
                           backend=self.backend,
                           _points=lambda theta, _k=k: self._points(_k, theta))

@@ -1,7 +1,8 @@
 """Named scenarios, kept as data: one TOML file per scenario in this folder.
 
 A scenario file names a crane (a file in ``cranepredict/cranes`` without ``.toml``), optionally
-overrides its load, and gives the initial state, the drive of each cylinder and the horizon:
+overrides its load, and gives the initial state, the drive of each cylinder and the horizon
+(here shaped like paper-fig4.toml; the file itself is the authority):
 
     name = "paper-fig4"
     description = "..."
@@ -10,7 +11,7 @@ overrides its load, and gives the initial state, the drive of each cylinder and 
     horizon = 2.0              # s
     [initial]                  # State fields (m, rad, m/s)
     lift_stroke = 0.116
-    tilt_stroke = 0.32
+    tilt_stroke = 0.20
     [inputs.lift]              # constant pressures (Pa) ...
     p_a = 175e5
     p_b = 0.0
@@ -24,7 +25,7 @@ from dataclasses import dataclass
 from importlib import resources
 from typing import Any, Dict, List, Mapping, Tuple
 
-from .._checks import tomllib
+from .._checks import number, tomllib
 from ..crane import Crane
 from ..types import Drive, Hold, Inputs, Pressure, PressureSeries, State
 
@@ -81,7 +82,7 @@ def from_dict(data: Mapping[str, Any], where: str = "scenario") -> Scenario:
         initial=State(**data["initial"]),
         inputs=Inputs(lift=_drive(inputs["lift"], f"{where}.inputs.lift"),
                       tilt=_drive(inputs["tilt"], f"{where}.inputs.tilt")),
-        horizon=float(data["horizon"]),
+        horizon=number(data["horizon"], f"{where}.horizon"),
         tags=tuple(data.get("tags", ())),
     )
 
