@@ -8,20 +8,28 @@
 #include <string.h>
 #include "crane_scenarios.h"
 #include "scenarios.h"
+#include "crane_patu655.h"
 
 #define R(x) ((crane_real)(x))
 
 static const board_scenario scenarios[] = {
-    {"paper-dt2ms", CRANE_SCENARIO_PAPER_FIG4_HORIZON, R(2e-3), CRANE_SCENARIO_PAPER_FIG4_STATE,
-     CRANE_SCENARIO_PAPER_FIG4_INPUTS},
-    {"paper-dt1ms", CRANE_SCENARIO_PAPER_FIG4_HORIZON, R(1e-3), CRANE_SCENARIO_PAPER_FIG4_STATE,
-     CRANE_SCENARIO_PAPER_FIG4_INPUTS},
+    {"paper-dt2ms", CRANE_SCENARIO_PAPER_FIG4_HORIZON, R(2e-3), CRANE_SCENARIO_PAPER_FIG4_LOAD_MASS,
+     CRANE_SCENARIO_PAPER_FIG4_STATE, CRANE_SCENARIO_PAPER_FIG4_INPUTS},
+    {"paper-dt1ms", CRANE_SCENARIO_PAPER_FIG4_HORIZON, R(1e-3), CRANE_SCENARIO_PAPER_FIG4_LOAD_MASS,
+     CRANE_SCENARIO_PAPER_FIG4_STATE, CRANE_SCENARIO_PAPER_FIG4_INPUTS},
 };
+static const crane_params crane = CRANE_PATU655_INIT;
 
 const board_scenario *board_scenarios(size_t *count)
 {
     *count = sizeof scenarios / sizeof scenarios[0];
     return scenarios;
+}
+
+void board_crane(const board_scenario *sc, crane_params *params)
+{
+    *params = crane;
+    params->load_mass = sc->load_mass;
 }
 
 char *board_put_str(char *p, const char *s)
