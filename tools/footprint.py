@@ -31,7 +31,10 @@ import subprocess
 import sys
 import tempfile
 
-BUDGET = {"data+bss": 1024, "stack": 1024, "text": 16 * 1024}
+BUDGET = {"data+bss": 1024, "stack": 1024, "text": 16 * 1024, "guard text": 8 * 1024}
+# The collision guard (issue 10) is an optional module: a controller that only predicts does not
+# link it (--gc-sections). Its code has its own budget; the 16 kB of issue 5 stay the prediction's.
+GUARD_OBJECTS = {"geometry.o", "guard.o"}
 
 
 def entry_points(header):
@@ -53,6 +56,10 @@ static crane_inputs inputs;
 static crane_model model;
 static crane_sample out[4];
 static crane_real buf[4 * CRANE_N_POINTS * 3], th[2], w[2], a[2], t[2];
+static crane_solid solids[2];
+static crane_part parts[2];
+static crane_guard_config config;
+static crane_guard_result result;
 int main(void)
 {
     size_t n, failed;
@@ -71,6 +78,11 @@ int main(void)
     s += (int)crane_joint_stroke(&model, s, v, th);
     s += (int)crane_inverse_dynamics(&model, th, w, a, t);
     s += (int)crane_cylinder_force(&model, s, v, v, v, th);
+    s += (int)crane_solid_check(&solids[0], &s);
+    s += (int)crane_solid_distance(&solids[0], &solids[1], th, buf, buf + 3);
+    s += (int)crane_guard_check(parts, 2, solids, 2, &n, &s);
+    s += (int)crane_part_solids(&model, parts, 2, v, th, solids);
+    s += (int)crane_guard(&model, parts, 2, solids, 2, v, out, 4, &config, th, buf, 12, &result);
     return s + (int)crane_status_message((crane_status)s)[0];
 }
 """
@@ -200,6 +212,9 @@ def main(argv=None):
     for r in rows:
         print(f"  {r[0]:<16}{r[1]:>8}{r[2]:>8}{r[3]:>8}")
     print(f"  {'total':<16}{tot['text']:>8}{tot['data']:>8}{tot['bss']:>8}")
+    guard_text = sum(r[1] for r in rows if r[0] in GUARD_OBJECTS)
+    print(f"  of which the prediction {tot['text'] - guard_text} and the collision guard "
+          f"{guard_text} (geometry.o, guard.o)")
 
     # link the probe for the call graph
     with tempfile.TemporaryDirectory() as tmp:
@@ -284,12 +299,13 @@ def main(argv=None):
           f"{len(libc)} functions ({', '.join(libc)})")
 
     print("\nbudget (Cortex-M4F float build):")
-    checks = [("text", tot["text"]), ("data+bss", tot["data"] + tot["bss"]),
-              ("stack", stack if stack is not None else 10**9)]
+    checks = [("text", tot["text"] - guard_text), ("guard text", guard_text),
+              ("data+bss", tot["data"] + tot["bss"]),
+              ("stack", stack if stack is not None else 10**9)]   # deepest entry point
     for k, v in checks:
         good = v <= BUDGET[k]
         ok &= good
-        print(f"  {k:<10}{v:>8} <= {BUDGET[k]:<6} {'ok' if good else 'OVER BUDGET'}")
+        print(f"  {k:<12}{v:>8} <= {BUDGET[k]:<6} {'ok' if good else 'OVER BUDGET'}")
     print("footprint: " + ("within budget" if ok else "FAILED"))
     return 0 if ok else 1
 

@@ -6,6 +6,7 @@
  * infinite result or read past an array now return a status. Double and float builds. The last
  * line is "N passed, N failed"; the exit status is nonzero on any failure.
  */
+#include <limits.h>
 #include <math.h>
 #include <stdint.h>
 #include <stdio.h>
@@ -59,9 +60,12 @@ static void test_limits(void)
     check_status(crane_sample_count((crane_real)1e9, dt, &n), CRANE_E_STEPS, "horizon 1e9: steps");
     check_status(crane_sample_count((crane_real)1.0, (crane_real)1e-12, &n), CRANE_E_STEPS,
                  "dt 1e-12: steps");
-    /* (the finding's sample_every was 10^12; 10^9 fits the size_t and long of 32-bit targets) */
-    check_status(crane_sample_count_every((crane_real)1e9, dt, (size_t)1000000000UL, &n),
-                 CRANE_E_STEPS, "horizon 1e9, sample_every 10^9: steps");
+    /* 10^12 where size_t holds it; on a 32-bit target the largest sample_every accepted */
+    check_status(crane_sample_count_every((crane_real)1e9, dt,
+                                          SIZE_MAX > 0xFFFFFFFFu ? (size_t)1000000000000ULL
+                                                                 : (size_t)LONG_MAX,
+                                          &n),
+                 CRANE_E_STEPS, "horizon 1e9, sample_every 10^12: steps");
     check_status(crane_predict(&params, &s, &in[0], (crane_real)1e9, dt, out, 2, &n),
                  CRANE_E_STEPS, "crane_predict horizon 1e9");
     check_status(crane_predict_many(&params, 1, &s, in, (crane_real)1e9, dt, 1000000, out, 2,
@@ -83,10 +87,10 @@ static void test_limits(void)
     /* one call's samples: 9 futures of 1,000,001 samples */
     check_status(crane_predict_many(&params, 9, &s, in, (crane_real)1000, dt, 1, out, 2, &failed),
                  CRANE_E_SAMPLE_COUNT, "9 x 1,000,001 samples: over CRANE_MAX_SAMPLES");
-    /* one call's work: 9 futures of 1,000,000 steps, 11 samples each */
-    check_status(crane_predict_many(&params, 9, &s, in, (crane_real)1000, dt, 100000, out, 2,
+    /* one call's work: 34 futures of 1,000,000 steps, 11 samples each */
+    check_status(crane_predict_many(&params, 34, &s, in, (crane_real)1000, dt, 100000, out, 2,
                                     &failed),
-                 CRANE_E_BATCH, "9 x 1,000,000 steps: over CRANE_MAX_BATCH_STEPS");
+                 CRANE_E_BATCH, "34 x 1,000,000 steps: over CRANE_MAX_BATCH_STEPS");
 }
 
 /* Time is k dt in every build, and CRANE_MAX_STEPS keeps it exact enough in float: the step
