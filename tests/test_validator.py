@@ -18,7 +18,7 @@ import pytest
 import cranepredict as cp
 from cranepredict import _core
 from cranepredict._cranepredict import ffi, lib
-from cranepredict.crane import Crane, field_name
+from cranepredict.crane import FOUR_JOINT_BODY_FIELDS, FOUR_JOINT_FIELDS, Crane, field_name
 
 ROOT = Path(__file__).resolve().parents[1]
 TOOL = ROOT / "tools" / "crane2header.py"
@@ -35,7 +35,7 @@ def _replace(crane: Crane, dotted: str, value) -> Crane:
 def _numeric_leaves(obj, prefix=""):
     for f in dataclasses.fields(obj):
         v = getattr(obj, f.name)
-        if f.name in ("name", "estimates", "pillar", "shape"):   # shape: the guard's, not the model's
+        if f.name in ("name", "estimates", "shape") + FOUR_JOINT_FIELDS + FOUR_JOINT_BODY_FIELDS:   # shape: the guard's
             continue
         if dataclasses.is_dataclass(v):
             yield from _numeric_leaves(v, prefix + f.name + ".")
