@@ -54,8 +54,9 @@ CYLINDERS = [("CRANE_LIFT", "lift_cylinder"), ("CRANE_TILT", "tilt_cylinder")]
 CYL_FIELDS = ["bore", "rod", "length_retracted", "stroke_min", "stroke_max"]
 FRICTION = [("coulomb", "coulomb"), ("static_", "static"), ("viscous", "viscous"),
             ("stribeck_velocity", "stribeck_velocity"), ("factor", "factor")]
-# keys of the crane file that the 2-DOF C model does not use (the pillar only slews)
-UNUSED = {"name", "estimates", "pillar"}
+# keys of the crane file that the 2-DOF C model does not use (the pillar only slews; the shape is
+# the collision guard's, given to crane_guard by the caller)
+UNUSED = {"name", "estimates", "pillar", "shape"}
 
 
 def lookup(data, dotted, used):
