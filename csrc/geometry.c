@@ -28,7 +28,7 @@ typedef struct {
     crane_real best, s, t;
 } seg_pair;
 
-static void seg_try(seg_pair *c, crane_real s, crane_real t)
+static CRANE__NOINLINE void seg_try(seg_pair *c, crane_real s, crane_real t)
 {
     const crane__v3 g = crane__v3_sub(lerp3(c->p0, c->d1, s), lerp3(c->q0, c->d2, t));
     const crane_real g2 = crane__v3_dot(g, g);
