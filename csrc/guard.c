@@ -296,7 +296,7 @@ static crane_status check_config(const crane_guard_config *c)
         return CRANE_E_NONFINITE;
     if (c->margin < 0 || c->reaction < 0 || !(c->cycle > 0) || !(c->time_tolerance > 0) ||
         c->clearance_tolerance < 0)
-        return (crane_status)CRANE_E_GUARD;
+        return CRANE_E_GUARD;
     return CRANE_OK;
 }
 
@@ -341,7 +341,7 @@ crane_status crane_guard_check(const crane_part *parts, size_t n_parts, const cr
         if (f) {
             *which = i;
             *field = f;
-            return (crane_status)CRANE_E_PART;
+            return CRANE_E_PART;
         }
     }
     for (i = 0; i < n_obstacles; ++i) {
@@ -349,7 +349,7 @@ crane_status crane_guard_check(const crane_part *parts, size_t n_parts, const cr
         if (f) {
             *which = i;
             *field = f;
-            return (crane_status)CRANE_E_SOLID;
+            return CRANE_E_SOLID;
         }
     }
     return CRANE_OK;
