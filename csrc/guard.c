@@ -79,7 +79,7 @@ static void part_solid(const crane_model *m, const crane_part *pt, const pose *p
 /* How far a point of an anchor can move per unit change of (theta0, theta1, phi), phi being the
  * angle of side link 1 (Q turns about P1 at radius l1). Chords are no longer than arcs, and
  * |R(a') v' - R(a) v| <= |a' - a| max|v| + |v' - v|, so a point moves at most
- * k[0] |d theta0| + k[1] |d theta1| + k[2] |d phi| while the angles move monotonically. */
+ * k[0] d0 + k[1] d1 + k[2] dphi, each d the largest excursion of that angle (motion_bound). */
 static void anchor_rates(const crane_model *m, crane_anchor an, crane_real k[3])
 {
     const crane_real r = crane__norm(an.at);
