@@ -51,7 +51,11 @@ typedef enum {
     CRANE_E_STEPS = 23,         /* horizon / dt asks for more than CRANE_MAX_STEPS steps */
     CRANE_E_SAMPLE_COUNT = 24,  /* more than CRANE_MAX_SAMPLES samples in one call (horizon, dt,
                                    sample_every, n_futures) */
-    CRANE_E_BATCH = 25          /* n_futures x steps over CRANE_MAX_BATCH_STEPS in one call */
+    CRANE_E_BATCH = 25,         /* n_futures x steps over CRANE_MAX_BATCH_STEPS in one call */
+    /* the collision guard (docs/guard.md) */
+    CRANE_E_SOLID = 40,         /* a solid (obstacle) is not valid, or a pair of two planes */
+    CRANE_E_PART = 41,          /* a crane part is not valid */
+    CRANE_E_GUARD = 42          /* a guard setting (margin, reaction, cycle, tolerances) out of range */
 } crane_status;
 
 enum { CRANE_LIFT = 0, CRANE_TILT = 1 };
@@ -360,11 +364,6 @@ const char *crane_status_message(crane_status status);
  * A solid is a half-space, an oriented box or a segment grown by a radius (capsule, sphere, and a
  * cylinder, whose distances are those of its capsule: conservative, never larger than the true
  * one). Distances are between surfaces, 0 when solids touch or overlap. */
-enum {
-    CRANE_E_SOLID = 40,          /* a solid (obstacle) is not valid, or a pair of two planes */
-    CRANE_E_PART = 41,           /* a crane part is not valid */
-    CRANE_E_GUARD = 42           /* a guard setting (margin, reaction, cycle, tolerances) out of range */
-};
 enum { CRANE_SOLID_PLANE = 0, CRANE_SOLID_BOX = 1, CRANE_SOLID_CAPSULE = 2, CRANE_SOLID_SPHERE = 3,
        CRANE_SOLID_CYLINDER = 4 };
 /* The field of a solid or part at fault (crane_solid_check, crane_guard_check). */

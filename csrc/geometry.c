@@ -28,7 +28,7 @@ typedef struct {
     crane_real best, s, t;
 } seg_pair;
 
-static void seg_try(seg_pair *c, crane_real s, crane_real t)
+static CRANE__NOINLINE void seg_try(seg_pair *c, crane_real s, crane_real t)
 {
     const crane__v3 g = crane__v3_sub(lerp3(c->p0, c->d1, s), lerp3(c->q0, c->d2, t));
     const crane_real g2 = crane__v3_dot(g, g);
@@ -395,7 +395,7 @@ crane_status crane_solid_check(const crane_solid *s, int *field)
         return CRANE_E_NULL;
     f = crane__solid_field(s);
     *field = f;
-    return f ? (crane_status)CRANE_E_SOLID : CRANE_OK;
+    return f ? CRANE_E_SOLID : CRANE_OK;
 }
 
 crane_status crane_solid_distance(const crane_solid *a, const crane_solid *b, crane_real *distance,
@@ -407,9 +407,9 @@ crane_status crane_solid_distance(const crane_solid *a, const crane_solid *b, cr
     if (!a || !b || !distance || !pa || !pb)
         return CRANE_E_NULL;
     if (crane__solid_field(a) || crane__solid_field(b))
-        return (crane_status)CRANE_E_SOLID;
+        return CRANE_E_SOLID;
     if (!crane__solid_distance(a, b, &d, &qa, &qb))
-        return (crane_status)CRANE_E_SOLID;
+        return CRANE_E_SOLID;
     *distance = d;
     crane__v3_store(pa, qa);
     crane__v3_store(pb, qb);

@@ -31,7 +31,7 @@ import subprocess
 import sys
 import tempfile
 
-BUDGET = {"data+bss": 1024, "stack": 1024, "text": 16 * 1024, "guard text": 8 * 1024}
+BUDGET = {"data+bss": 1024, "stack": 1024, "text": 16 * 1024, "guard text": 10 * 1024}
 # The collision guard (issue 10) is an optional module: a controller that only predicts does not
 # link it (--gc-sections). Its code has its own budget; the 16 kB of issue 5 stay the prediction's.
 GUARD_OBJECTS = {"geometry.o", "guard.o"}
