@@ -64,9 +64,11 @@ enum { CRANE_N_POINTS = 11 };
 enum { CRANE_PRESSURE_MAX = 100000000 };   /* Pa (1000 bar): the largest pressure accepted */
 
 /* Bounded work and memory: checked before anything runs or is written (CRANE_E_STEPS,
- * CRANE_E_SAMPLE_COUNT, CRANE_E_BATCH), so that no accepted call runs for more than seconds.
+ * CRANE_E_SAMPLE_COUNT, CRANE_E_BATCH), so that no accepted call runs for more than seconds
+ * (measured on the project's shared 2-core CI machine, both cylinders driven: 1.0 s for one
+ * prediction of CRANE_MAX_STEPS, 0.5 us a step; a PC core is about twice as fast).
  *   CRANE_MAX_STEPS: RK4 steps per prediction (one future), n = ceil(horizon/dt - 1e-9): 2^20,
- *     17 min of crane time at dt = 1 ms, about 0.3 s of one core of a 2020s PC (0.25 us a step).
+ *     17 min of crane time at dt = 1 ms.
  *     Why 2^20: the step times are t_k = k dt in every build (never accumulated), and in the float
  *     build horizon/dt is uncertain by about 4 eps n steps (both operands rounded to 24 bits; the
  *     step count allows for it): up to 2^20 steps that stays under a quarter step, so the last
@@ -74,9 +76,9 @@ enum { CRANE_PRESSURE_MAX = 100000000 };   /* Pa (1000 bar): the largest pressur
  *     stay strictly increasing.
  *   CRANE_MAX_SAMPLES: samples written by one call (all futures of crane_predict_many): 2^23,
  *     0.74 GB of crane_sample in double; a single prediction (n + 1 <= 2^20 + 1) never reaches it.
- *   CRANE_MAX_BATCH_STEPS: steps of one crane_predict_many call, n_futures x n: 2^25, about 8 s of
- *     one core; split larger batches into several calls (they may run on several threads). */
-enum { CRANE_MAX_STEPS = 1048576, CRANE_MAX_SAMPLES = 8388608, CRANE_MAX_BATCH_STEPS = 33554432 };
+ *   CRANE_MAX_BATCH_STEPS: steps of one crane_predict_many call, n_futures x n: 2^23, about 4 s;
+ *     split larger batches into several calls (they may run on several threads). */
+enum { CRANE_MAX_STEPS = 1048576, CRANE_MAX_SAMPLES = 8388608, CRANE_MAX_BATCH_STEPS = 8388608 };
 
 typedef struct {
     crane_real x, y;
@@ -220,29 +222,56 @@ typedef struct {
     int stop[2];                 /* -1 at stroke_min, +1 at stroke_max, 0 otherwise (cylinder terms) */
 } crane_sample;
 
-/* Derived constants of one crane at one extension: filled by crane_model_init, read-only after.
- * Fields are internal; the struct is public only so that the caller can own it. It keeps only
- * the parameters that predictions and the queries read (not a copy of crane_params). */
+/* Derived constants of one crane at one extension e (docs/model.md's symbols): filled by
+ * crane_model_init, read-only after. The struct is public so that a C caller can own it (on the
+ * stack, in static memory); its fields are the core's, not an interface: the Python binding
+ * declares it opaque (only its size is known there), so its layout may change. It keeps only the
+ * parameters that predictions and the queries read (not a copy of crane_params).
+ * Copied from crane_params (p): */
 typedef struct {
-    crane_real gravity;
-    crane_vec2 lift_pivot, lift_cylinder_base, lift_cylinder_rod, tilt_cylinder_base;
-    crane_vec2 link1_pivot, tilt_pivot, link2_attach, extension_mount;
-    crane_real length_retracted[2], stroke_min[2], stroke_max[2];
-    crane_friction friction[2];
-    crane_real extension;
-    crane_real lift_db, lift_dr, lift_beta, lift_eps;
-    crane_real tilt_l1, tilt_l2, tilt_ra, tilt_alpha_a;
-    crane_real tilt_branch;                /* +1 or -1: Q's side of P1 -> A (angle -> stroke) */
-    crane_real area_a[2], area_b[2];
-    crane_real m1, m2, i1, i2;
-    crane_vec2 c1, c2;
-    crane_real theta_min[2], theta_max[2];
-    crane_real lift_cos_off, lift_sin_off; /* cos, sin of (lift_eps - lift_beta) */
-    crane_real j1, j2, m2_o2sq;            /* i1 + m1 |c1|^2, i2 + m2 |c2|^2, m2 |O2|^2 */
-    crane_vec2 tip;                        /* load point in the outer boom frame */
-    int links;                             /* 1 if a side link has mass or inertia */
+    crane_real gravity;                    /* g = p.gravity */
+    crane_vec2 lift_pivot;                 /* O1 = p.lift_pivot */
+    crane_vec2 lift_cylinder_base;         /* B1 = p.lift_cylinder_base */
+    crane_vec2 lift_cylinder_rod;          /* E1 = p.lift_cylinder_rod */
+    crane_vec2 tilt_cylinder_base;         /* B2 = p.tilt_cylinder_base */
+    crane_vec2 link1_pivot;                /* P1 = p.link1_pivot */
+    crane_vec2 tilt_pivot;                 /* O2 = p.tilt_pivot */
+    crane_vec2 link2_attach;               /* p.link2_attach (A in the outer boom frame) */
+    crane_vec2 extension_mount;            /* p.extension_mount */
+    crane_real length_retracted[2], stroke_min[2], stroke_max[2]; /* p.cylinder[i] */
+    crane_friction friction[2];            /* p.cylinder[i].friction */
+    crane_real extension;                  /* e, the argument of crane_model_init */
+    /* Lift triangle: */
+    crane_real lift_db;                    /* db = |B1 - O1| */
+    crane_real lift_dr;                    /* dr = |E1| */
+    crane_real lift_beta;                  /* beta = atan2(B1.y - O1.y, B1.x - O1.x) */
+    crane_real lift_eps;                   /* eps = atan2(E1.y, E1.x) */
+    /* Tilt four-bar: */
+    crane_real tilt_l1;                    /* l1 = |p.link_pin| */
+    crane_real tilt_l2;                    /* l2 = |p.link2_end| */
+    crane_real tilt_ra;                    /* ra = |p.link2_attach| */
+    crane_real tilt_alpha_a;               /* alpha_a = atan2(link2_attach.y, link2_attach.x) */
+    crane_real tilt_branch;                /* -sign(cross(Q - P1, A - Q)), constant over the
+                                              stroke: the side of P1 -> A on which angle ->
+                                              stroke finds Q (+1 left, the PATU's) */
+    /* Cylinders: */
+    crane_real area_a[2];                  /* pi bore^2 / 4 (bore side) */
+    crane_real area_b[2];                  /* pi (bore^2 - rod^2) / 4 (rod side) */
+    /* Bodies (body 2 lumped at e: docs/model.md, "Bodies and the lumped outer boom"): */
+    crane_real m1, m2;                     /* m1 = lift_boom.mass; m2 = m_ob + m_ext + m_load */
+    crane_real i1, i2;                     /* I1 = lift_boom.izz; I2 about c2 (parallel axes) */
+    crane_vec2 c1, c2;                     /* c1 = lift_boom.com; c2 = (m_ob c_ob + m_ext x_ext +
+                                              m_load x_tip) / m2, outer boom frame */
+    crane_real theta_min[2], theta_max[2]; /* angle limits: theta at the two stroke limits,
+                                              ordered (docs/model.md, "End stops") */
+    crane_real lift_cos_off, lift_sin_off; /* cos, sin of (eps - beta) */
+    crane_real j1, j2, m2_o2sq;            /* I1 + m1 |c1|^2, I2 + m2 |c2|^2, m2 |O2|^2 */
+    crane_vec2 tip;                        /* x_tip = extension_mount + (e + tip_distance, 0) */
+    int links;                             /* 1 if a side link has mass or inertia, else 0 */
     crane_real link_m[2], link_i[2];       /* side links 1, 2: mass, Izz */
-    crane_real link_ca[2], link_cb[2];     /* com = ca v + cb perp(v), v = link_pin, link2_end */
+    crane_real link_ca[2], link_cb[2];     /* com = ca v + cb perp(v) with v = link_pin (link 1),
+                                              link2_end (link 2): ca = com.v / |v|^2,
+                                              cb = cross(v, com) / |v|^2 */
 } crane_model;
 
 /* The crane's rules, the one validator of a crane (the Python layer and tools/crane2header.py call

@@ -355,7 +355,7 @@ const char *crane_status_message(crane_status status)
     case CRANE_E_OVERFLOW: return "an argument is too large: a result would not be finite or a size would overflow";
     case CRANE_E_STEPS: return "horizon / dt asks for more than CRANE_MAX_STEPS (1048576) steps: raise dt or shorten the horizon";
     case CRANE_E_SAMPLE_COUNT: return "more than CRANE_MAX_SAMPLES (8388608) samples in one call: raise sample_every or dt, shorten the horizon or split the futures";
-    case CRANE_E_BATCH: return "futures x steps over CRANE_MAX_BATCH_STEPS (33554432) in one call: split the futures into several calls";
+    case CRANE_E_BATCH: return "futures x steps over CRANE_MAX_BATCH_STEPS (8388608) in one call: split the futures into several calls";
     case CRANE_E_SOLID:
     case CRANE_E_PART:
     case CRANE_E_GUARD: return crane__guard_status_message(status);

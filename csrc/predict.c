@@ -214,7 +214,9 @@ crane_status crane_predict_many(const crane_params *params, size_t n_futures,
     for (k = 0; k < n_futures; ++k) {
         const crane_state *s = &states[k];
         if (k == 0 || !(s->extension == states[k - 1].extension)) {
-            st = crane_model_init(&model, params, s->extension);
+            /* straight into this frame's model: crane_model_init's own copy would add its size
+             * to this entry point's stack (the budget of docs/embedding.md) */
+            st = crane__model_derive(&model, params, s->extension, &field);
             if (st != CRANE_OK) {
                 *failed = k;
                 return st;
@@ -228,7 +230,7 @@ crane_status crane_predict_many(const crane_params *params, size_t n_futures,
     }
     for (k = 0; k < n_futures; ++k) {
         if (k == 0 || !(states[k].extension == states[k - 1].extension))
-            (void)crane_model_init(&model, params, states[k].extension);
+            (void)crane__model_derive(&model, params, states[k].extension, &field);
         st = crane__integrate(&model, &states[k], &inputs[k], horizon, dt, n_steps,
                               (long)sample_every, out + k * stride, &count);
         if (st != CRANE_OK) {
