@@ -30,7 +30,7 @@ from typing import List, Tuple
 import numpy as np
 
 import cranepredict as cp
-from cranepredict.types import Hold, Pressure, PressureSeries
+from cranepredict.types import Hold, Pressure, PressureSeries, Valve, ValveSeries
 
 ROOT = Path(__file__).resolve().parents[1]
 SCENARIOS_H = ROOT / "csrc" / "example" / "crane_scenarios.h"
@@ -65,6 +65,11 @@ def _r(x: float) -> str:
     return f"CRANE_R({_lit(x)})"
 
 
+def _r0(x) -> str:
+    """A state's optional chamber pressure or spool (None: not valve-driven, 0 in C)."""
+    return _r(0.0 if x is None else x)
+
+
 def _drive(d) -> str | None:
     """The crane_drive initializer, or None for a drive type this generator does not write yet."""
     if isinstance(d, Hold):
@@ -72,11 +77,22 @@ def _drive(d) -> str | None:
     if isinstance(d, Pressure):
         return f"{{.mode = CRANE_DRIVE_PRESSURE, .p_a = {_r(d.p_a)}, .p_b = {_r(d.p_b)}}}"
     if isinstance(d, PressureSeries):
-        def arr(a) -> str:
-            return "(const crane_real[]){" + ", ".join(_r(v) for v in a) + "}"
-        return (f"{{.mode = CRANE_DRIVE_PRESSURE, .t = {arr(d.t)}, .p_a_samples = {arr(d.p_a)}, "
-                f".p_b_samples = {arr(d.p_b)}, .n_samples = {len(d.t)}}}")
+        return (f"{{.mode = CRANE_DRIVE_PRESSURE, .t = {_arr(d.t)}, .p_a_samples = {_arr(d.p_a)}, "
+                f".p_b_samples = {_arr(d.p_b)}, .n_samples = {len(d.t)}}}")
+    if isinstance(d, Valve):
+        return f"{{.mode = CRANE_DRIVE_VALVE, .u = {_r(d.u)}}}"
+    if isinstance(d, ValveSeries):
+        return (f"{{.mode = CRANE_DRIVE_VALVE, .t = {_arr(d.t)}, .u_samples = {_arr(d.u)}, "
+                f".n_samples = {len(d.t)}}}")
     return None
+
+
+def _arr(a) -> str:
+    return "(const crane_real[]){" + ", ".join(_r(v) for v in a) + "}"
+
+
+def _valves(sc) -> bool:
+    return any(isinstance(d, (Valve, ValveSeries)) for d in (sc.inputs.lift, sc.inputs.tilt))
 
 
 def written() -> List:
@@ -113,7 +129,10 @@ def scenarios_header() -> str:
         out.append(f"#define CRANE_SCENARIO_{x}_STATE {{ \\\n"
                    f"    .stroke = {{{_r(s.lift_stroke)}, {_r(s.tilt_stroke)}}}, \\\n"
                    f"    .stroke_rate = {{{_r(s.lift_stroke_rate)}, {_r(s.tilt_stroke_rate)}}}, \\\n"
-                   f"    .slew = {_r(s.slew)}, .extension = {_r(s.extension)}}}")
+                   f"    .slew = {_r(s.slew)}, .extension = {_r(s.extension)}, \\\n"
+                   f"    .p_a = {{{_r0(s.lift_p_a)}, {_r0(s.tilt_p_a)}}}, "
+                   f".p_b = {{{_r0(s.lift_p_b)}, {_r0(s.tilt_p_b)}}}, \\\n"
+                   f"    .spool = {{{_r0(s.lift_spool)}, {_r0(s.tilt_spool)}}}}}")
         out.append(f"#define CRANE_SCENARIO_{x}_INPUTS {{.drive = {{ \\\n"
                    f"    {_drive(sc.inputs.lift)}, \\\n    {_drive(sc.inputs.tilt)}}}}}")
         out.append(f"#define CRANE_SCENARIO_{x}_HORIZON {_r(sc.horizon)}")
@@ -135,14 +154,16 @@ def golden_header() -> str:
         more=f""" *
  * dt = {DT:g} s; golden sample k is the prediction's sample min(k * {EVERY}, n - 1), n = n_samples.
  * first_stop[j]: the first sample (of all n) with a stop flag on joint j, -1 if none.
+ * valves: 1 if a cylinder is valve-driven (a build with CRANE_HYDRAULICS=0 refuses the scenario).
+ * p_a, p_b: the chamber pressures (valve) or the given pressures (pressure drive; 0 when held).
  * Values are the twin's doubles; the C test compares with a tolerance per precision.
 """)]
     out.append("#ifndef CRANE_GOLDEN_H\n#define CRANE_GOLDEN_H\n\n#include <stddef.h>\n"
                "#include \"crane.h\"\n#include \"crane_scenarios.h\"\n")
     out.append(f"#define GOLDEN_DT {_lit(DT)}\n#define GOLDEN_EVERY {EVERY}\n")
-    out.append("typedef struct {\n    double t, stroke[2], theta[2], omega[2], tip[3];\n"
+    out.append("typedef struct {\n    double t, stroke[2], theta[2], omega[2], tip[3], p_a[2], p_b[2];\n"
                "    int stop[2];\n} golden_sample;\n")
-    out.append("typedef struct {\n    const char *name;\n    crane_real load_mass;\n    crane_state state;\n"
+    out.append("typedef struct {\n    const char *name;\n    int valves;\n    crane_real load_mass;\n    crane_state state;\n"
                "    crane_inputs inputs;\n    crane_real horizon;\n    size_t n_samples;\n"
                "    long first_stop[2];\n    size_t n_golden;\n    const golden_sample *golden;\n"
                "} golden_scenario;\n")
@@ -154,15 +175,16 @@ def golden_header() -> str:
         x, ident = _ident(sc.name), _ident(sc.name).lower()
         rows = []
         for k in keep:
-            vals = [tr.t[k], *tr.strokes[k], *tr.theta[k], *tr.omega[k], *tr.tip[k]]
+            vals = [tr.t[k], *tr.strokes[k], *tr.theta[k], *tr.omega[k], *tr.tip[k], *tr.p_a[k], *tr.p_b[k]]
             if not all(math.isfinite(v) for v in vals):
                 raise SystemExit(f"scenario {sc.name}: non-finite twin sample {k}")
-            t, s0, s1, th0, th1, w0, w1, x0, x1, x2 = (_lit(v) for v in vals)
+            t, s0, s1, th0, th1, w0, w1, x0, x1, x2, pa0, pa1, pb0, pb1 = (_lit(v) for v in vals)
             rows.append(f"    {{{t}, {{{s0}, {s1}}}, {{{th0}, {th1}}}, {{{w0}, {w1}}}, "
-                        f"{{{x0}, {x1}, {x2}}}, {{{int(tr.stop[k, 0])}, {int(tr.stop[k, 1])}}}}},")
+                        f"{{{x0}, {x1}, {x2}}}, {{{pa0}, {pa1}}}, {{{pb0}, {pb1}}}, "
+                        f"{{{int(tr.stop[k, 0])}, {int(tr.stop[k, 1])}}}}},")
         out.append(f"static const golden_sample golden_{ident}[] = {{\n" + "\n".join(rows) + "\n};\n")
         f0, f1 = _first_stops(np.asarray(tr.stop))
-        table.append(f"    {{\"{sc.name}\", CRANE_SCENARIO_{x}_LOAD_MASS, CRANE_SCENARIO_{x}_STATE,\n"
+        table.append(f"    {{\"{sc.name}\", {int(_valves(sc))}, CRANE_SCENARIO_{x}_LOAD_MASS, CRANE_SCENARIO_{x}_STATE,\n"
                      f"     CRANE_SCENARIO_{x}_INPUTS, CRANE_SCENARIO_{x}_HORIZON, {n}, {{{f0}, {f1}}},\n"
                      f"     {len(keep)}, golden_{ident}}},")
     out.append("static const golden_scenario golden_scenarios[] = {\n" + "\n".join(table) + "\n};\n")

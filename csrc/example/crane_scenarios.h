@@ -4,7 +4,6 @@
  *
  * GENERATED from the TOML files in src/cranepredict/scenarios by tools/golden.py -- do not edit.
  * Regenerate:  python3 tools/golden.py   (tests/test_golden.py checks it is current)
- * Left out (drive types this generator does not write yet): lever-open
  *
  * For scenario X (the file's name in capitals, '-' -> '_'):
  *   CRANE_SCENARIO_X_LOAD_MASS   the load, kg: set crane_params.load_mass of CRANE_PATU655_INIT
@@ -29,7 +28,9 @@
 #define CRANE_SCENARIO_BOTH_DRIVEN_STATE { \
     .stroke = {CRANE_R(0.15), CRANE_R(0.45)}, \
     .stroke_rate = {CRANE_R(0.0), CRANE_R(0.0)}, \
-    .slew = CRANE_R(0.0), .extension = CRANE_R(0.0)}
+    .slew = CRANE_R(0.0), .extension = CRANE_R(0.0), \
+    .p_a = {CRANE_R(0.0), CRANE_R(0.0)}, .p_b = {CRANE_R(0.0), CRANE_R(0.0)}, \
+    .spool = {CRANE_R(0.0), CRANE_R(0.0)}}
 #define CRANE_SCENARIO_BOTH_DRIVEN_INPUTS {.drive = { \
     {.mode = CRANE_DRIVE_PRESSURE, .p_a = CRANE_R(8000000.0), .p_b = CRANE_R(0.0)}, \
     {.mode = CRANE_DRIVE_PRESSURE, .p_a = CRANE_R(0.0), .p_b = CRANE_R(3000000.0)}}}
@@ -40,7 +41,9 @@
 #define CRANE_SCENARIO_END_STOP_LIFT_LOWER_STATE { \
     .stroke = {CRANE_R(0.2), CRANE_R(0.3)}, \
     .stroke_rate = {CRANE_R(0.0), CRANE_R(0.0)}, \
-    .slew = CRANE_R(0.0), .extension = CRANE_R(0.0)}
+    .slew = CRANE_R(0.0), .extension = CRANE_R(0.0), \
+    .p_a = {CRANE_R(0.0), CRANE_R(0.0)}, .p_b = {CRANE_R(0.0), CRANE_R(0.0)}, \
+    .spool = {CRANE_R(0.0), CRANE_R(0.0)}}
 #define CRANE_SCENARIO_END_STOP_LIFT_LOWER_INPUTS {.drive = { \
     {.mode = CRANE_DRIVE_PRESSURE, .p_a = CRANE_R(0.0), .p_b = CRANE_R(6000000.0)}, \
     {.mode = CRANE_DRIVE_HOLD}}}
@@ -51,18 +54,35 @@
 #define CRANE_SCENARIO_END_STOP_TILT_STATE { \
     .stroke = {CRANE_R(0.3), CRANE_R(0.25)}, \
     .stroke_rate = {CRANE_R(0.0), CRANE_R(0.0)}, \
-    .slew = CRANE_R(0.0), .extension = CRANE_R(0.0)}
+    .slew = CRANE_R(0.0), .extension = CRANE_R(0.0), \
+    .p_a = {CRANE_R(0.0), CRANE_R(0.0)}, .p_b = {CRANE_R(0.0), CRANE_R(0.0)}, \
+    .spool = {CRANE_R(0.0), CRANE_R(0.0)}}
 #define CRANE_SCENARIO_END_STOP_TILT_INPUTS {.drive = { \
     {.mode = CRANE_DRIVE_HOLD}, \
     {.mode = CRANE_DRIVE_PRESSURE, .p_a = CRANE_R(0.0), .p_b = CRANE_R(12000000.0)}}}
 #define CRANE_SCENARIO_END_STOP_TILT_HORIZON CRANE_R(2.0)
+
+/* lever-open: The operator's version of the paper's experiment: the crane at rest on closed valves (paper-fig4's pose, 200 kg), the lift lever pushed fully open at t = 0, the tilt valve closed; the chamber pressures follow from the oil flows (orifice valve of [S1], 80 bar supply). */
+#define CRANE_SCENARIO_LEVER_OPEN_LOAD_MASS CRANE_R(200.0)
+#define CRANE_SCENARIO_LEVER_OPEN_STATE { \
+    .stroke = {CRANE_R(0.116), CRANE_R(0.2)}, \
+    .stroke_rate = {CRANE_R(0.0), CRANE_R(0.0)}, \
+    .slew = CRANE_R(0.0), .extension = CRANE_R(0.0), \
+    .p_a = {CRANE_R(7086013.880115141), CRANE_R(100000.0)}, .p_b = {CRANE_R(100000.0), CRANE_R(2670549.511733372)}, \
+    .spool = {CRANE_R(0.0), CRANE_R(0.0)}}
+#define CRANE_SCENARIO_LEVER_OPEN_INPUTS {.drive = { \
+    {.mode = CRANE_DRIVE_VALVE, .u = CRANE_R(1.0)}, \
+    {.mode = CRANE_DRIVE_VALVE, .u = CRANE_R(0.0)}}}
+#define CRANE_SCENARIO_LEVER_OPEN_HORIZON CRANE_R(2.0)
 
 /* load-0: Lift without load: 30 bar on the bore side, tilt held; just above the 29.68 bar that holds the booms at the start, so they rise slowly; 0 kg. */
 #define CRANE_SCENARIO_LOAD_0_LOAD_MASS CRANE_R(0.0)
 #define CRANE_SCENARIO_LOAD_0_STATE { \
     .stroke = {CRANE_R(0.2), CRANE_R(0.3)}, \
     .stroke_rate = {CRANE_R(0.0), CRANE_R(0.0)}, \
-    .slew = CRANE_R(0.0), .extension = CRANE_R(0.0)}
+    .slew = CRANE_R(0.0), .extension = CRANE_R(0.0), \
+    .p_a = {CRANE_R(0.0), CRANE_R(0.0)}, .p_b = {CRANE_R(0.0), CRANE_R(0.0)}, \
+    .spool = {CRANE_R(0.0), CRANE_R(0.0)}}
 #define CRANE_SCENARIO_LOAD_0_INPUTS {.drive = { \
     {.mode = CRANE_DRIVE_PRESSURE, .p_a = CRANE_R(3000000.0), .p_b = CRANE_R(0.0)}, \
     {.mode = CRANE_DRIVE_HOLD}}}
@@ -73,7 +93,9 @@
 #define CRANE_SCENARIO_LOAD_200_STATE { \
     .stroke = {CRANE_R(0.2), CRANE_R(0.3)}, \
     .stroke_rate = {CRANE_R(0.0), CRANE_R(0.0)}, \
-    .slew = CRANE_R(0.0), .extension = CRANE_R(0.0)}
+    .slew = CRANE_R(0.0), .extension = CRANE_R(0.0), \
+    .p_a = {CRANE_R(0.0), CRANE_R(0.0)}, .p_b = {CRANE_R(0.0), CRANE_R(0.0)}, \
+    .spool = {CRANE_R(0.0), CRANE_R(0.0)}}
 #define CRANE_SCENARIO_LOAD_200_INPUTS {.drive = { \
     {.mode = CRANE_DRIVE_PRESSURE, .p_a = CRANE_R(6500000.0), .p_b = CRANE_R(0.0)}, \
     {.mode = CRANE_DRIVE_HOLD}}}
@@ -84,7 +106,9 @@
 #define CRANE_SCENARIO_LOAD_500_STATE { \
     .stroke = {CRANE_R(0.2), CRANE_R(0.3)}, \
     .stroke_rate = {CRANE_R(0.0), CRANE_R(0.0)}, \
-    .slew = CRANE_R(0.0), .extension = CRANE_R(0.0)}
+    .slew = CRANE_R(0.0), .extension = CRANE_R(0.0), \
+    .p_a = {CRANE_R(0.0), CRANE_R(0.0)}, .p_b = {CRANE_R(0.0), CRANE_R(0.0)}, \
+    .spool = {CRANE_R(0.0), CRANE_R(0.0)}}
 #define CRANE_SCENARIO_LOAD_500_INPUTS {.drive = { \
     {.mode = CRANE_DRIVE_PRESSURE, .p_a = CRANE_R(11800000.0), .p_b = CRANE_R(0.0)}, \
     {.mode = CRANE_DRIVE_HOLD}}}
@@ -95,7 +119,9 @@
 #define CRANE_SCENARIO_LOWER_GRAVITY_STATE { \
     .stroke = {CRANE_R(0.45), CRANE_R(0.3)}, \
     .stroke_rate = {CRANE_R(0.0), CRANE_R(0.0)}, \
-    .slew = CRANE_R(0.0), .extension = CRANE_R(0.0)}
+    .slew = CRANE_R(0.0), .extension = CRANE_R(0.0), \
+    .p_a = {CRANE_R(0.0), CRANE_R(0.0)}, .p_b = {CRANE_R(0.0), CRANE_R(0.0)}, \
+    .spool = {CRANE_R(0.0), CRANE_R(0.0)}}
 #define CRANE_SCENARIO_LOWER_GRAVITY_INPUTS {.drive = { \
     {.mode = CRANE_DRIVE_PRESSURE, .p_a = CRANE_R(4000000.0), .p_b = CRANE_R(0.0)}, \
     {.mode = CRANE_DRIVE_HOLD}}}
@@ -106,7 +132,9 @@
 #define CRANE_SCENARIO_PAPER_FIG4_STATE { \
     .stroke = {CRANE_R(0.116), CRANE_R(0.2)}, \
     .stroke_rate = {CRANE_R(0.0), CRANE_R(0.0)}, \
-    .slew = CRANE_R(0.0), .extension = CRANE_R(0.0)}
+    .slew = CRANE_R(0.0), .extension = CRANE_R(0.0), \
+    .p_a = {CRANE_R(0.0), CRANE_R(0.0)}, .p_b = {CRANE_R(0.0), CRANE_R(0.0)}, \
+    .spool = {CRANE_R(0.0), CRANE_R(0.0)}}
 #define CRANE_SCENARIO_PAPER_FIG4_INPUTS {.drive = { \
     {.mode = CRANE_DRIVE_PRESSURE, .p_a = CRANE_R(17500000.0), .p_b = CRANE_R(0.0)}, \
     {.mode = CRANE_DRIVE_HOLD}}}
@@ -117,7 +145,9 @@
 #define CRANE_SCENARIO_PRESSURE_RAMPS_STATE { \
     .stroke = {CRANE_R(0.2), CRANE_R(0.4)}, \
     .stroke_rate = {CRANE_R(0.0), CRANE_R(0.0)}, \
-    .slew = CRANE_R(0.0), .extension = CRANE_R(0.0)}
+    .slew = CRANE_R(0.0), .extension = CRANE_R(0.0), \
+    .p_a = {CRANE_R(0.0), CRANE_R(0.0)}, .p_b = {CRANE_R(0.0), CRANE_R(0.0)}, \
+    .spool = {CRANE_R(0.0), CRANE_R(0.0)}}
 #define CRANE_SCENARIO_PRESSURE_RAMPS_INPUTS {.drive = { \
     {.mode = CRANE_DRIVE_PRESSURE, .t = (const crane_real[]){CRANE_R(0.0), CRANE_R(0.2), CRANE_R(1.2), CRANE_R(2.0)}, .p_a_samples = (const crane_real[]){CRANE_R(4000000.0), CRANE_R(4000000.0), CRANE_R(9000000.0), CRANE_R(9000000.0)}, .p_b_samples = (const crane_real[]){CRANE_R(0.0), CRANE_R(0.0), CRANE_R(0.0), CRANE_R(0.0)}, .n_samples = 4}, \
     {.mode = CRANE_DRIVE_PRESSURE, .t = (const crane_real[]){CRANE_R(0.0), CRANE_R(0.5), CRANE_R(1.5), CRANE_R(2.0)}, .p_a_samples = (const crane_real[]){CRANE_R(1000000.0), CRANE_R(1000000.0), CRANE_R(1000000.0), CRANE_R(1000000.0)}, .p_b_samples = (const crane_real[]){CRANE_R(2000000.0), CRANE_R(2000000.0), CRANE_R(5000000.0), CRANE_R(5000000.0)}, .n_samples = 4}}}
@@ -128,7 +158,9 @@
 #define CRANE_SCENARIO_SLEWED_EXTENDED_STATE { \
     .stroke = {CRANE_R(0.25), CRANE_R(0.35)}, \
     .stroke_rate = {CRANE_R(0.0), CRANE_R(0.0)}, \
-    .slew = CRANE_R(1.0471975511965976), .extension = CRANE_R(0.8)}
+    .slew = CRANE_R(1.0471975511965976), .extension = CRANE_R(0.8), \
+    .p_a = {CRANE_R(0.0), CRANE_R(0.0)}, .p_b = {CRANE_R(0.0), CRANE_R(0.0)}, \
+    .spool = {CRANE_R(0.0), CRANE_R(0.0)}}
 #define CRANE_SCENARIO_SLEWED_EXTENDED_INPUTS {.drive = { \
     {.mode = CRANE_DRIVE_PRESSURE, .p_a = CRANE_R(8500000.0), .p_b = CRANE_R(0.0)}, \
     {.mode = CRANE_DRIVE_PRESSURE, .p_a = CRANE_R(3000000.0), .p_b = CRANE_R(4000000.0)}}}
@@ -139,7 +171,9 @@
 #define CRANE_SCENARIO_TILT_ALONE_STATE { \
     .stroke = {CRANE_R(0.3), CRANE_R(0.35)}, \
     .stroke_rate = {CRANE_R(0.0), CRANE_R(0.0)}, \
-    .slew = CRANE_R(0.0), .extension = CRANE_R(0.0)}
+    .slew = CRANE_R(0.0), .extension = CRANE_R(0.0), \
+    .p_a = {CRANE_R(0.0), CRANE_R(0.0)}, .p_b = {CRANE_R(0.0), CRANE_R(0.0)}, \
+    .spool = {CRANE_R(0.0), CRANE_R(0.0)}}
 #define CRANE_SCENARIO_TILT_ALONE_INPUTS {.drive = { \
     {.mode = CRANE_DRIVE_HOLD}, \
     {.mode = CRANE_DRIVE_PRESSURE, .p_a = CRANE_R(0.0), .p_b = CRANE_R(3000000.0)}}}
