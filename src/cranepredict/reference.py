@@ -1,12 +1,13 @@
 """Detailed reference model of the crane on the Exudyn multibody engine (install extra ``[reference]``).
 
 The fast model (docs/model.md) is checked against this one, as the paper checks its C model against
-a Simscape Multibody model. What this model keeps that the fast one does not:
+a Simscape Multibody model. Both carry the same bodies (the side links included); this one is
+formulated independently of the fast model's two-coordinate equations:
 
-* the two **side links** of the tilt four-bar are rigid bodies with their own masses and inertias
-  (crane file ``side_link1``/``side_link2``);
-* the four-bar is **closed by the engine's joint constraints** (five revolute joints, index-3 DAE
-  solved by Exudyn's implicit generalized-alpha integrator), not by closed-form kinematics;
+* the bodies are **four free rigid bodies** (lift boom, outer boom, side links 1 and 2, crane file
+  ``side_link1``/``side_link2``) in absolute coordinates, and the four-bar is **closed by the
+  engine's joint constraints** (five revolute joints, index-3 DAE solved by Exudyn's implicit
+  generalized-alpha integrator), not by closed-form kinematics;
 * the cylinders are **force elements** between their pins (``ObjectConnectorSpringDamper`` with a
   force user function): ``F = p_a A_a - p_b A_b - F_friction(v)`` along the pin-to-pin line, with
   the same friction law and the same pressure inputs as the fast model;
@@ -32,6 +33,11 @@ masses are not in the crane file and are neglected here too (massless force elem
 
 Use :func:`predict_reference` for a :class:`~cranepredict.types.Trajectory`, or :func:`simulate` for
 the trajectory plus diagnostics (constraint residuals, wall time).
+
+Layout: :func:`_build` assembles one smooth piece as an Exudyn system, :func:`_watch_events` and
+:func:`_solve` integrate it to its first end-stop event, :func:`_event_loop` strings the pieces
+together across impacts and releases, :func:`_join` and :func:`_output` turn them into the
+trajectory.
 """
 
 from __future__ import annotations
@@ -231,7 +237,7 @@ def _plastic_impact(crane: Crane, bodies, s, rates, j: int, others_free: bool) -
     return out
 
 
-# -- the model -----------------------------------------------------------------------------------
+# -- the model: one smooth piece of motion as an Exudyn system -----------------------------------
 
 @dataclass
 class ReferenceRun:
@@ -245,13 +251,41 @@ class ReferenceRun:
     events: list                  #: (t, "impact" | "release", cylinder 0/1, side -1/+1) in order
 
 
-def _segment(crane: Crane, bodies, inputs: Inputs, modes, s, rates, held, t0: float, t_end: float,
-             dt: float, spectral_radius: float):
-    """Integrates one smooth piece of the motion with Exudyn, from (strokes s, stroke rates) at t0,
-    with each cylinder "held", free (0) or on its stop (-1/+1, a distance constraint at the
-    limit), until t_end or the first event: a free cylinder reaching a stop (located to
-    STOP_TOLERANCE of stroke) or a stopped one whose stop would have to pull (its constraint force
-    changes sign, located to RELEASE_TOLERANCE). Returns the samples and the events found."""
+def _joints(g):
+    """Revolute joints: (body a, point in a's frame, body b, point in b's frame)."""
+    return [("ground", g.lift_pivot, "lift", (0.0, 0.0)),
+            ("lift", g.tilt_pivot, "outer", (0.0, 0.0)),
+            ("lift", g.link1_pivot, "link1", (0.0, 0.0)),
+            ("link1", g.link_pin, "link2", (0.0, 0.0)),
+            ("link2", g.link2_end, "outer", g.link2_attach)]
+
+
+def _cyl(crane: Crane, j: int):
+    return crane.lift_cylinder if j == 0 else crane.tilt_cylinder
+
+
+def _cylinders(crane: Crane, inputs: Inputs):
+    """(cylinder, drive, base pin, rod pin) of the lift and the tilt cylinder."""
+    g = crane.geometry
+    return [(crane.lift_cylinder, inputs.lift, ("ground", g.lift_cylinder_base), ("lift", g.lift_cylinder_rod)),
+            (crane.tilt_cylinder, inputs.tilt, ("lift", g.tilt_cylinder_base), ("link1", g.link_pin))]
+
+
+@dataclass
+class _Model:
+    """One piece's Exudyn system, assembled and ready to solve."""
+
+    mbs: object
+    q0: Dict[str, np.ndarray]     #: node reference coordinates (the sensors give displacements)
+    sensors: Dict[str, Tuple[int, int]]   #: (coordinates, velocities) sensor per body
+    watched: dict                 #: cylinder -> ("impact", force element, cylinder) | ("release", stop, side)
+
+
+def _build(crane: Crane, bodies, inputs: Inputs, modes, s, rates, held, t0: float) -> _Model:
+    """The Exudyn system of one piece, started at (strokes s, stroke rates) at time t0: the four
+    bodies under gravity, the five revolute joints, and per cylinder a held length ("held"), a free
+    force element (mode 0, watched for an impact) or a force element plus a distance constraint on
+    its stop (mode -1/+1, watched for a release)."""
     import exudyn as exu
     from exudyn.itemInterface import (MarkerBodyMass, MarkerBodyPosition, LoadMassProportional,
                                       NodeRigidBody2D, ObjectConnectorDistance,
@@ -287,7 +321,6 @@ def _segment(crane: Crane, bodies, inputs: Inputs, modes, s, rates, held, t0: fl
     for a, pa, b, pb in _joints(g):
         mbs.AddObject(ObjectJointRevolute2D(markerNumbers=[marker(a, pa), marker(b, pb)]))
 
-    # watched[j] = (kind, side, object): gap > 0 means the event has happened
     watched = {}
     for j, (cyl, drive, base, rod) in enumerate(_cylinders(crane, inputs)):
         mks = [marker(*base), marker(*rod)]
@@ -312,6 +345,19 @@ def _segment(crane: Crane, bodies, inputs: Inputs, modes, s, rates, held, t0: fl
                                                writeToFile=False,
                                                outputVariableType=exu.OutputVariableType.Coordinates_t)))
                for name in _ORDER}
+    return _Model(mbs=mbs, q0=q0, sensors=sensors, watched=watched)
+
+
+# -- event location inside a piece ---------------------------------------------------------------
+
+def _watch_events(model: _Model, crane: Crane, s) -> dict:
+    """Installs the user functions that end the piece at its first event: a free cylinder reaching
+    a stop (located to STOP_TOLERANCE of stroke) or a stopped one whose stop would have to pull
+    (located to RELEASE_TOLERANCE). A step that ends past an event is redone shorter (regula falsi)
+    until it ends within the tolerance; then the post-step function stops the solver. Returns the
+    dict whose "events" lists what ended the piece."""
+    import exudyn as exu
+    mbs, watched = model.mbs, model.watched
 
     def gap(j: int) -> Tuple[float, int]:
         """(how far the event is past, side): for a free cylinder the penetration of the nearer
@@ -364,9 +410,15 @@ def _segment(crane: Crane, bodies, inputs: Inputs, modes, s, rates, held, t0: fl
 
     mbs.SetPostNewtonUserFunction(post_newton)
     mbs.SetPostStepUserFunction(post_step)
-    mbs.Assemble()
+    return st
 
-    span = t_end - t0
+
+def _solve(model: _Model, span: float, dt: float, spectral_radius: float) -> None:
+    """Generalized-alpha with full Newton over ``span`` at step ``dt`` (shortened only to locate
+    an event), every step stored by the sensors."""
+    import exudyn as exu
+    mbs = model.mbs
+    mbs.Assemble()
     ss = exu.SimulationSettings()
     ss.timeIntegration.numberOfSteps = int(math.ceil(span / dt - 1e-9))
     ss.timeIntegration.endTime = float(span)
@@ -391,110 +443,121 @@ def _segment(crane: Crane, bodies, inputs: Inputs, modes, s, rates, held, t0: fl
     ok = exu.SolveDynamic(mbs, ss, updateInitialValues=False)
     if not ok:
         raise RuntimeError("Exudyn's solver did not converge on the reference model")
-    data = {k: (mbs.GetSensorStoredData(sensors[k][0]), mbs.GetSensorStoredData(sensors[k][1]))
-            for k in _ORDER}
+
+
+@dataclass
+class _Piece:
+    """The samples of one smooth piece: time, node coordinates and velocities per body, and the
+    cylinders' modes during it."""
+
+    t: np.ndarray
+    q: Dict[str, np.ndarray]
+    qd: Dict[str, np.ndarray]
+    modes: list
+
+
+def _segment(crane: Crane, bodies, inputs: Inputs, modes, s, rates, held, t0: float, t_end: float,
+             dt: float, spectral_radius: float) -> Tuple[_Piece, list]:
+    """Integrates one smooth piece of the motion from (strokes s, stroke rates) at t0 until t_end or
+    the first event (see :func:`_build` and :func:`_watch_events`). Returns the piece and the
+    events that ended it (empty: it reached t_end)."""
+    model = _build(crane, bodies, inputs, modes, s, rates, held, t0)
+    st = _watch_events(model, crane, s)
+    _solve(model, t_end - t0, dt, spectral_radius)
+    data = {k: (model.mbs.GetSensorStoredData(model.sensors[k][0]),
+                model.mbs.GetSensorStoredData(model.sensors[k][1])) for k in _ORDER}
     t = data["lift"][0][:, 0] + t0
-    q = {k: data[k][0][:, 1:4] + q0[k] for k in _ORDER}   # sensors give displacements
+    q = {k: data[k][0][:, 1:4] + model.q0[k] for k in _ORDER}   # sensors give displacements
     qd = {k: data[k][1][:, 1:4] for k in _ORDER}
-    return t, q, qd, st["events"]
+    return _Piece(t=t, q=q, qd=qd, modes=list(modes)), st["events"]
 
 
-def _joints(g):
-    """Revolute joints: (body a, point in a's frame, body b, point in b's frame)."""
-    return [("ground", g.lift_pivot, "lift", (0.0, 0.0)),
-            ("lift", g.tilt_pivot, "outer", (0.0, 0.0)),
-            ("lift", g.link1_pivot, "link1", (0.0, 0.0)),
-            ("link1", g.link_pin, "link2", (0.0, 0.0)),
-            ("link2", g.link2_end, "outer", g.link2_attach)]
+# -- the event loop: pieces between end-stop events ----------------------------------------------
 
-
-def _cyl(crane: Crane, j: int):
-    return crane.lift_cylinder if j == 0 else crane.tilt_cylinder
-
-
-def _cylinders(crane: Crane, inputs: Inputs):
-    """(cylinder, drive, base pin, rod pin) of the lift and the tilt cylinder."""
-    g = crane.geometry
-    return [(crane.lift_cylinder, inputs.lift, ("ground", g.lift_cylinder_base), ("lift", g.lift_cylinder_rod)),
-            (crane.tilt_cylinder, inputs.tilt, ("lift", g.tilt_cylinder_base), ("link1", g.link_pin))]
-
-
-def simulate(crane: Crane, initial: State, inputs: Inputs, horizon: float, *,
-             dt: float = DEFAULT_REFERENCE_DT, spectral_radius: float = 0.5) -> ReferenceRun:
-    """Runs the Exudyn reference model; see the module text for what it contains.
-
-    The motion is integrated in smooth pieces between end-stop events (event-driven): while no
-    stop is touched, or a stopped cylinder is held on it by a distance constraint, Exudyn's
-    generalized-alpha integrates a smooth DAE; at an event the piece ends (Exudyn shortens the step
-    so that it ends at the event), the contact changes, and a new piece starts from that state."""
-    from . import api
-
-    api._check(crane, initial, inputs, horizon, dt, "c")  # the same input checks as predict()
-
-    wall0 = time.perf_counter()
-    g = crane.geometry
-    e = initial.extension
-    bodies = _bodies(crane, e)
-    cyls = _cylinders(crane, inputs)
-    s = [initial.lift_stroke, initial.tilt_stroke]
-    rates = [initial.lift_stroke_rate, initial.tilt_stroke_rate]
-    held = list(s)
-    modes = ["held" if isinstance(c[1], Hold) else 0 for c in cyls]
-    events = []
-    # at t = 0 a free cylinder on a limit whose rate does not point into the range is on its stop
-    for j, (cyl, *_r) in enumerate(cyls):
+def _start_on_stops(crane: Crane, bodies, modes, s, rates, events: list):
+    """At t = 0 a free cylinder on a limit whose rate does not point into the range is on its stop
+    (a plastic impact at t = 0). Updates modes, s and rates in place; appends the events."""
+    for j in range(2):
         if modes[j] == 0:
+            cyl = _cyl(crane, j)
             for side, lim in ((+1, cyl.stroke_max), (-1, cyl.stroke_min)):
                 if abs(s[j] - lim) <= STOP_TOLERANCE and side * rates[j] >= 0:
                     free_other = modes[1 - j] == 0
-                    rates = _plastic_impact(crane, bodies, s, rates, j, free_other)
+                    rates[:] = _plastic_impact(crane, bodies, s, rates, j, free_other)
                     s[j], modes[j] = lim, side
                     events.append((0.0, "impact", j, side))
                     break
 
-    pieces = []   # (t, q, qd, modes) per piece
+
+def _apply_events(crane: Crane, bodies, evs, t0: float, modes, s, rates, events: list):
+    """The contact changes at an event: an impact puts the stroke on the limit and takes its rate
+    (plastic), a release frees the cylinder. Updates modes, s and rates in place."""
+    for kind, j, side in evs:
+        events.append((t0, kind, j, side))
+        if kind == "impact":
+            cyl = _cyl(crane, j)
+            s[j] = cyl.stroke_max if side > 0 else cyl.stroke_min
+            rates[:] = _plastic_impact(crane, bodies, s, rates, j, modes[1 - j] == 0)
+            modes[j] = side
+        else:
+            modes[j] = 0
+    for j in range(2):   # a stopped cylinder's stroke rate is zero (within the constraint)
+        if modes[j] != 0:
+            rates[j] = 0.0
+
+
+def _event_loop(crane: Crane, bodies, initial: State, inputs: Inputs, horizon: float, dt: float,
+                spectral_radius: float) -> Tuple[list, list]:
+    """Integrates the motion in smooth pieces between end-stop events. Returns the pieces and the
+    events (t, kind, cylinder, side)."""
+    s = [initial.lift_stroke, initial.tilt_stroke]
+    rates = [initial.lift_stroke_rate, initial.tilt_stroke_rate]
+    held = list(s)
+    modes = ["held" if isinstance(c[1], Hold) else 0 for c in _cylinders(crane, inputs)]
+    events: list = []
+    _start_on_stops(crane, bodies, modes, s, rates, events)
+    pieces = []
     t0 = 0.0
     for _ in range(MAX_PIECES):
-        t, q, qd, evs = _segment(crane, bodies, inputs, modes, s, rates, held, t0, horizon, dt,
-                                 spectral_radius)
-        pieces.append((t, q, qd, list(modes)))
-        t0 = float(t[-1])
+        piece, evs = _segment(crane, bodies, inputs, modes, s, rates, held, t0, horizon, dt,
+                              spectral_radius)
+        pieces.append(piece)
+        t0 = float(piece.t[-1])
         if not evs or horizon - t0 <= 1e-12:
-            break
-        # the state at the event, in strokes and stroke rates
-        s, rates = _strokes_and_rates(crane, bodies, {k: q[k][-1] for k in _ORDER},
-                                      {k: qd[k][-1] for k in _ORDER})
-        for kind, j, side in evs:
-            events.append((t0, kind, j, side))
-            if kind == "impact":
-                cyl = cyls[j][0]
-                s[j] = cyl.stroke_max if side > 0 else cyl.stroke_min
-                rates = _plastic_impact(crane, bodies, s, rates, j, modes[1 - j] == 0)
-                modes[j] = side
-            else:
-                modes[j] = 0
-        for j in range(2):   # a stopped cylinder's stroke rate is zero (within the constraint)
-            if modes[j] != 0:
-                rates[j] = 0.0
-    else:
-        raise RuntimeError(f"more than {MAX_PIECES} end-stop events: the stops chatter")
+            return pieces, events
+        s, rates = _strokes_and_rates(crane, bodies, {k: piece.q[k][-1] for k in _ORDER},
+                                      {k: piece.qd[k][-1] for k in _ORDER})
+        _apply_events(crane, bodies, evs, t0, modes, s, rates, events)
+    raise RuntimeError(f"more than {MAX_PIECES} end-stop events: the stops chatter")
 
-    # join the pieces: each piece's first sample replaces the previous piece's last (the same
-    # instant, after the event)
-    t = np.concatenate([p[0] if i == len(pieces) - 1 else p[0][:-1] for i, p in enumerate(pieces)])
-    q = {k: np.concatenate([p[1][k] if i == len(pieces) - 1 else p[1][k][:-1]
-                            for i, p in enumerate(pieces)]) for k in _ORDER}
-    qd = {k: np.concatenate([p[2][k] if i == len(pieces) - 1 else p[2][k][:-1]
-                             for i, p in enumerate(pieces)]) for k in _ORDER}
-    mode_rows = np.concatenate([np.tile([[m if m != "held" else 0 for m in p[3]]],
-                                        (p[0].size if i == len(pieces) - 1 else p[0].size - 1, 1))
+
+def _join(pieces: list):
+    """One time series from the pieces: each piece's first sample replaces the previous piece's
+    last (the same instant, after the event); pieces of length zero (an event at their start)
+    leave no sample. Returns t, q, qd and the (N, 2) stop flags."""
+    last = len(pieces) - 1
+
+    def cat(get):
+        return np.concatenate([get(p) if i == last else get(p)[:-1] for i, p in enumerate(pieces)])
+
+    t = cat(lambda p: p.t)
+    q = {k: cat(lambda p, k=k: p.q[k]) for k in _ORDER}
+    qd = {k: cat(lambda p, k=k: p.qd[k]) for k in _ORDER}
+    mode_rows = np.concatenate([np.tile([[m if m != "held" else 0 for m in p.modes]],
+                                        (p.t.size if i == last else p.t.size - 1, 1))
                                 for i, p in enumerate(pieces)]).astype(np.int32)
-    # pieces may start at the same instant (an impact located at t0 ends a piece of length ~0)
     keep = np.concatenate([np.diff(t) > 0, [True]])
-    t, mode_rows = t[keep], mode_rows[keep]
-    q = {k: v[keep] for k, v in q.items()}
-    qd = {k: v[keep] for k, v in qd.items()}
-    wall = time.perf_counter() - wall0
+    return t[keep], {k: v[keep] for k, v in q.items()}, {k: v[keep] for k, v in qd.items()}, mode_rows[keep]
+
+
+# -- output: trajectory and diagnostics from the bodies' coordinates -----------------------------
+
+def _output(crane: Crane, bodies, initial: State, inputs: Inputs, t, q, qd, stop):
+    """The Trajectory (world points rotated by the slew) and the diagnostics: the largest joint
+    residual and the largest drift of a held cylinder's length."""
+    g = crane.geometry
+    e = initial.extension
+    held = (initial.lift_stroke, initial.tilt_stroke)
 
     def world_point(name: str, point_in_frame) -> np.ndarray:
         """(N, 2) boom-plane positions of a point fixed in a body's frame."""
@@ -505,12 +568,11 @@ def simulate(crane: Crane, initial: State, inputs: Inputs, horizon: float, *,
         c, sn = np.cos(ph), np.sin(ph)
         return q[name][:, :2] + np.stack([c * local[0] - sn * local[1], sn * local[0] + c * local[1]], 1)
 
-    # diagnostics: joint residuals and held-cylinder length drift, from the stored coordinates
     res = max(float(np.max(np.hypot(*(world_point(a, pa) - world_point(b, pb)).T)))
               for a, pa, b, pb in _joints(g))
     strokes = np.empty((t.size, 2))
     held_err = 0.0
-    for j, (cyl, drive, base, rod) in enumerate(cyls):
+    for j, (cyl, drive, base, rod) in enumerate(_cylinders(crane, inputs)):
         L = np.hypot(*(world_point(*rod) - world_point(*base)).T)
         strokes[:, j] = L - cyl.length_retracted
         if isinstance(drive, Hold):
@@ -521,7 +583,6 @@ def simulate(crane: Crane, initial: State, inputs: Inputs, horizon: float, *,
     th_tilt = np.where(th_tilt <= -1.5 * math.pi, th_tilt + 2 * math.pi, th_tilt)
     theta = np.stack([th_lift, th_tilt], 1)
     omega = np.stack([qd["lift"][:, 2], qd["outer"][:, 2] - qd["lift"][:, 2]], 1)
-    stop = mode_rows
 
     mount = np.array(g.extension_mount)
     plane = {"pillar_base": np.zeros((t.size, 2)),
@@ -552,6 +613,27 @@ def simulate(crane: Crane, initial: State, inputs: Inputs, horizon: float, *,
         return xyz
 
     traj = Trajectory(slew=initial.slew, extension=e, backend="exudyn", _points=points, **arrays)
+    return traj, res, held_err
+
+
+def simulate(crane: Crane, initial: State, inputs: Inputs, horizon: float, *,
+             dt: float = DEFAULT_REFERENCE_DT, spectral_radius: float = 0.5) -> ReferenceRun:
+    """Runs the Exudyn reference model; see the module text for what it contains.
+
+    The motion is integrated in smooth pieces between end-stop events (event-driven): while no
+    stop is touched, or a stopped cylinder is held on it by a distance constraint, Exudyn's
+    generalized-alpha integrates a smooth DAE; at an event the piece ends (Exudyn shortens the step
+    so that it ends at the event), the contact changes, and a new piece starts from that state."""
+    from . import api
+
+    api._check(crane, initial, inputs, horizon, dt, "c")  # the same input checks as predict()
+
+    wall0 = time.perf_counter()
+    bodies = _bodies(crane, initial.extension)
+    pieces, events = _event_loop(crane, bodies, initial, inputs, horizon, dt, spectral_radius)
+    t, q, qd, stop = _join(pieces)
+    wall = time.perf_counter() - wall0
+    traj, res, held_err = _output(crane, bodies, initial, inputs, t, q, qd, stop)
     return ReferenceRun(trajectory=traj, wall=wall, residual_max=res, held_length_error=held_err,
                         dt=dt, events=events)
 
