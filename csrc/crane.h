@@ -44,13 +44,18 @@ typedef enum {
     CRANE_E_CAPACITY = 17,      /* output buffer smaller than the number of samples */
     CRANE_E_ANGLE = 18,         /* an angle outside the range reachable by the cylinder */
     CRANE_E_SAMPLE_EVERY = 19,  /* sample_every is 0 (or does not fit a long) */
-    CRANE_E_DIVERGED = 20       /* the state stopped being finite (absurd parameters, e.g. gravity) */
+    CRANE_E_DIVERGED = 20,      /* the state stopped being finite (absurd parameters, e.g. gravity) */
+    CRANE_E_HYDRAULICS = 21,    /* a hydraulic parameter out of range (docs/model.md, Hydraulics) */
+    CRANE_E_VALVE = 22          /* a lever outside [-1, 1], a valve drive without hydraulics, or a
+                                 * chamber pressure / spool of the state out of range */
 } crane_status;
 
 enum { CRANE_LIFT = 0, CRANE_TILT = 1 };
-enum { CRANE_DRIVE_PRESSURE = 0, CRANE_DRIVE_HOLD = 1 };
+enum { CRANE_DRIVE_PRESSURE = 0, CRANE_DRIVE_HOLD = 1, CRANE_DRIVE_VALVE = 2 };
+enum { CRANE_VALVE_NONE = 0, CRANE_VALVE_ORIFICE = 1, CRANE_VALVE_COMPENSATED = 2 };
 enum { CRANE_N_POINTS = 11 };
 enum { CRANE_PRESSURE_MAX = 100000000 };   /* Pa (1000 bar): the largest pressure accepted */
+enum { CRANE_CHAMBER_PRESSURE_MIN = -100000 };  /* Pa gauge (vacuum): the lowest chamber pressure */
 
 typedef struct {
     crane_real x, y;
@@ -70,6 +75,27 @@ typedef struct {
     crane_real tanh_velocity;      /* v_T > 0, m/s: smoothing of the sign at v = 0 */
 } crane_friction;
 
+/* A cylinder's valve and oil (docs/model.md, "Hydraulics"); SI: Pa, m^3, m^3/s, s. */
+typedef struct {
+    int valve;                       /* CRANE_VALVE_NONE (no circuit: cannot be valve-driven),
+                                      * CRANE_VALVE_ORIFICE or CRANE_VALVE_COMPENSATED */
+    crane_real supply_pressure;      /* p_S */
+    crane_real tank_pressure;        /* p_T */
+    crane_real relief_pressure;      /* port relief setting p_R */
+    crane_real nominal_flow;         /* orifice: at full opening and nominal_pressure_drop;
+                                      * compensated: the meter-in flow at full opening */
+    crane_real nominal_pressure_drop;
+    crane_real dead_band;            /* compensated: u0 in [0, 0.99]; orifice: 0 */
+    crane_real meter_out_flow;       /* compensated: meter-out orifice, flow at ... */
+    crane_real meter_out_pressure_drop;   /* ... this pressure drop */
+    crane_real spool_time_constant;  /* s; 0 = no spool lag */
+    crane_real laminar_pressure_drop;     /* d_l > 0: width of the laminar region */
+    crane_real cavitation_pressure;  /* anti-cavitation valve opens below this */
+    crane_real hose_volume_a, hose_volume_b;   /* dead volumes, m^3 */
+    crane_real oil_bulk_modulus, hose_bulk_modulus, cylinder_bulk_modulus;
+    crane_real leakage;              /* m^3/(s Pa) across the piston; 0 = none */
+} crane_hydraulics;
+
 typedef struct {
     crane_real bore;               /* piston diameter, m */
     crane_real rod;                /* rod diameter, m */
@@ -77,6 +103,7 @@ typedef struct {
     crane_real stroke_min;         /* end stops, m */
     crane_real stroke_max;
     crane_friction friction;
+    crane_hydraulics hydraulics;   /* .valve = CRANE_VALVE_NONE when the crane file has none */
 } crane_cylinder;
 
 typedef struct {

@@ -281,6 +281,8 @@ const char *crane_status_message(crane_status status)
     case CRANE_E_ANGLE: return "an angle is outside the range reachable by the cylinder";
     case CRANE_E_SAMPLE_EVERY: return "sample_every must be >= 1";
     case CRANE_E_DIVERGED: return "the prediction diverged (the state stopped being finite): the parameters are not physical";
+    case CRANE_E_HYDRAULICS: return "a hydraulic parameter is out of range (docs/model.md, Hydraulics)";
+    case CRANE_E_VALVE: return "a valve drive is invalid: lever outside [-1, 1], no hydraulics for the cylinder, or a chamber pressure/spool of the state out of range";
     }
     return "unknown status";
 }

@@ -69,6 +69,22 @@ def _cylinder(dst: Any, cyl: Any) -> None:
     f = cyl.friction
     dst.friction.coulomb, dst.friction.static_, dst.friction.viscous = f.coulomb, f.static, f.viscous
     dst.friction.stribeck_velocity, dst.friction.tanh_velocity = f.stribeck_velocity, f.tanh_velocity
+    h = cyl.hydraulics
+    hd = dst.hydraulics
+    if h is None:
+        hd.valve = lib.CRANE_VALVE_NONE
+        return
+    hd.valve = lib.CRANE_VALVE_COMPENSATED if h.valve == "compensated" else lib.CRANE_VALVE_ORIFICE
+    for name in _HYDRAULIC_FIELDS:
+        setattr(hd, name, getattr(h, name))
+
+
+# crane_hydraulics fields besides valve: the same names as the crane file's
+_HYDRAULIC_FIELDS = ("supply_pressure", "tank_pressure", "relief_pressure", "nominal_flow",
+                     "nominal_pressure_drop", "dead_band", "meter_out_flow",
+                     "meter_out_pressure_drop", "spool_time_constant", "laminar_pressure_drop",
+                     "cavitation_pressure", "hose_volume_a", "hose_volume_b", "oil_bulk_modulus",
+                     "hose_bulk_modulus", "cylinder_bulk_modulus", "leakage")
 
 
 @functools.lru_cache(maxsize=64)

@@ -10,9 +10,10 @@ import numpy as np
 from . import _core
 from ._checks import number as _number
 from .crane import Crane
-from .types import Hold, Inputs, PressureSeries, State, Trajectory, TrajectoryBatch
+from .types import (Hold, Inputs, PressureSeries, State, Trajectory, TrajectoryBatch, Valve,
+                    ValveSeries)
 
-__all__ = ["predict", "predict_many", "DEFAULT_DT", "BACKENDS"]
+__all__ = ["predict", "predict_many", "state_at_rest", "DEFAULT_DT", "BACKENDS"]
 
 #: Default RK4 step, s. Chosen by measured accuracy (tools/dt_study.py): over the named scenarios and
 #: 20 random ones, the tip stays within 0.05 mm of a converged run; see README.
@@ -65,6 +66,18 @@ def _check_future(crane: Crane, initial: State, inputs: Inputs, horizon: float) 
         if isinstance(drive, PressureSeries) and not drive.covers(horizon):
             raise ValueError(f"Inputs.{joint}: PressureSeries.t must cover [0, horizon] = [0, {horizon}] s, "
                              f"got [{drive.t[0]}, {drive.t[-1]}]")
+        if isinstance(drive, (Valve, ValveSeries)):
+            if cyl.hydraulics is None:
+                raise ValueError(f"Inputs.{joint}: a valve drive needs {joint}_cylinder.hydraulics "
+                                 "in the crane file")
+            if isinstance(drive, ValveSeries) and not drive.covers(horizon):
+                raise ValueError(f"Inputs.{joint}: ValveSeries.t must cover [0, horizon] = "
+                                 f"[0, {horizon}] s, got [{drive.t[0]}, {drive.t[-1]}]")
+            for side in ("p_a", "p_b"):
+                if getattr(initial, f"{joint}_{side}") is None:
+                    raise ValueError(f"State.{joint}_{side} is required for a valve-driven {joint} "
+                                     "cylinder: pass the measured chamber pressures or start from "
+                                     "cranepredict.state_at_rest(...)")
     g = crane.geometry
     if not g.extension_min <= initial.extension <= g.extension_max:
         raise ValueError(f"State.extension must be in [{g.extension_min}, {g.extension_max}] m "
@@ -83,9 +96,13 @@ def predict(crane: Crane, initial: State, inputs: Inputs, horizon: float, *,
     dt = DEFAULT_DT if dt is None else dt
     _check(crane, initial, inputs, horizon, dt, backend)
     if backend == "c":
+        if _valve_driven(inputs):
+            raise NotImplementedError("valve-driven cylinders run in the pure-Python twin for now "
+                                      "(backend=\"python\"); the C core does not have them yet")
         s = _core.predict(crane, initial, inputs, float(horizon), float(dt))
         # Field views of the core's sample array: no copy (the arrays are made read-only below).
         arrays = {k: s[f] for k, f in _FIELDS}
+        arrays.update(_drive_pressures(inputs, arrays["t"]))
 
         def points(theta: np.ndarray) -> np.ndarray:
             return _core.points(crane, initial.extension, initial.slew, theta)
@@ -101,7 +118,80 @@ def predict(crane: Crane, initial: State, inputs: Inputs, horizon: float, *,
     return Trajectory(t=arrays["t"], strokes=arrays["strokes"], theta=arrays["theta"],
                       omega=arrays["omega"], tip=arrays["tip"], stop=arrays["stop"],
                       slew=initial.slew, extension=initial.extension, backend=backend,
-                      _points=points)
+                      _points=points, p_a=arrays["p_a"], p_b=arrays["p_b"],
+                      flow_a=arrays["flow_a"], flow_b=arrays["flow_b"], spool=arrays["spool"])
+
+
+def _valve_driven(inputs: Inputs) -> bool:
+    return isinstance(inputs.lift, (Valve, ValveSeries)) or isinstance(inputs.tilt, (Valve, ValveSeries))
+
+
+def _drive_pressures(inputs: Inputs, t: np.ndarray) -> dict:
+    """The pressures of pressure-driven cylinders at the sample times (0 for held ones), and zero
+    flows and spools: the Trajectory's hydraulic arrays when no cylinder is valve-driven."""
+    n = t.shape[0]
+    out = {k: np.zeros((n, 2)) for k in ("p_a", "p_b", "flow_a", "flow_b", "spool")}
+    for j, d in enumerate((inputs.lift, inputs.tilt)):
+        if isinstance(d, PressureSeries):
+            out["p_a"][:, j] = np.interp(t, d.t, d.p_a)
+            out["p_b"][:, j] = np.interp(t, d.t, d.p_b)
+        elif not d.held:
+            out["p_a"][:, j] = d.p_a
+            out["p_b"][:, j] = d.p_b
+    return out
+
+
+def state_at_rest(crane: Crane, lift_stroke: float, tilt_stroke: float, *, slew: float = 0.0,
+                  extension: float = 0.0, lift_rod_pressure: Optional[float] = None,
+                  tilt_rod_pressure: Optional[float] = None) -> State:
+    """The crane at rest at the given strokes, holding itself on closed valves (docs/model.md,
+    "Static state at rest"): each cylinder that has ``hydraulics`` gets the chamber pressures whose
+    force balances gravity (friction taken as 0), the spool closed.
+
+    The chamber that does not carry the load is at the tank pressure (the rod side when the
+    cylinder pushes, the bore side when it pulls), unless ``<joint>_rod_pressure`` (Pa) is given:
+    then the rod side has that pressure and the bore side balances the load. Raises ValueError
+    naming the field if the strokes are out of range or the balance needs a pressure outside
+    [CHAMBER_PRESSURE_MIN, PRESSURE_MAX].
+    """
+    from .types import CHAMBER_PRESSURE_MIN, PRESSURE_MAX
+
+    if not isinstance(crane, Crane):
+        raise TypeError(f"crane must be a cranepredict.Crane, got {type(crane).__name__}")
+    base = State(lift_stroke=lift_stroke, tilt_stroke=tilt_stroke, slew=slew, extension=extension)
+    _check_future(crane, base, Inputs(lift=Hold(), tilt=Hold()), 1.0)
+    theta = []
+    ratio = []
+    for j, s in enumerate((base.lift_stroke, base.tilt_stroke)):
+        th, ds = _core.joint_angle(crane, j, s, base.extension)
+        theta.append(th)
+        ratio.append(ds)
+    h = _core.inverse_dynamics(crane, base.extension, theta, (0.0, 0.0), (0.0, 0.0))
+    fields = {}
+    for j, (joint, cyl, rod) in enumerate((("lift", crane.lift_cylinder, lift_rod_pressure),
+                                           ("tilt", crane.tilt_cylinder, tilt_rod_pressure))):
+        hyd = cyl.hydraulics
+        if hyd is None:
+            continue
+        force = h[j] / ratio[j]          # N, the cylinder force that holds the booms
+        if rod is not None:
+            p_b = _number(rod, f"{joint}_rod_pressure")
+            p_a = (force + p_b * cyl.area_b) / cyl.area_a
+        elif force >= 0.0:
+            p_b = hyd.tank_pressure
+            p_a = (force + p_b * cyl.area_b) / cyl.area_a
+        else:
+            p_a = hyd.tank_pressure
+            p_b = (p_a * cyl.area_a - force) / cyl.area_b
+        for side, p in (("p_a", p_a), ("p_b", p_b)):
+            if not CHAMBER_PRESSURE_MIN <= p <= PRESSURE_MAX:
+                raise ValueError(f"state_at_rest: holding the crane needs {joint} {side} = {p:g} Pa, "
+                                 f"outside [{CHAMBER_PRESSURE_MIN:g}, {PRESSURE_MAX:g}] Pa "
+                                 f"(check {joint}_rod_pressure)")
+        fields[f"{joint}_p_a"] = p_a
+        fields[f"{joint}_p_b"] = p_b
+    return State(lift_stroke=base.lift_stroke, tilt_stroke=base.tilt_stroke, slew=base.slew,
+                 extension=base.extension, **fields)
 
 
 def predict_many(crane: Crane, initials: Sequence[State], inputs_list: Sequence[Inputs],

@@ -13,14 +13,17 @@ import math
 from dataclasses import dataclass, field
 from importlib import resources
 from pathlib import Path
-from typing import Any, Mapping, Tuple, Union
+from typing import Any, Mapping, Optional, Tuple, Union
 
 from ._checks import number as _number
 from ._checks import tomllib
 
 Vec2 = Tuple[float, float]
 
-__all__ = ["Body", "Friction", "Cylinder", "Geometry", "Crane"]
+__all__ = ["Body", "Friction", "Hydraulics", "Cylinder", "Geometry", "Crane", "VALVES"]
+
+#: The valve types of a cylinder's hydraulics (docs/model.md, "Hydraulics").
+VALVES = ("orifice", "compensated")
 
 
 @dataclass(frozen=True)
@@ -44,6 +47,37 @@ class Friction:
 
 
 @dataclass(frozen=True)
+class Hydraulics:
+    """A cylinder's valve and oil (docs/model.md, "Hydraulics"): Pa, m^3, m^3/s, s, m^3/(s Pa).
+
+    ``valve`` is "orifice" (critical centre, [S1]/[S2]: Q = y K g(dp) per edge with
+    K = nominal_flow/sqrt(nominal_pressure_drop)) or "compensated" (load-sensing PVG32 of [S3]:
+    meter-in flow source y nominal_flow beyond the dead band, meter-out orifice of
+    meter_out_flow at meter_out_pressure_drop). ``spool_time_constant`` 0 means no spool lag,
+    ``leakage`` 0 none.
+    """
+
+    valve: str
+    supply_pressure: float
+    tank_pressure: float
+    relief_pressure: float
+    nominal_flow: float
+    nominal_pressure_drop: float
+    laminar_pressure_drop: float
+    cavitation_pressure: float
+    hose_volume_a: float
+    hose_volume_b: float
+    oil_bulk_modulus: float
+    hose_bulk_modulus: float
+    cylinder_bulk_modulus: float
+    dead_band: float = 0.0
+    meter_out_flow: float = 0.0
+    meter_out_pressure_drop: float = 0.0
+    spool_time_constant: float = 0.0
+    leakage: float = 0.0
+
+
+@dataclass(frozen=True)
 class Cylinder:
     """A double-acting hydraulic cylinder: diameters, pin-to-pin length at stroke 0, stroke range (m)."""
 
@@ -53,6 +87,7 @@ class Cylinder:
     stroke_min: float
     stroke_max: float
     friction: Friction
+    hydraulics: Optional[Hydraulics] = None   #: None: the cylinder cannot be valve-driven
 
     @property
     def area_a(self) -> float:
@@ -170,6 +205,8 @@ def _build(cls: type, data: Mapping[str, Any], prefix: str) -> Any:
                 continue
             raise ValueError(f"{name} is missing from the crane file")
         value, hint = data[f.name], hints[f.name]
+        if hint == Optional[Hydraulics]:
+            hint = Hydraulics
         if dataclasses.is_dataclass(hint):
             kwargs[f.name] = _build(hint, value, name + ".")
         elif hint is Vec2:
@@ -235,16 +272,57 @@ def _check_crane(c: Crane) -> None:
                              f"{cyl_name}.friction.coulomb ({fr.coulomb} N)")
         positive(fr.stribeck_velocity, f"{cyl_name}.friction.stribeck_velocity")
         positive(fr.tanh_velocity, f"{cyl_name}.friction.tanh_velocity")
+        if cyl.hydraulics is not None:
+            _check_hydraulics(cyl.hydraulics, f"{cyl_name}.hydraulics")
     from . import _core  # the kinematic checks: the lift triangle and the four-bar closing
 
     _core.check_crane(c)
+
+
+#: Pa: the range of a chamber pressure (the state's and the circuit's); -1 bar gauge is vacuum.
+CHAMBER_PRESSURE_MIN = -1e5
+
+
+def _check_hydraulics(h: Hydraulics, where: str) -> None:
+    """The ranges of docs/model.md "Hydraulics" (crane file), naming the field."""
+    from ._core import PRESSURE_MAX
+
+    if h.valve not in VALVES:
+        raise ValueError(f"{where}.valve must be one of {VALVES}, got {h.valve!r}")
+
+    def rng(name: str, lo: float, hi: float, lo_open: bool = False) -> None:
+        x = getattr(h, name)
+        if not (math.isfinite(x) and (x > lo if lo_open else x >= lo) and x <= hi):
+            raise ValueError(f"{where}.{name} must be in {'(' if lo_open else '['}{lo:g}, {hi:g}], "
+                             f"got {x}")
+
+    rng("tank_pressure", 0.0, PRESSURE_MAX)
+    rng("supply_pressure", h.tank_pressure, PRESSURE_MAX, lo_open=True)
+    rng("relief_pressure", h.supply_pressure, PRESSURE_MAX)
+    rng("cavitation_pressure", CHAMBER_PRESSURE_MIN, h.tank_pressure)
+    for name in ("nominal_flow", "nominal_pressure_drop", "laminar_pressure_drop", "hose_volume_a",
+                 "hose_volume_b", "oil_bulk_modulus", "hose_bulk_modulus", "cylinder_bulk_modulus"):
+        rng(name, 0.0, math.inf, lo_open=True)
+    rng("dead_band", 0.0, 0.99)
+    rng("spool_time_constant", 0.0, 10.0)
+    rng("leakage", 0.0, 1e-6)
+    if h.valve == "compensated":
+        rng("meter_out_flow", 0.0, math.inf, lo_open=True)
+        rng("meter_out_pressure_drop", 0.0, math.inf, lo_open=True)
+    else:
+        rng("meter_out_flow", 0.0, math.inf)
+        rng("meter_out_pressure_drop", 0.0, math.inf)
+        if h.dead_band != 0.0:
+            raise ValueError(f"{where}.dead_band must be 0 for an orifice valve (critical centre), "
+                             f"got {h.dead_band}")
 
 
 # -- writing ----------------------------------------------------------------------------------
 
 def _to_plain(obj: Any) -> Any:
     if dataclasses.is_dataclass(obj):
-        return {f.name: _to_plain(getattr(obj, f.name)) for f in dataclasses.fields(obj)}
+        return {f.name: _to_plain(getattr(obj, f.name)) for f in dataclasses.fields(obj)
+                if getattr(obj, f.name) is not None}
     if isinstance(obj, tuple):
         return [_to_plain(v) for v in obj]
     return obj
