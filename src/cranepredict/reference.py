@@ -11,6 +11,16 @@ formulated independently of the fast model's two-coordinate equations:
 * the cylinders are **force elements** between their pins (``ObjectConnectorSpringDamper`` with a
   force user function): ``F = p_a A_a - p_b A_b - F_friction(v)`` along the pin-to-pin line, with
   the same friction law and the same pressure inputs as the fast model;
+* a **valve-driven** cylinder (``Valve``/``ValveSeries``) carries its oil: the chamber pressures
+  (and the spool, with a spool lag) are integrated by Exudyn with the mechanics, from the chamber
+  equations of docs/model.md "Hydraulics" written again here (:func:`_oil_rates`), fed by the
+  stroke and stroke rate of the cylinder's force element. Exudyn integrates ODE1 coordinates at
+  first order only (a theta-method, theta = 2/3, measured), so each of these first-order
+  quantities is the velocity of an ODE2 coordinate (``ObjectGenericODE2``, unit mass, force = its
+  rate), which generalized-alpha integrates at second order. ``oil_element="exudyn"`` uses
+  Exudyn's own ``ObjectConnectorHydraulicActuatorSimple`` instead (published orifice law only),
+  as a cross-check. At an end stop the pressures keep evolving with the stroke locked; they carry
+  across every event unchanged;
 * the **end stops** are rigid unilateral contacts with a perfectly plastic impact, handled
   event-driven: while a cylinder is off its stops its stroke is free; when it reaches a limit
   (Exudyn's step is shortened until the step ends within ``STOP_TOLERANCE`` of the limit) the
@@ -21,7 +31,7 @@ formulated independently of the fast model's two-coordinate equations:
   would have to pull (located to ``RELEASE_TOLERANCE``): the stop can only push. This is the
   physics of the fast model's stops (docs/model.md "End stops") without penalty parameters: no
   penetration, no rebound, and each piece is a smooth DAE, so the integrator converges at its order.
-* a **held** cylinder (closed valve) is a fixed pin-to-pin distance constraint
+* a **held** cylinder (``Hold``: rigid, no oil) is a fixed pin-to-pin distance constraint
   (``ObjectConnectorDistance``).
 
 Modelled planar (2D) in the boom plane, like the fast model: the slew angle and the extension are
@@ -537,6 +547,14 @@ def _add_oil(mbs, crane: Crane, j: int, drive, oil0, t0: float, oil_nodes: Dict[
     return pressures, spring
 
 
+def _actuator_circuit(cyl) -> _Circuit:
+    c = _circuit(cyl)
+    if c.compensated or c.tau > 0 or c.leakage > 0 or cyl.stroke_min != 0.0:
+        raise ValueError("oil_element='exudyn' needs hydraulics.valve = 'orifice', "
+                         "spool_time_constant = 0 and leakage = 0, on a cylinder with stroke_min = 0")
+    return c
+
+
 def _add_actuator(mbs, crane: Crane, j: int, drive, oil0, t0: float, oil_nodes: Dict[int, tuple], mks,
                   pre_steps: list):
     """The cross-check of :func:`_add_oil`: Exudyn's own ObjectConnectorHydraulicActuatorSimple
@@ -547,10 +565,7 @@ def _add_actuator(mbs, crane: Crane, j: int, drive, oil0, t0: float, oil_nodes: 
     import exudyn as exu
     from exudyn.itemInterface import NodeGenericODE1, ObjectConnectorHydraulicActuatorSimple
     cyl = _cyl(crane, j)
-    c = _circuit(cyl)
-    if c.compensated or c.tau > 0 or c.leakage > 0 or cyl.stroke_min != 0.0:
-        raise ValueError("oil_element='exudyn' needs an orifice valve without spool lag or leakage "
-                         "on a cylinder with stroke_min = 0")
+    c = _actuator_circuit(cyl)
     node = mbs.AddNode(NodeGenericODE1(referenceCoordinates=[0.0, 0.0],
                                        initialCoordinates=[oil0[0], oil0[1]],
                                        numberOfODE1Coordinates=2))
@@ -891,10 +906,20 @@ def simulate(crane: Crane, initial: State, inputs: Inputs, horizon: float, *,
     The motion is integrated in smooth pieces between end-stop events (event-driven): while no
     stop is touched, or a stopped cylinder is held on it by a distance constraint, Exudyn's
     generalized-alpha integrates a smooth DAE; at an event the piece ends (Exudyn shortens the step
-    so that it ends at the event), the contact changes, and a new piece starts from that state."""
+    so that it ends at the event), the contact changes, and a new piece starts from that state.
+
+    ``oil_element``: "ode2" (the chamber equations of docs/model.md, second order) or "exudyn"
+    (Exudyn's ObjectConnectorHydraulicActuatorSimple, for cross-checks: orifice valve without
+    spool lag or leakage; its laminar region, relief and anti-cavitation valves are absent)."""
     from . import api
 
     api._check(crane, initial, inputs, horizon, dt, "c")  # the same input checks as predict()
+    if oil_element not in ("ode2", "exudyn"):
+        raise ValueError(f"oil_element must be 'ode2' or 'exudyn', got {oil_element!r}")
+    if oil_element == "exudyn":
+        for j, drive in enumerate((inputs.lift, inputs.tilt)):
+            if _is_valve(drive):
+                _actuator_circuit(_cyl(crane, j))
 
     wall0 = time.perf_counter()
     bodies = _bodies(crane, initial.extension)
@@ -942,15 +967,23 @@ def predict_reference(crane: Crane, initial: State, inputs: Inputs, horizon: flo
 # -- comparison with the fast model --------------------------------------------------------------
 
 def compare(scenario, *, dt_ref: float = DEFAULT_REFERENCE_DT, dt_fast: Optional[float] = None,
-            repeat_fast: int = 21, backend: str = "c") -> dict:
+            repeat_fast: int = 21, backend: Optional[str] = None) -> dict:
     """Runs a scenario on the fast model (``backend``) and on the reference; the tip error (m) is
     measured at the fast model's samples (the reference tip linearly interpolated onto them).
+    ``backend=None``: the C core, or the twin ("python") for a valve-driven scenario while the C
+    core does not run valves (it raises NotImplementedError); the row's "backend" says which.
     "Before/after the stop" splits at the first sample where either model is at an end stop (None:
     no stop). For valve-driven cylinders the chamber pressures are compared the same way:
     ``pressure_rms_bar`` is the largest RMS over their chambers (None: no valve drive)."""
     from . import api
 
     sc = scenario
+    if backend is None:
+        backend = "c"
+        try:
+            api.predict(sc.crane, sc.initial, sc.inputs, min(sc.horizon, 0.01), backend="c")
+        except NotImplementedError:
+            backend = "python"
     fast = api.predict(sc.crane, sc.initial, sc.inputs, sc.horizon, dt=dt_fast, backend=backend)
     walls = []
     for _ in range(repeat_fast):
