@@ -135,6 +135,9 @@ typedef struct {
     crane_real stroke_rate[2];   /* m/s; 0 = at rest; must be 0 for a held cylinder */
     crane_real slew;             /* rad, about the vertical axis; constant during a prediction */
     crane_real extension;        /* m; constant during a prediction */
+    /* A valve-driven cylinder's chamber pressures (Pa gauge, in [CRANE_CHAMBER_PRESSURE_MIN,
+     * CRANE_PRESSURE_MAX]) and spool position (in [-1, 1]; read only with a spool lag). */
+    crane_real p_a[2], p_b[2], spool[2];
 } crane_state;
 
 typedef struct {
@@ -144,7 +147,9 @@ typedef struct {
     const crane_real *t;         /* n_samples sample times, s, strictly increasing */
     const crane_real *p_a_samples;
     const crane_real *p_b_samples;
-    size_t n_samples;            /* 0: constant pressures */
+    size_t n_samples;            /* 0: constant pressures (or lever) */
+    crane_real u;                /* CRANE_DRIVE_VALVE: the lever in [-1, 1] (n_samples == 0) */
+    const crane_real *u_samples; /* CRANE_DRIVE_VALVE: the lever at the times t */
 } crane_drive;
 
 typedef struct {
@@ -158,6 +163,11 @@ typedef struct {
     crane_real omega[2];         /* rad/s */
     crane_real tip[3];           /* world, m */
     int stop[2];                 /* -1 at stroke_min, +1 at stroke_max, 0 otherwise (cylinder terms) */
+    crane_real p_a[2], p_b[2];   /* Pa: valve: the chamber pressures; pressure drive: the given
+                                  * ones at t; held: 0 */
+    crane_real flow_a[2];        /* m^3/s: the valve's flow into the bore side (0 unless valve) */
+    crane_real flow_b[2];        /* m^3/s: the valve's flow out of the rod side (0 unless valve) */
+    crane_real spool[2];         /* the spool position (0 unless valve-driven) */
 } crane_sample;
 
 /* Derived constants of one crane at one extension: filled by crane_model_init, read-only after.
@@ -182,9 +192,12 @@ typedef struct {
     int links;                             /* 1 if a side link has mass or inertia */
     crane_real link_m[2], link_i[2];       /* side links 1, 2: mass, Izz */
     crane_real link_ca[2], link_cb[2];     /* com = ca v + cb perp(v), v = link_pin, link2_end */
+    const crane_hydraulics *hyd[2];        /* the params' circuits (NULL: none), not copied */
 } crane_model;
 
-/* Checks the parameters (all the checks of docs/model.md) and derives the model constants. */
+/* Checks the parameters (all the checks of docs/model.md) and derives the model constants.
+ * A model of a crane with hydraulics refers to params->cylinder[i].hydraulics (so that a model
+ * on a small stack stays small): keep params alive and unchanged while the model is used. */
 crane_status crane_model_init(crane_model *model, const crane_params *params, crane_real extension);
 
 /* Number of samples a prediction writes: ceil(horizon/dt - 1e-9) + 1. */

@@ -70,6 +70,9 @@ crane_status crane__check_params(const crane_params *p)
             return CRANE_E_FRICTION;
     if (!(p->gravity >= 0))
         return CRANE_E_GRAVITY;
+    for (i = 0; i < 2; ++i)
+        if (!crane__hydraulics_ok(&p->cylinder[i].hydraulics))
+            return CRANE_E_HYDRAULICS;
     return CRANE_OK;
 }
 
@@ -154,6 +157,9 @@ crane_status crane__model_derive(crane_model *m, const crane_params *params, cra
         m->stroke_min[i] = p->cylinder[i].stroke_min;
         m->stroke_max[i] = p->cylinder[i].stroke_max;
         m->friction[i] = p->cylinder[i].friction;
+        m->hyd[i] = p->cylinder[i].hydraulics.valve != CRANE_VALVE_NONE
+                        ? &p->cylinder[i].hydraulics
+                        : NULL;
     }
     m->extension = extension;
 

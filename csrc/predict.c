@@ -52,6 +52,50 @@ static int pressure_ok(crane_real p)
     return p >= 0 && p <= (crane_real)CRANE_PRESSURE_MAX;
 }
 
+static int lever_ok(crane_real u) { return u >= -1 && u <= 1; }
+
+static int chamber_ok(crane_real p)
+{
+    return p >= (crane_real)CRANE_CHAMBER_PRESSURE_MIN && p <= (crane_real)CRANE_PRESSURE_MAX;
+}
+
+/* A valve drive of joint i (docs/model.md, "Hydraulics", "Bad input"): the cylinder has a circuit,
+ * the lever (or its samples) is in [-1, 1] and covers the horizon, the state's chamber pressures
+ * and spool are in range. */
+static crane_status check_valve(const crane_model *model, int i, const crane_state *s,
+                                const crane_drive *d, crane_real horizon)
+{
+    size_t k;
+
+    if (!CRANE_HYDRAULICS || !model->hyd[i])
+        return CRANE_E_VALVE;
+    if (!crane__finite(s->p_a[i]) || !crane__finite(s->p_b[i]) || !crane__finite(s->spool[i]))
+        return CRANE_E_NONFINITE;
+    if (!chamber_ok(s->p_a[i]) || !chamber_ok(s->p_b[i]) || !lever_ok(s->spool[i]))
+        return CRANE_E_VALVE;
+    if (d->n_samples == 0) {
+        if (!crane__finite(d->u))
+            return CRANE_E_NONFINITE;
+        return lever_ok(d->u) ? CRANE_OK : CRANE_E_VALVE;
+    }
+    if (!d->t || !d->u_samples)
+        return CRANE_E_NULL;
+    for (k = 0; k < d->n_samples; ++k)
+        if (!crane__finite(d->t[k]) || !crane__finite(d->u_samples[k]))
+            return CRANE_E_NONFINITE;
+    for (k = 0; k < d->n_samples; ++k)
+        if (!lever_ok(d->u_samples[k]))
+            return CRANE_E_VALVE;
+    if (d->n_samples < 2)
+        return CRANE_E_SAMPLES;
+    for (k = 1; k < d->n_samples; ++k)
+        if (!(d->t[k] > d->t[k - 1]))
+            return CRANE_E_SAMPLES;
+    if (!(d->t[0] <= 0) || !(d->t[d->n_samples - 1] >= horizon))
+        return CRANE_E_SAMPLES;
+    return CRANE_OK;
+}
+
 static crane_status check_drive(const crane_drive *d, crane_real stroke_rate, crane_real horizon)
 {
     size_t k;
@@ -101,7 +145,9 @@ static crane_status check_future(const crane_model *model, const crane_state *st
             return CRANE_E_STROKE;
     }
     for (i = 0; i < 2; ++i) {
-        st = check_drive(&inputs->drive[i], state0->stroke_rate[i], horizon);
+        st = inputs->drive[i].mode == CRANE_DRIVE_VALVE
+                 ? check_valve(model, i, state0, &inputs->drive[i], horizon)
+                 : check_drive(&inputs->drive[i], state0->stroke_rate[i], horizon);
         if (st != CRANE_OK)
             return st;
     }

@@ -30,7 +30,7 @@ import subprocess
 import sys
 import tempfile
 
-BUDGET = {"data+bss": 1024, "stack": 1024, "text": 16 * 1024}
+BUDGET = {"data+bss": 1024, "stack": 1024, "text": 24 * 1024}   # text: 24 kB since issue 9
 ENTRY_POINTS = ["crane_predict", "crane_predict_model", "crane_model_init", "crane_points", "crane_sample_count",
                 "crane_joint_angle", "crane_joint_stroke", "crane_inverse_dynamics",
                 "crane_cylinder_force", "crane_status_message"]

@@ -126,7 +126,8 @@ def check_crane(crane: "Crane") -> None:
 def _sample_dtype() -> np.dtype:
     real = np.float64
     fields = [("t", real, ()), ("stroke", real, (2,)), ("theta", real, (2,)), ("omega", real, (2,)),
-              ("tip", real, (3,)), ("stop", np.intc, (2,))]
+              ("tip", real, (3,)), ("stop", np.intc, (2,)), ("p_a", real, (2,)), ("p_b", real, (2,)),
+              ("flow_a", real, (2,)), ("flow_b", real, (2,)), ("spool", real, (2,))]
     return np.dtype({
         "names": [f[0] for f in fields],
         "formats": [(f[1], f[2]) if f[2] else f[1] for f in fields],
@@ -141,6 +142,18 @@ SAMPLE_DTYPE = _sample_dtype()
 def _drive(dst: Any, drive: Any, keep: list) -> None:
     if drive.held:
         dst.mode = lib.CRANE_DRIVE_HOLD
+        return
+    if hasattr(drive, "u"):
+        dst.mode = lib.CRANE_DRIVE_VALVE
+        if drive.t is None:
+            dst.u = drive.u
+            dst.n_samples = 0
+            return
+        arrays = [ffi.from_buffer("crane_real[]", np.ascontiguousarray(a, dtype=np.float64))
+                  for a in (drive.t, drive.u)]
+        keep.extend(arrays)
+        dst.t, dst.u_samples = arrays
+        dst.n_samples = len(drive.t)
         return
     dst.mode = lib.CRANE_DRIVE_PRESSURE
     if drive.t is None:
@@ -189,6 +202,10 @@ def _state(dst: Any, state: "State") -> None:
     dst.stroke = (state.lift_stroke, state.tilt_stroke)
     dst.stroke_rate = (state.lift_stroke_rate, state.tilt_stroke_rate)
     dst.slew, dst.extension = state.slew, state.extension
+    # chamber pressures: only a valve-driven cylinder reads them (api.py demands them there)
+    dst.p_a = (state.lift_p_a or 0.0, state.tilt_p_a or 0.0)
+    dst.p_b = (state.lift_p_b or 0.0, state.tilt_p_b or 0.0)
+    dst.spool = (state.lift_spool, state.tilt_spool)
 
 
 def _inputs(dst: Any, inputs: "Inputs", keep: list) -> None:

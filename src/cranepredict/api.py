@@ -23,7 +23,8 @@ BACKENDS = ("c", "python")
 
 # Trajectory array name -> field of the core's crane_sample.
 _FIELDS = (("t", "t"), ("strokes", "stroke"), ("theta", "theta"), ("omega", "omega"),
-           ("tip", "tip"), ("stop", "stop"))
+           ("tip", "tip"), ("stop", "stop"), ("p_a", "p_a"), ("p_b", "p_b"), ("flow_a", "flow_a"),
+           ("flow_b", "flow_b"), ("spool", "spool"))
 
 #: Batches smaller than this run in one thread (a thread costs more than it saves).
 MIN_FUTURES_PER_THREAD = 8
@@ -96,13 +97,9 @@ def predict(crane: Crane, initial: State, inputs: Inputs, horizon: float, *,
     dt = DEFAULT_DT if dt is None else dt
     _check(crane, initial, inputs, horizon, dt, backend)
     if backend == "c":
-        if _valve_driven(inputs):
-            raise NotImplementedError("valve-driven cylinders run in the pure-Python twin for now "
-                                      "(backend=\"python\"); the C core does not have them yet")
         s = _core.predict(crane, initial, inputs, float(horizon), float(dt))
         # Field views of the core's sample array: no copy (the arrays are made read-only below).
         arrays = {k: s[f] for k, f in _FIELDS}
-        arrays.update(_drive_pressures(inputs, arrays["t"]))
 
         def points(theta: np.ndarray) -> np.ndarray:
             return _core.points(crane, initial.extension, initial.slew, theta)
@@ -120,25 +117,6 @@ def predict(crane: Crane, initial: State, inputs: Inputs, horizon: float, *,
                       slew=initial.slew, extension=initial.extension, backend=backend,
                       _points=points, p_a=arrays["p_a"], p_b=arrays["p_b"],
                       flow_a=arrays["flow_a"], flow_b=arrays["flow_b"], spool=arrays["spool"])
-
-
-def _valve_driven(inputs: Inputs) -> bool:
-    return isinstance(inputs.lift, (Valve, ValveSeries)) or isinstance(inputs.tilt, (Valve, ValveSeries))
-
-
-def _drive_pressures(inputs: Inputs, t: np.ndarray) -> dict:
-    """The pressures of pressure-driven cylinders at the sample times (0 for held ones), and zero
-    flows and spools: the Trajectory's hydraulic arrays when no cylinder is valve-driven."""
-    n = t.shape[0]
-    out = {k: np.zeros((n, 2)) for k in ("p_a", "p_b", "flow_a", "flow_b", "spool")}
-    for j, d in enumerate((inputs.lift, inputs.tilt)):
-        if isinstance(d, PressureSeries):
-            out["p_a"][:, j] = np.interp(t, d.t, d.p_a)
-            out["p_b"][:, j] = np.interp(t, d.t, d.p_b)
-        elif not d.held:
-            out["p_a"][:, j] = d.p_a
-            out["p_b"][:, j] = d.p_b
-    return out
 
 
 def state_at_rest(crane: Crane, lift_stroke: float, tilt_stroke: float, *, slew: float = 0.0,
@@ -246,4 +224,6 @@ def predict_many(crane: Crane, initials: Sequence[State], inputs_list: Sequence[
     return TrajectoryBatch(t=arrays["t"], strokes=arrays["strokes"], theta=arrays["theta"],
                            omega=arrays["omega"], tip=arrays["tip"], stop=arrays["stop"],
                            slew=slew, extension=extension, backend="c",
-                           sample_every=int(sample_every), _points=points)
+                           sample_every=int(sample_every), _points=points, p_a=arrays["p_a"],
+                           p_b=arrays["p_b"], flow_a=arrays["flow_a"], flow_b=arrays["flow_b"],
+                           spool=arrays["spool"])

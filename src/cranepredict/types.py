@@ -305,6 +305,11 @@ class TrajectoryBatch:
     backend: str
     sample_every: int
     _points: Callable[[int, np.ndarray], np.ndarray] = field(repr=False)
+    p_a: Optional[np.ndarray] = None      #: (F, N, 2) Pa, as Trajectory.p_a
+    p_b: Optional[np.ndarray] = None
+    flow_a: Optional[np.ndarray] = None
+    flow_b: Optional[np.ndarray] = None
+    spool: Optional[np.ndarray] = None
 
     def __len__(self) -> int:
         return int(self.tip.shape[0])
@@ -320,4 +325,6 @@ class TrajectoryBatch:
                           omega=self.omega[k], tip=self.tip[k], stop=self.stop[k],
                           slew=float(self.slew[k]), extension=float(self.extension[k]),
                           backend=self.backend,
-                          _points=lambda theta, _k=k: self._points(_k, theta))
+                          _points=lambda theta, _k=k: self._points(_k, theta),
+                          **{name: None if getattr(self, name) is None else getattr(self, name)[k]
+                             for name in ("p_a", "p_b", "flow_a", "flow_b", "spool")})
