@@ -39,10 +39,6 @@ def test_fifty_random_scenarios_agree():
 @pytest.mark.parametrize("name", cp.scenarios.names())
 def test_every_named_scenario_agrees(name):
     sc = cp.scenarios.get(name)
-    try:
-        cp.predict(sc.crane, sc.initial, sc.inputs, 0.01, backend="c")
-    except NotImplementedError:
-        pytest.skip("valve-driven: the C core does not run valves yet")
     tip, strokes, _ = _compare(sc.crane, sc.initial, sc.inputs, sc.horizon)
     assert tip < TOL and strokes < TOL
 

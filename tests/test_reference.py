@@ -18,14 +18,7 @@ MAX_MM, RMS_MM = 20.0, 10.0
 PRESSURE_RMS_BAR = 2.0
 NAMES = cp.scenarios.names()
 VALVE_NAMES = [n for n in NAMES if "valve" in cp.scenarios.get(n).tags]
-#: The fast model compared with the reference: the C core, except for valve-driven scenarios,
-#: which the C core does not run yet; those are compared with the twin ("python", which the C core
-#: must match to 1e-9 m). test_valve_backend_is_current turns red when the C core runs them.
-BACKEND, VALVE_BACKEND = "c", "python"
-
-
-def _backend(name):
-    return VALVE_BACKEND if name in VALVE_NAMES else BACKEND
+BACKEND = "c"   # the fast model compared with the reference: the C core
 
 # Scenarios known to miss the targets (strict xfail: they turn red when they start to pass). Empty
 # since the fast model carries the side links' mass (before that, 9 of 11 missed by 0.1-2 m).
@@ -35,9 +28,7 @@ MISS_REASON = "see docs/validation.md"
 
 @pytest.fixture(scope="module")
 def results():
-    out = {n: ref.compare(cp.scenarios.get(n), repeat_fast=5) for n in NAMES}
-    assert all(r["backend"] == _backend(n) for n, r in out.items())
-    return out
+    return {n: ref.compare(cp.scenarios.get(n), repeat_fast=5, backend=BACKEND) for n in NAMES}
 
 
 def test_suite_has_the_required_scenarios():
@@ -69,17 +60,6 @@ def test_valve_pressures_within_target(results, name):
         f"{name}: pressure RMS {r['pressure_rms_by_chamber_bar']} bar")
 
 
-def test_valve_backend_is_current():
-    """The valve scenarios are compared with the twin only while the C core cannot run them."""
-    sc = cp.scenarios.get(VALVE_NAMES[0])
-    try:
-        cp.predict(sc.crane, sc.initial, sc.inputs, 0.01, backend="c")
-    except NotImplementedError:
-        assert VALVE_BACKEND == "python"
-    else:
-        assert VALVE_BACKEND == "c", "the C core runs valves now: compare the valve scenarios with it"
-
-
 def test_suite_has_the_valve_scenarios():
     """Issue 9: at least six valve-driven scenarios, covering the cases it lists."""
     assert len(VALVE_NAMES) >= 6
@@ -96,9 +76,7 @@ def test_expected_misses_are_scenarios():
 
 
 def test_fast_model_is_100x_faster(results):
-    """The C core against the reference (the twin, which stands in for it on valve scenarios for
-    now, is a Python specification, not the fast model)."""
-    rs = [r for r in results.values() if r["backend"] == "c"]
+    rs = results.values()
     ratio = sum(r["wall_reference_s"] for r in rs) / sum(r["wall_fast_s"] for r in rs)
     assert ratio >= 100
 
@@ -237,7 +215,7 @@ def test_valve_end_stop_in_both_models():
     override = tilt.nominal_flow / (5 / 4 * tilt.nominal_flow / np.sqrt(tilt.nominal_pressure_drop)
                                     / np.sqrt(tilt.laminar_pressure_drop))
     assert tilt.relief_pressure < tr.p_a[:, 1].max() < tilt.relief_pressure + override
-    fast = cp.predict(sc.crane, sc.initial, sc.inputs, sc.horizon, backend=VALVE_BACKEND)
+    fast = cp.predict(sc.crane, sc.initial, sc.inputs, sc.horizon, backend=BACKEND)
     dt = fast.t[1] - fast.t[0]
     changes = fast.t[1:][np.any(np.diff(fast.stop, axis=0) != 0, axis=1)]
     assert changes.size == len(run.events)

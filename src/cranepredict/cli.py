@@ -84,7 +84,7 @@ def _validate(args: argparse.Namespace) -> int:
               f"{r['backend']:>6s} {r['wall_fast_s'] * 1e3:8.3f} "
               f"{r['wall_reference_s']:6.2f} {r['speed_ratio']:6.0f}")
     print("targets per scenario: max <= 20 mm, RMS <= 10 mm, chamber pressures RMS <= 2 bar, "
-          "ratio >= 100 for the C core (see docs/validation.md)")
+          "ratio >= 100 (see docs/validation.md)")
     return 0
 
 

@@ -967,23 +967,15 @@ def predict_reference(crane: Crane, initial: State, inputs: Inputs, horizon: flo
 # -- comparison with the fast model --------------------------------------------------------------
 
 def compare(scenario, *, dt_ref: float = DEFAULT_REFERENCE_DT, dt_fast: Optional[float] = None,
-            repeat_fast: int = 21, backend: Optional[str] = None) -> dict:
+            repeat_fast: int = 21, backend: str = "c") -> dict:
     """Runs a scenario on the fast model (``backend``) and on the reference; the tip error (m) is
     measured at the fast model's samples (the reference tip linearly interpolated onto them).
-    ``backend=None``: the C core, or the twin ("python") for a valve-driven scenario while the C
-    core does not run valves (it raises NotImplementedError); the row's "backend" says which.
     "Before/after the stop" splits at the first sample where either model is at an end stop (None:
     no stop). For valve-driven cylinders the chamber pressures are compared the same way:
     ``pressure_rms_bar`` is the largest RMS over their chambers (None: no valve drive)."""
     from . import api
 
     sc = scenario
-    if backend is None:
-        backend = "c"
-        try:
-            api.predict(sc.crane, sc.initial, sc.inputs, min(sc.horizon, 0.01), backend="c")
-        except NotImplementedError:
-            backend = "python"
     fast = api.predict(sc.crane, sc.initial, sc.inputs, sc.horizon, dt=dt_fast, backend=backend)
     walls = []
     for _ in range(repeat_fast):
