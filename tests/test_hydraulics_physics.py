@@ -37,7 +37,7 @@ def test_power_balance(crane, backend):
     """pump work = change of mechanical energy + friction work + throttling losses + change of the
     oil's stored compression energy (C(V) p^2/2, less the work of the compliance change
     (p^2/2) C'(V) dV/dt of a lumped chamber), to 1e-6 of the pump work."""
-    dt, horizon = 1e-4, 1.0
+    dt, horizon = 1e-4, 0.6
     rest = cp.state_at_rest(crane, 0.15, 0.35, lift_rod_pressure=20e5, tilt_rod_pressure=30e5)
     inputs = cp.Inputs(lift=cp.ValveSeries(t=[0.0, 0.2, 1.0], u=[0.0, 0.8, 0.5]),
                        tilt=cp.ValveSeries(t=[0.0, 0.3, 1.0], u=[0.0, -0.6, -0.6]))
