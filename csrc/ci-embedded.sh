@@ -5,9 +5,13 @@
 #   bash csrc/ci-embedded.sh
 #
 # 1. installs the Debian packages it needs (SKIP_APT=1 to skip: then they must be there);
-# 2. checks the generated crane header against the crane file (python3 >= 3.11);
+# 2. checks the generated crane header against the crane file, and the board's scenarios against
+#    the scenario files (python3 >= 3.11 with the cranepredict package);
 # 3. builds and tests with gcc and clang, double and float, warnings as errors;
 # 4. the footprint on a Cortex-M4F (float, -Os) against the budget (FOOTPRINT_ENFORCE=0: report only);
+#    the core on an emulated Cortex-M4F board (csrc/board, QEMU mps2-an386, no OS): its samples vs
+#    the host float build, its instruction count and profile, its stack measured by painting vs
+#    the footprint's static worst case; MISRA C:2012 with cppcheck's addon (csrc/misra);
 # 5. cross-compiles the tests and the example for aarch64 and armhf Linux, runs them under
 #    qemu-user and compares the tip with the host's (double: <= 1e-9 m) and float with double
 #    over the whole paper scenario (<= 1 mm);
@@ -51,7 +55,8 @@ if [ "${SKIP_APT:-0}" != 1 ]; then
     export DEBIAN_FRONTEND=noninteractive
     PKGS="make gcc clang valgrind python3 qemu-user
           gcc-aarch64-linux-gnu libc6-dev-arm64-cross gcc-arm-linux-gnueabihf libc6-dev-armhf-cross
-          gcc-arm-none-eabi binutils-arm-none-eabi libnewlib-arm-none-eabi"
+          gcc-arm-none-eabi binutils-arm-none-eabi libnewlib-arm-none-eabi
+          qemu-system-arm cppcheck"
     echo "installing: $(echo $PKGS)"
     t=$(date +%s)
     { apt-get update -qq && apt-get install -y -qq --no-install-recommends $PKGS; } \
@@ -64,7 +69,7 @@ if [ "${SKIP_APT:-0}" != 1 ]; then
     echo "packages installed ($(( $(date +%s) - t )) s)"
 fi
 
-# ---- 2. the crane header ----
+# ---- 2. the crane header (and the board's scenarios, generated the same way) ----
 step crane-header make check-header
 
 # ---- 3. host builds: gcc and clang, double and float, -Werror ----
@@ -85,6 +90,10 @@ footprint() {
 }
 step footprint footprint
 [ "${FAILED_STEPS[*]:-}" = "${FAILED_STEPS[*]/footprint/}" ] && sed -n '/^cranepredict core/,$p' "$LOG/footprint.log"
+
+# ---- 4b. the emulated Cortex-M4F board, MISRA C ----
+step board make -C board check WERROR=-Werror
+step misra python3 misra/check.py
 
 # ---- 5. foreign CPUs under qemu-user ----
 compare() {   # compare FILE_A FILE_B TOL: max |tip difference| over all samples <= TOL
@@ -135,6 +144,8 @@ grep -ah "stat::number_of_executed_units\|Done [0-9]* runs" "$LOG"/fuzz-*.log | 
 # ---- summary ----
 echo
 echo "float vs double (host):  $(tail -n 1 "$LOG/float-vs-double.log")"
+grep -h "^ok    samples\|^  paper-dt2ms:\|^ok    stack crane_predict\[paper-dt2ms" "$LOG/board.log" 2>/dev/null
+tail -n 1 "$LOG/misra.log"
 for f in "$LOG"/*-vs-host.log; do
     [ -f "$f" ] && echo "$(basename "$f" .log): $(tail -n 1 "$f")"
 done

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
  * cranepredict C core: faster-than-real-time prediction of a hydraulic crane's lift and
  * outer boom (2-DOF Newton-Euler, fixed-step RK4). The model is specified in docs/model.md.
@@ -40,14 +41,21 @@ typedef enum {
     CRANE_E_PRESSURE = 13,      /* a pressure outside [0, CRANE_PRESSURE_MAX] */
     CRANE_E_SAMPLES = 14,       /* pressure sample times not increasing or not covering [0, horizon] */
     CRANE_E_DT = 15,            /* dt <= 0 or dt > horizon */
-    CRANE_E_HORIZON = 16,       /* horizon <= 0, or more steps than fit in a long */
+    CRANE_E_HORIZON = 16,       /* horizon <= 0 */
     CRANE_E_CAPACITY = 17,      /* output buffer smaller than the number of samples */
     CRANE_E_ANGLE = 18,         /* an angle outside the range reachable by the cylinder */
-    CRANE_E_SAMPLE_EVERY = 19,  /* sample_every is 0 (or does not fit a long) */
+    CRANE_E_SAMPLE_EVERY = 19,  /* sample_every is 0 (or over LONG_MAX) */
     CRANE_E_DIVERGED = 20,      /* the state stopped being finite (absurd parameters, e.g. gravity) */
-    CRANE_E_HYDRAULICS = 21,    /* a hydraulic parameter out of range (docs/model.md, Hydraulics) */
-    CRANE_E_VALVE = 22          /* a lever outside [-1, 1], a valve drive without hydraulics, or a
-                                 * chamber pressure / spool of the state out of range */
+    CRANE_E_FIELD = 21,         /* a crane parameter outside its range (crane_params_check names it) */
+    CRANE_E_OVERFLOW = 22,      /* an argument so large that a result is not finite or a size overflows */
+    CRANE_E_STEPS = 23,         /* horizon / dt asks for more than CRANE_MAX_STEPS steps */
+    CRANE_E_SAMPLE_COUNT = 24,  /* more than CRANE_MAX_SAMPLES samples in one call (horizon, dt,
+                                   sample_every, n_futures) */
+    CRANE_E_BATCH = 25,         /* n_futures x steps over CRANE_MAX_BATCH_STEPS in one call */
+    CRANE_E_HYDRAULICS = 26,    /* a hydraulic parameter out of range (docs/model.md, Hydraulics) */
+    CRANE_E_VALVE = 27          /* a lever outside [-1, 1], a valve drive without hydraulics (or
+                                 * in a build without CRANE_HYDRAULICS), or a chamber pressure /
+                                 * spool of the state out of range */
 } crane_status;
 
 enum { CRANE_LIFT = 0, CRANE_TILT = 1 };
@@ -56,6 +64,21 @@ enum { CRANE_VALVE_NONE = 0, CRANE_VALVE_ORIFICE = 1, CRANE_VALVE_COMPENSATED = 
 enum { CRANE_N_POINTS = 11 };
 enum { CRANE_PRESSURE_MAX = 100000000 };   /* Pa (1000 bar): the largest pressure accepted */
 enum { CRANE_CHAMBER_PRESSURE_MIN = -100000 };  /* Pa gauge (vacuum): the lowest chamber pressure */
+
+/* Bounded work and memory: checked before anything runs or is written (CRANE_E_STEPS,
+ * CRANE_E_SAMPLE_COUNT, CRANE_E_BATCH), so that no accepted call runs for more than seconds.
+ *   CRANE_MAX_STEPS: RK4 steps per prediction (one future), n = ceil(horizon/dt - 1e-9): 2^20,
+ *     17 min of crane time at dt = 1 ms, about 0.3 s of one core of a 2020s PC (0.25 us a step).
+ *     Why 2^20: the step times are t_k = k dt in every build (never accumulated), and in the float
+ *     build horizon/dt is uncertain by about 4 eps n steps (both operands rounded to 24 bits; the
+ *     step count allows for it): up to 2^20 steps that stays under a quarter step, so the last
+ *     step is at most 1.25 dt long, and k dt is within dt/8 of its exact value, so the sample times
+ *     stay strictly increasing.
+ *   CRANE_MAX_SAMPLES: samples written by one call (all futures of crane_predict_many): 2^23,
+ *     0.74 GB of crane_sample in double; a single prediction (n + 1 <= 2^20 + 1) never reaches it.
+ *   CRANE_MAX_BATCH_STEPS: steps of one crane_predict_many call, n_futures x n: 2^25, about 8 s of
+ *     one core; split larger batches into several calls (they may run on several threads). */
+enum { CRANE_MAX_STEPS = 1048576, CRANE_MAX_SAMPLES = 8388608, CRANE_MAX_BATCH_STEPS = 33554432 };
 
 typedef struct {
     crane_real x, y;
@@ -72,7 +95,7 @@ typedef struct {
     crane_real static_;            /* F_S >= F_C, N */
     crane_real viscous;            /* sigma, N s/m */
     crane_real stribeck_velocity;  /* v_S > 0, m/s */
-    crane_real tanh_velocity;      /* v_T > 0, m/s: smoothing of the sign at v = 0 */
+    crane_real factor;             /* k >= 0: multiplies F_C and F_S, not sigma ([S1]: 4 on the lift) */
 } crane_friction;
 
 /* A cylinder's valve and oil (docs/model.md, "Hydraulics"); SI: Pa, m^3, m^3/s, s. */
@@ -130,6 +153,103 @@ typedef struct {
     crane_body side_link2;           /* side link 2 frame (origin Q) */
 } crane_params;
 
+/* The crane file's fields, for crane_params_check to say which one breaks a rule. Each name is the
+ * crane file's dotted name in capitals with '.' -> '_' (cylinder i = lift_cylinder, tilt_cylinder;
+ * the Python layer maps the codes back to dotted names by that rule). A body's block is MASS, COM,
+ * IZZ, and the tilt cylinder's block mirrors the lift cylinder's, in the same order (model.c
+ * counts on both). To add a field: an enumerator here (in both cylinder blocks for a cylinder
+ * field), its check in model.c (crane__check_params) and its rule in crane_field_rule. */
+typedef enum {
+    CRANE_FIELD_NONE = 0,
+    CRANE_FIELD_GRAVITY,
+    CRANE_FIELD_LOAD_MASS,
+    CRANE_FIELD_GEOMETRY_LIFT_PIVOT,
+    CRANE_FIELD_GEOMETRY_LIFT_CYLINDER_BASE,
+    CRANE_FIELD_GEOMETRY_LIFT_CYLINDER_ROD,
+    CRANE_FIELD_GEOMETRY_TILT_CYLINDER_BASE,
+    CRANE_FIELD_GEOMETRY_LINK1_PIVOT,
+    CRANE_FIELD_GEOMETRY_TILT_PIVOT,
+    CRANE_FIELD_GEOMETRY_LINK_PIN,
+    CRANE_FIELD_GEOMETRY_LINK2_END,
+    CRANE_FIELD_GEOMETRY_LINK2_ATTACH,
+    CRANE_FIELD_GEOMETRY_EXTENSION_MOUNT,
+    CRANE_FIELD_GEOMETRY_TIP_DISTANCE,
+    CRANE_FIELD_GEOMETRY_EXTENSION_MIN,
+    CRANE_FIELD_GEOMETRY_EXTENSION_MAX,
+    CRANE_FIELD_LIFT_BOOM_MASS,
+    CRANE_FIELD_LIFT_BOOM_COM,
+    CRANE_FIELD_LIFT_BOOM_IZZ,
+    CRANE_FIELD_OUTER_BOOM_MASS,
+    CRANE_FIELD_OUTER_BOOM_COM,
+    CRANE_FIELD_OUTER_BOOM_IZZ,
+    CRANE_FIELD_EXTENSION_BOOM_MASS,
+    CRANE_FIELD_EXTENSION_BOOM_COM,
+    CRANE_FIELD_EXTENSION_BOOM_IZZ,
+    CRANE_FIELD_SIDE_LINK1_MASS,
+    CRANE_FIELD_SIDE_LINK1_COM,
+    CRANE_FIELD_SIDE_LINK1_IZZ,
+    CRANE_FIELD_SIDE_LINK2_MASS,
+    CRANE_FIELD_SIDE_LINK2_COM,
+    CRANE_FIELD_SIDE_LINK2_IZZ,
+    CRANE_FIELD_LIFT_CYLINDER_BORE,
+    CRANE_FIELD_LIFT_CYLINDER_ROD,
+    CRANE_FIELD_LIFT_CYLINDER_LENGTH_RETRACTED,
+    CRANE_FIELD_LIFT_CYLINDER_STROKE_MIN,
+    CRANE_FIELD_LIFT_CYLINDER_STROKE_MAX,
+    CRANE_FIELD_LIFT_CYLINDER_FRICTION_COULOMB,
+    CRANE_FIELD_LIFT_CYLINDER_FRICTION_STATIC,
+    CRANE_FIELD_LIFT_CYLINDER_FRICTION_VISCOUS,
+    CRANE_FIELD_LIFT_CYLINDER_FRICTION_STRIBECK_VELOCITY,
+    CRANE_FIELD_LIFT_CYLINDER_FRICTION_FACTOR,
+    CRANE_FIELD_LIFT_CYLINDER_HYDRAULICS_VALVE,
+    CRANE_FIELD_LIFT_CYLINDER_HYDRAULICS_SUPPLY_PRESSURE,
+    CRANE_FIELD_LIFT_CYLINDER_HYDRAULICS_TANK_PRESSURE,
+    CRANE_FIELD_LIFT_CYLINDER_HYDRAULICS_RELIEF_PRESSURE,
+    CRANE_FIELD_LIFT_CYLINDER_HYDRAULICS_NOMINAL_FLOW,
+    CRANE_FIELD_LIFT_CYLINDER_HYDRAULICS_NOMINAL_PRESSURE_DROP,
+    CRANE_FIELD_LIFT_CYLINDER_HYDRAULICS_DEAD_BAND,
+    CRANE_FIELD_LIFT_CYLINDER_HYDRAULICS_METER_OUT_FLOW,
+    CRANE_FIELD_LIFT_CYLINDER_HYDRAULICS_METER_OUT_PRESSURE_DROP,
+    CRANE_FIELD_LIFT_CYLINDER_HYDRAULICS_SPOOL_TIME_CONSTANT,
+    CRANE_FIELD_LIFT_CYLINDER_HYDRAULICS_LAMINAR_PRESSURE_DROP,
+    CRANE_FIELD_LIFT_CYLINDER_HYDRAULICS_CAVITATION_PRESSURE,
+    CRANE_FIELD_LIFT_CYLINDER_HYDRAULICS_HOSE_VOLUME_A,
+    CRANE_FIELD_LIFT_CYLINDER_HYDRAULICS_HOSE_VOLUME_B,
+    CRANE_FIELD_LIFT_CYLINDER_HYDRAULICS_OIL_BULK_MODULUS,
+    CRANE_FIELD_LIFT_CYLINDER_HYDRAULICS_HOSE_BULK_MODULUS,
+    CRANE_FIELD_LIFT_CYLINDER_HYDRAULICS_CYLINDER_BULK_MODULUS,
+    CRANE_FIELD_LIFT_CYLINDER_HYDRAULICS_LEAKAGE,
+    CRANE_FIELD_TILT_CYLINDER_BORE,
+    CRANE_FIELD_TILT_CYLINDER_ROD,
+    CRANE_FIELD_TILT_CYLINDER_LENGTH_RETRACTED,
+    CRANE_FIELD_TILT_CYLINDER_STROKE_MIN,
+    CRANE_FIELD_TILT_CYLINDER_STROKE_MAX,
+    CRANE_FIELD_TILT_CYLINDER_FRICTION_COULOMB,
+    CRANE_FIELD_TILT_CYLINDER_FRICTION_STATIC,
+    CRANE_FIELD_TILT_CYLINDER_FRICTION_VISCOUS,
+    CRANE_FIELD_TILT_CYLINDER_FRICTION_STRIBECK_VELOCITY,
+    CRANE_FIELD_TILT_CYLINDER_FRICTION_FACTOR,
+    CRANE_FIELD_TILT_CYLINDER_HYDRAULICS_VALVE,
+    CRANE_FIELD_TILT_CYLINDER_HYDRAULICS_SUPPLY_PRESSURE,
+    CRANE_FIELD_TILT_CYLINDER_HYDRAULICS_TANK_PRESSURE,
+    CRANE_FIELD_TILT_CYLINDER_HYDRAULICS_RELIEF_PRESSURE,
+    CRANE_FIELD_TILT_CYLINDER_HYDRAULICS_NOMINAL_FLOW,
+    CRANE_FIELD_TILT_CYLINDER_HYDRAULICS_NOMINAL_PRESSURE_DROP,
+    CRANE_FIELD_TILT_CYLINDER_HYDRAULICS_DEAD_BAND,
+    CRANE_FIELD_TILT_CYLINDER_HYDRAULICS_METER_OUT_FLOW,
+    CRANE_FIELD_TILT_CYLINDER_HYDRAULICS_METER_OUT_PRESSURE_DROP,
+    CRANE_FIELD_TILT_CYLINDER_HYDRAULICS_SPOOL_TIME_CONSTANT,
+    CRANE_FIELD_TILT_CYLINDER_HYDRAULICS_LAMINAR_PRESSURE_DROP,
+    CRANE_FIELD_TILT_CYLINDER_HYDRAULICS_CAVITATION_PRESSURE,
+    CRANE_FIELD_TILT_CYLINDER_HYDRAULICS_HOSE_VOLUME_A,
+    CRANE_FIELD_TILT_CYLINDER_HYDRAULICS_HOSE_VOLUME_B,
+    CRANE_FIELD_TILT_CYLINDER_HYDRAULICS_OIL_BULK_MODULUS,
+    CRANE_FIELD_TILT_CYLINDER_HYDRAULICS_HOSE_BULK_MODULUS,
+    CRANE_FIELD_TILT_CYLINDER_HYDRAULICS_CYLINDER_BULK_MODULUS,
+    CRANE_FIELD_TILT_CYLINDER_HYDRAULICS_LEAKAGE,
+    CRANE_FIELD_COUNT
+} crane_field;
+
 typedef struct {
     crane_real stroke[2];        /* m */
     crane_real stroke_rate[2];   /* m/s; 0 = at rest; must be 0 for a held cylinder */
@@ -182,6 +302,7 @@ typedef struct {
     crane_real extension;
     crane_real lift_db, lift_dr, lift_beta, lift_eps;
     crane_real tilt_l1, tilt_l2, tilt_ra, tilt_alpha_a;
+    crane_real tilt_branch;                /* +1 or -1: Q's side of P1 -> A (angle -> stroke) */
     crane_real area_a[2], area_b[2];
     crane_real m1, m2, i1, i2;
     crane_vec2 c1, c2;
@@ -195,8 +316,21 @@ typedef struct {
     const crane_hydraulics *hyd[2];        /* the params' circuits (NULL: none), not copied */
 } crane_model;
 
-/* Checks the parameters (all the checks of docs/model.md) and derives the model constants.
- * A model of a crane with hydraulics refers to params->cylinder[i].hydraulics (so that a model
+/* The crane's rules, the one validator of a crane (the Python layer and tools/crane2header.py call
+ * it too): every field's range, then the lift triangle and the tilt four-bar over their whole
+ * stroke ranges (docs/model.md, "Bad input"). Returns CRANE_OK or the status of the first rule
+ * broken; then, if field is not NULL, *field names the field at fault: the field itself for a
+ * range, for the lift triangle or the four-bar the point or stroke limit at which it fails.
+ * CRANE_FIELD_NONE only with CRANE_OK or CRANE_E_NULL. */
+crane_status crane_params_check(const crane_params *params, crane_field *field);
+
+/* The rule a field must keep, in the crane file's terms (e.g. "> 0", "> rod"; a static string;
+ * "" for CRANE_FIELD_NONE or an unknown code). */
+const char *crane_field_rule(crane_field field);
+
+/* crane_params_check, then the extension against [extension_min, extension_max], then derives
+ * the model constants. On an error *model is left untouched. */
+/* A model of a crane with hydraulics refers to params->cylinder[i].hydraulics (so that a model
  * on a small stack stays small): keep params alive and unchanged while the model is used. */
 crane_status crane_model_init(crane_model *model, const crane_params *params, crane_real extension);
 
@@ -251,16 +385,20 @@ crane_status crane_joint_stroke(const crane_model *model, int joint, crane_real 
 /* World positions (x, y, z) of the crane's points for n poses: theta is n x 2, xyz is
  * n x CRANE_N_POINTS x 3, in the order: pillar_base, lift_pivot, lift_cylinder_base,
  * lift_cylinder_rod, tilt_cylinder_base, link1_pivot, link_pin, link2_attach, tilt_pivot,
- * extension_mount, tip. */
+ * extension_mount, tip. Every angle must lie within its limits (CRANE_E_ANGLE); an n whose arrays
+ * would not fit a size_t gives CRANE_E_OVERFLOW. */
 crane_status crane_points(const crane_model *model, crane_real slew, size_t n,
                           const crane_real *theta, crane_real *xyz);
 
-/* Newton-Euler inverse dynamics: joint torques for (theta, omega, alpha), gravity included. */
+/* Newton-Euler inverse dynamics: joint torques for (theta, omega, alpha), gravity included.
+ * theta must lie within the angle limits (CRANE_E_ANGLE); torques too large to be finite (rates
+ * near 1e160 rad/s in double) give CRANE_E_OVERFLOW. */
 crane_status crane_inverse_dynamics(const crane_model *model, const crane_real theta[2],
                                     const crane_real omega[2], const crane_real alpha[2],
                                     crane_real tau[2]);
 
-/* Cylinder force along its axis (positive extends) at pressures p_a, p_b and stroke rate v. */
+/* Cylinder force along its axis (positive extends) at pressures p_a, p_b and stroke rate v;
+ * CRANE_E_OVERFLOW if it is not finite (a stroke rate near the largest real). */
 crane_status crane_cylinder_force(const crane_model *model, int joint, crane_real p_a,
                                   crane_real p_b, crane_real stroke_rate, crane_real *force);
 

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
  * Internal helpers of the cranepredict C core: precision-neutral math wrappers, 2-D vector
  * algebra and the prototypes shared between the core's source files. Not part of the public API.
@@ -29,7 +30,6 @@ static inline crane_real crane__sin(crane_real x) { crane_real s, c; crane__sinc
 static inline crane_real crane__cos(crane_real x) { crane_real s, c; crane__sincosf(x, &s, &c); return c; }
 static inline crane_real crane__acos(crane_real x) { return acosf(x); }
 static inline crane_real crane__atan2(crane_real y, crane_real x) { return atan2f(y, x); }
-static inline crane_real crane__exp(crane_real x) { return expf(x); }
 static inline crane_real crane__tanh(crane_real x) { return tanhf(x); }
 static inline crane_real crane__fabs(crane_real x) { return fabsf(x); }
 static inline crane_real crane__ceil(crane_real x) { return ceilf(x); }
@@ -40,7 +40,6 @@ static inline crane_real crane__cos(crane_real x) { return cos(x); }
 static inline void crane__sincos(crane_real x, crane_real *s, crane_real *c) { *s = sin(x); *c = cos(x); }
 static inline crane_real crane__acos(crane_real x) { return acos(x); }
 static inline crane_real crane__atan2(crane_real y, crane_real x) { return atan2(y, x); }
-static inline crane_real crane__exp(crane_real x) { return exp(x); }
 static inline crane_real crane__tanh(crane_real x) { return tanh(x); }
 static inline crane_real crane__fabs(crane_real x) { return fabs(x); }
 static inline crane_real crane__ceil(crane_real x) { return ceil(x); }
@@ -74,7 +73,7 @@ static inline crane_real crane__norm2(crane_vec2 a) { return crane__dot(a, a); }
 static CRANE__ALWAYS_INLINE crane_real crane__norm(crane_vec2 a) { return crane__sqrt(crane__dot(a, a)); }
 
 /* R(a) v, with the caller's cos/sin so that each angle's trig is evaluated once. */
-static inline crane_vec2 crane__rot(crane_real c, crane_real s, crane_vec2 v)
+static CRANE__ALWAYS_INLINE crane_vec2 crane__rot(crane_real c, crane_real s, crane_vec2 v)
 {
     return crane__v2(c * v.x - s * v.y, s * v.x + c * v.y);
 }
@@ -122,6 +121,10 @@ typedef struct {
 void crane__tilt_kinematics(const crane_model *m, crane_real c1, crane_real s1,
                             crane__tilt_kin *tk);
 
+/* The exact validity of the tilt four-bar over the tilt stroke (docs/model.md, "Tilt kinematics")
+ * on a model whose lengths are derived: the field at fault, or CRANE_FIELD_NONE; sets tilt_branch. */
+crane_field crane__fourbar_check(crane_model *m);
+
 /* theta wrapped into (-3pi/2, pi/2]. */
 crane_real crane__wrap_tilt(crane_real theta);
 
@@ -165,16 +168,17 @@ void crane__chamber_rates(const crane_model *m, int i, crane_real lever, crane_r
 /* The substep count of a step of size h from the strokes of the valve-driven joints (valve[i]). */
 long crane__substeps(const crane_model *m, const crane_real stroke[2], const int valve[2],
                      crane_real h);
-/* 1 if a cylinder's circuit is within the ranges of docs/model.md (or there is none). */
-int crane__hydraulics_ok(const crane_hydraulics *h);
 
 /* ---- model.c ---- */
 
-crane_status crane__check_params(const crane_params *p);
+/* The field rules of crane_params_check (not the kinematic ones); *field names the first broken. */
+crane_status crane__check_params(const crane_params *p, crane_field *field);
 
 /* crane_model_init without its NULL checks, deriving straight into *m (which is left partly
- * written on an error): for callers that own a scratch model, like crane_predict. */
-crane_status crane__model_derive(crane_model *m, const crane_params *params, crane_real extension);
+ * written on an error): for callers that own a scratch model, like crane_predict. On an error
+ * *field is the crane field at fault (CRANE_FIELD_NONE for the extension, which is not one). */
+crane_status crane__model_derive(crane_model *m, const crane_params *params, crane_real extension,
+                                 crane_field *field);
 
 /* ---- integrator.c ---- */
 

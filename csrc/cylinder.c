@@ -1,23 +1,34 @@
+/* SPDX-License-Identifier: MIT */
 /*
- * Hydraulic cylinder force: chamber pressures on the piston areas minus smooth Stribeck friction
+ * Hydraulic cylinder force: chamber pressures on the piston areas minus [S1]'s smooth Stribeck friction
  * (docs/model.md, "Cylinders").
  */
 #include "crane_internal.h"
 
-/* Beyond these arguments exp(-r^2) is below 1e-35 and tanh is +-1 to the last bit, so skipping
- * the libm calls (and exp's slow underflow path) changes nothing but the run time. */
-static const crane_real EXP_CUTOFF = 80;
+/* tanh(4), the factor [S1]'s friction law puts on the viscous term. */
+static const crane_real TANH_4 = (crane_real)0.999329299739067;
+/* Beyond these arguments tanh is +-1 to the last bit and the Stribeck term x / (x^2/4 + 3/4)^2
+ * (16 / x^3 for large x) is below 2e-17 of F_S - F_C, so skipping them changes nothing but the
+ * run time, and x^2 cannot overflow. */
 static const crane_real TANH_CUTOFF = 22;
+static const crane_real STRIBECK_CUTOFF = 1000000;
 
 crane_real crane__friction(const crane_friction *f, crane_real v)
 {
+    /* [S1]'s law, F = k [F_C tanh(4x) + (F_S - F_C) x / (x^2/4 + 3/4)^2] sign(v) + sigma tanh(4) v
+     * with x = |v| / v_S, written with the signed r = v / v_S (both odd terms are smooth in r):
+     * no separate smoothing velocity, the right-hand side stays smooth for RK4. */
     const crane_real r = v / f->stribeck_velocity;
-    const crane_real x = v / f->tanh_velocity;
-    const crane_real r2 = r * r;
-    const crane_real stribeck = r2 < EXP_CUTOFF ? (f->static_ - f->coulomb) * crane__exp(-r2) : 0;
-    /* tanh instead of sign(v) keeps the right-hand side smooth for RK4. */
-    const crane_real smooth_sign = x > TANH_CUTOFF ? 1 : x < -TANH_CUTOFF ? -1 : crane__tanh(x);
-    return (f->coulomb + stribeck) * smooth_sign + f->viscous * v;
+    const crane_real r4 = 4 * r;
+    const crane_real coulomb = r4 > TANH_CUTOFF ? 1 : r4 < -TANH_CUTOFF ? -1 : crane__tanh(r4);
+    crane_real stribeck = 0;
+
+    if (crane__fabs(r) < STRIBECK_CUTOFF) {
+        const crane_real q = r * r / 4 + (crane_real)0.75;
+        stribeck = r / (q * q);
+    }
+    return f->factor * (f->coulomb * coulomb + (f->static_ - f->coulomb) * stribeck) +
+           f->viscous * TANH_4 * v;
 }
 
 crane_real crane__cylinder_force(const crane_model *m, int joint, crane_real p_a, crane_real p_b,
@@ -31,6 +42,7 @@ crane_status crane_cylinder_force(const crane_model *model, int joint, crane_rea
                                   crane_real p_b, crane_real stroke_rate, crane_real *force)
 {
     const crane_real pmax = (crane_real)CRANE_PRESSURE_MAX;
+    crane_real f;
 
     if (!model || !force)
         return CRANE_E_NULL;
@@ -40,6 +52,10 @@ crane_status crane_cylinder_force(const crane_model *model, int joint, crane_rea
         return CRANE_E_NONFINITE;
     if (p_a < 0 || p_a > pmax || p_b < 0 || p_b > pmax)
         return CRANE_E_PRESSURE;
-    *force = crane__cylinder_force(model, joint, p_a, p_b, stroke_rate);
+    /* The viscous term overflows for stroke rates near the largest real (1e307 m/s). */
+    f = crane__cylinder_force(model, joint, p_a, p_b, stroke_rate);
+    if (!crane__finite(f))
+        return CRANE_E_OVERFLOW;
+    *force = f;
     return CRANE_OK;
 }

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
  * Valve-driven cylinders: the valve's flows, the chamber equations and the stiffness bound that
  * sets the substeps (docs/model.md, "Hydraulics"). Everything here runs on validated inputs.
@@ -154,42 +155,3 @@ long crane__substeps(const crane_model *m, const crane_real stroke[2], const int
     return n < 1 ? 1 : (long)n;
 }
 #endif /* CRANE_HYDRAULICS */
-
-/* The parameter ranges of docs/model.md "Hydraulics" (the crane file's). */
-int crane__hydraulics_ok(const crane_hydraulics *h)
-{
-    const crane_real pmax = (crane_real)CRANE_PRESSURE_MAX;
-    const crane_real pmin = (crane_real)CRANE_CHAMBER_PRESSURE_MIN;
-    const crane_real r[] = {h->supply_pressure, h->tank_pressure, h->relief_pressure,
-                            h->nominal_flow, h->nominal_pressure_drop, h->dead_band,
-                            h->meter_out_flow, h->meter_out_pressure_drop,
-                            h->spool_time_constant, h->laminar_pressure_drop,
-                            h->cavitation_pressure, h->hose_volume_a, h->hose_volume_b,
-                            h->oil_bulk_modulus, h->hose_bulk_modulus, h->cylinder_bulk_modulus,
-                            h->leakage};
-    size_t k;
-
-    if (h->valve == CRANE_VALVE_NONE)
-        return 1;
-    if (h->valve != CRANE_VALVE_ORIFICE && h->valve != CRANE_VALVE_COMPENSATED)
-        return 0;
-    for (k = 0; k < sizeof r / sizeof r[0]; ++k)
-        if (!crane__finite(r[k]))
-            return 0;
-    if (!(h->tank_pressure >= 0 && h->supply_pressure > h->tank_pressure &&
-          h->supply_pressure <= pmax && h->relief_pressure >= h->supply_pressure &&
-          h->relief_pressure <= pmax && h->cavitation_pressure >= pmin &&
-          h->cavitation_pressure <= h->tank_pressure))
-        return 0;
-    if (!(h->nominal_flow > 0 && h->nominal_pressure_drop > 0 && h->laminar_pressure_drop > 0 &&
-          h->hose_volume_a > 0 && h->hose_volume_b > 0 && h->oil_bulk_modulus > 0 &&
-          h->hose_bulk_modulus > 0 && h->cylinder_bulk_modulus > 0))
-        return 0;
-    if (!(h->dead_band >= 0 && h->dead_band <= (crane_real)0.99 && h->spool_time_constant >= 0 &&
-          h->spool_time_constant <= 10 && h->leakage >= 0 && h->leakage <= (crane_real)1e-6 &&
-          h->meter_out_flow >= 0 && h->meter_out_pressure_drop >= 0))
-        return 0;
-    if (h->valve == CRANE_VALVE_COMPENSATED)
-        return h->meter_out_flow > 0 && h->meter_out_pressure_drop > 0;
-    return h->dead_band == 0;
-}

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
  * Fixed-step RK4 with end stops (docs/model.md, "Cylinders", "End stops", "Integration and
  * samples"). Everything here runs on inputs that crane_predict has already validated.

@@ -1,133 +1,238 @@
+/* SPDX-License-Identifier: MIT */
 /*
  * Crane parameter checks and the derived model constants (docs/model.md, "Bad input", "Bodies and
  * the lumped outer boom", "End stops"), and the status messages.
  */
 #include "crane_internal.h"
 
-enum { FOURBAR_POINTS = 101 };
+/* The first rule broken so far: every check below is one call that does nothing once a rule has
+ * failed, so the checks read as a list, one line per field, in the order of the crane file. */
+typedef struct {
+    crane_status status;
+    crane_field field;
+} verdict;
 
-static int body_finite(const crane_body *b)
+/* x must be finite and keep its rule (ok, computed by the caller), else status `bad`. */
+static void rule(verdict *v, crane_field f, crane_real x, int ok, crane_status bad)
 {
-    return crane__finite(b->mass) && crane__finite_vec(b->com) && crane__finite(b->izz);
+    if (v->status != CRANE_OK)
+        return;
+    if (!crane__finite(x)) {
+        v->status = CRANE_E_NONFINITE;
+        v->field = f;
+    } else if (!ok) {
+        v->status = bad;
+        v->field = f;
+    }
 }
 
-static int cylinder_finite(const crane_cylinder *c)
+static void point_rule(verdict *v, crane_field f, crane_vec2 x)
+{
+    rule(v, f, x.x, 1, CRANE_OK);
+    rule(v, f, x.y, 1, CRANE_OK);
+}
+
+/* A body's block of fields is MASS, COM, IZZ (crane.h). A side link may be massless (0 =
+ * neglected, the paper's model), never negative; every other body has mass and inertia. */
+static void body_rules(verdict *v, crane_field mass, const crane_body *b, int massless_ok)
+{
+    rule(v, mass, b->mass, massless_ok ? b->mass >= 0 : b->mass > 0, CRANE_E_BODY);
+    point_rule(v, (crane_field)(mass + 1), b->com);
+    rule(v, (crane_field)(mass + 2), b->izz, massless_ok ? b->izz >= 0 : b->izz > 0, CRANE_E_BODY);
+}
+
+/* The field of cylinder i from the lift cylinder's (the tilt block mirrors the lift block). */
+static crane_field cylinder_field(int i, crane_field lift)
+{
+    return (crane_field)((int)lift + i * ((int)CRANE_FIELD_TILT_CYLINDER_BORE -
+                                         (int)CRANE_FIELD_LIFT_CYLINDER_BORE));
+}
+
+/* A cylinder's circuit (docs/model.md, "Hydraulics"), if it has one (valve != NONE). */
+static void hydraulics_rules(verdict *v, int i, const crane_hydraulics *h)
+{
+    const crane_real pmax = (crane_real)CRANE_PRESSURE_MAX;
+    const int comp = h->valve == CRANE_VALVE_COMPENSATED;
+    const crane_status bad = CRANE_E_HYDRAULICS;
+
+    if (h->valve == CRANE_VALVE_NONE)
+        return;
+    rule(v, cylinder_field(i, CRANE_FIELD_LIFT_CYLINDER_HYDRAULICS_VALVE), 0,
+         h->valve == CRANE_VALVE_ORIFICE || comp, bad);
+    rule(v, cylinder_field(i, CRANE_FIELD_LIFT_CYLINDER_HYDRAULICS_TANK_PRESSURE), h->tank_pressure,
+         h->tank_pressure >= 0 && h->tank_pressure <= pmax, bad);
+    rule(v, cylinder_field(i, CRANE_FIELD_LIFT_CYLINDER_HYDRAULICS_SUPPLY_PRESSURE),
+         h->supply_pressure, h->supply_pressure > h->tank_pressure && h->supply_pressure <= pmax, bad);
+    rule(v, cylinder_field(i, CRANE_FIELD_LIFT_CYLINDER_HYDRAULICS_RELIEF_PRESSURE),
+         h->relief_pressure, h->relief_pressure >= h->supply_pressure && h->relief_pressure <= pmax,
+         bad);
+    rule(v, cylinder_field(i, CRANE_FIELD_LIFT_CYLINDER_HYDRAULICS_NOMINAL_FLOW), h->nominal_flow,
+         h->nominal_flow > 0, bad);
+    rule(v, cylinder_field(i, CRANE_FIELD_LIFT_CYLINDER_HYDRAULICS_NOMINAL_PRESSURE_DROP),
+         h->nominal_pressure_drop, h->nominal_pressure_drop > 0, bad);
+    rule(v, cylinder_field(i, CRANE_FIELD_LIFT_CYLINDER_HYDRAULICS_DEAD_BAND), h->dead_band,
+         comp ? h->dead_band >= 0 && h->dead_band <= (crane_real)0.99 : h->dead_band == 0, bad);
+    rule(v, cylinder_field(i, CRANE_FIELD_LIFT_CYLINDER_HYDRAULICS_METER_OUT_FLOW),
+         h->meter_out_flow, comp ? h->meter_out_flow > 0 : h->meter_out_flow >= 0, bad);
+    rule(v, cylinder_field(i, CRANE_FIELD_LIFT_CYLINDER_HYDRAULICS_METER_OUT_PRESSURE_DROP),
+         h->meter_out_pressure_drop,
+         comp ? h->meter_out_pressure_drop > 0 : h->meter_out_pressure_drop >= 0, bad);
+    rule(v, cylinder_field(i, CRANE_FIELD_LIFT_CYLINDER_HYDRAULICS_SPOOL_TIME_CONSTANT),
+         h->spool_time_constant, h->spool_time_constant >= 0 && h->spool_time_constant <= 10, bad);
+    rule(v, cylinder_field(i, CRANE_FIELD_LIFT_CYLINDER_HYDRAULICS_LAMINAR_PRESSURE_DROP),
+         h->laminar_pressure_drop, h->laminar_pressure_drop > 0, bad);
+    rule(v, cylinder_field(i, CRANE_FIELD_LIFT_CYLINDER_HYDRAULICS_CAVITATION_PRESSURE),
+         h->cavitation_pressure,
+         h->cavitation_pressure >= (crane_real)CRANE_CHAMBER_PRESSURE_MIN &&
+             h->cavitation_pressure <= h->tank_pressure,
+         bad);
+    rule(v, cylinder_field(i, CRANE_FIELD_LIFT_CYLINDER_HYDRAULICS_HOSE_VOLUME_A), h->hose_volume_a,
+         h->hose_volume_a > 0, bad);
+    rule(v, cylinder_field(i, CRANE_FIELD_LIFT_CYLINDER_HYDRAULICS_HOSE_VOLUME_B), h->hose_volume_b,
+         h->hose_volume_b > 0, bad);
+    rule(v, cylinder_field(i, CRANE_FIELD_LIFT_CYLINDER_HYDRAULICS_OIL_BULK_MODULUS),
+         h->oil_bulk_modulus, h->oil_bulk_modulus > 0, bad);
+    rule(v, cylinder_field(i, CRANE_FIELD_LIFT_CYLINDER_HYDRAULICS_HOSE_BULK_MODULUS),
+         h->hose_bulk_modulus, h->hose_bulk_modulus > 0, bad);
+    rule(v, cylinder_field(i, CRANE_FIELD_LIFT_CYLINDER_HYDRAULICS_CYLINDER_BULK_MODULUS),
+         h->cylinder_bulk_modulus, h->cylinder_bulk_modulus > 0, bad);
+    rule(v, cylinder_field(i, CRANE_FIELD_LIFT_CYLINDER_HYDRAULICS_LEAKAGE), h->leakage,
+         h->leakage >= 0 && h->leakage <= (crane_real)1e-6, bad);
+}
+
+static void cylinder_rules(verdict *v, int i, const crane_cylinder *c)
 {
     const crane_friction *f = &c->friction;
-    return crane__finite(c->bore) && crane__finite(c->rod) && crane__finite(c->length_retracted) &&
-           crane__finite(c->stroke_min) && crane__finite(c->stroke_max) &&
-           crane__finite(f->coulomb) && crane__finite(f->static_) && crane__finite(f->viscous) &&
-           crane__finite(f->stribeck_velocity) && crane__finite(f->tanh_velocity);
+
+    /* stroke 0 is the fully retracted cylinder (length_retracted), so no stop lies below it; that
+     * also keeps every pin-to-pin length positive, which the triangle and the four-bar need. */
+    rule(v, cylinder_field(i, CRANE_FIELD_LIFT_CYLINDER_ROD), c->rod, c->rod > 0, CRANE_E_CYLINDER);
+    rule(v, cylinder_field(i, CRANE_FIELD_LIFT_CYLINDER_BORE), c->bore, c->bore > c->rod,
+         CRANE_E_CYLINDER);
+    rule(v, cylinder_field(i, CRANE_FIELD_LIFT_CYLINDER_LENGTH_RETRACTED), c->length_retracted,
+         c->length_retracted > 0, CRANE_E_CYLINDER);
+    rule(v, cylinder_field(i, CRANE_FIELD_LIFT_CYLINDER_STROKE_MIN), c->stroke_min,
+         c->stroke_min >= 0, CRANE_E_CYLINDER);
+    rule(v, cylinder_field(i, CRANE_FIELD_LIFT_CYLINDER_STROKE_MAX), c->stroke_max,
+         c->stroke_max > c->stroke_min, CRANE_E_CYLINDER);
+    rule(v, cylinder_field(i, CRANE_FIELD_LIFT_CYLINDER_FRICTION_COULOMB), f->coulomb,
+         f->coulomb >= 0, CRANE_E_FRICTION);
+    rule(v, cylinder_field(i, CRANE_FIELD_LIFT_CYLINDER_FRICTION_STATIC), f->static_,
+         f->static_ >= f->coulomb, CRANE_E_FRICTION);
+    rule(v, cylinder_field(i, CRANE_FIELD_LIFT_CYLINDER_FRICTION_VISCOUS), f->viscous,
+         f->viscous >= 0, CRANE_E_FRICTION);
+    rule(v, cylinder_field(i, CRANE_FIELD_LIFT_CYLINDER_FRICTION_STRIBECK_VELOCITY),
+         f->stribeck_velocity, f->stribeck_velocity > 0, CRANE_E_FRICTION);
+    rule(v, cylinder_field(i, CRANE_FIELD_LIFT_CYLINDER_FRICTION_FACTOR), f->factor,
+         f->factor >= 0, CRANE_E_FRICTION);
+    hydraulics_rules(v, i, &c->hydraulics);
 }
 
-static int params_finite(const crane_params *p)
+crane_status crane__check_params(const crane_params *p, crane_field *field)
 {
-    return crane__finite(p->gravity) && crane__finite_vec(p->lift_pivot) &&
-           crane__finite_vec(p->lift_cylinder_base) && crane__finite_vec(p->lift_cylinder_rod) &&
-           crane__finite_vec(p->tilt_cylinder_base) && crane__finite_vec(p->link1_pivot) &&
-           crane__finite_vec(p->tilt_pivot) && crane__finite_vec(p->link_pin) &&
-           crane__finite_vec(p->link2_end) && crane__finite_vec(p->link2_attach) &&
-           crane__finite_vec(p->extension_mount) && crane__finite(p->tip_distance) &&
-           crane__finite(p->extension_min) && crane__finite(p->extension_max) &&
-           body_finite(&p->lift_boom) && body_finite(&p->outer_boom) &&
-           body_finite(&p->extension_boom) && crane__finite(p->load_mass) &&
-           body_finite(&p->side_link1) && body_finite(&p->side_link2) &&
-           cylinder_finite(&p->cylinder[0]) && cylinder_finite(&p->cylinder[1]);
-}
-
-static int body_ok(const crane_body *b) { return b->mass > 0 && b->izz > 0; }
-
-/* A side link may be massless (0 = neglected, the paper's model), never negative. */
-static int link_ok(const crane_body *b) { return b->mass >= 0 && b->izz >= 0; }
-
-static int cylinder_ok(const crane_cylinder *c)
-{
-    /* A pin-to-pin length must stay positive for the triangle and the four-bar to mean anything. */
-    return c->rod > 0 && c->bore > c->rod && c->length_retracted > 0 &&
-           c->stroke_min < c->stroke_max && c->length_retracted + c->stroke_min > 0;
-}
-
-static int friction_ok(const crane_friction *f)
-{
-    return f->coulomb >= 0 && f->static_ >= f->coulomb && f->viscous >= 0 &&
-           f->stribeck_velocity > 0 && f->tanh_velocity > 0;
-}
-
-crane_status crane__check_params(const crane_params *p)
-{
+    verdict v = {CRANE_OK, CRANE_FIELD_NONE};
     int i;
 
-    if (!params_finite(p))
-        return CRANE_E_NONFINITE;
-    if (!body_ok(&p->lift_boom) || !body_ok(&p->outer_boom) || !body_ok(&p->extension_boom) ||
-        !(p->load_mass >= 0) || !link_ok(&p->side_link1) || !link_ok(&p->side_link2))
-        return CRANE_E_BODY;
+    rule(&v, CRANE_FIELD_GRAVITY, p->gravity, p->gravity >= 0, CRANE_E_GRAVITY);
+    rule(&v, CRANE_FIELD_LOAD_MASS, p->load_mass, p->load_mass >= 0, CRANE_E_BODY);
+    point_rule(&v, CRANE_FIELD_GEOMETRY_LIFT_PIVOT, p->lift_pivot);
+    point_rule(&v, CRANE_FIELD_GEOMETRY_LIFT_CYLINDER_BASE, p->lift_cylinder_base);
+    point_rule(&v, CRANE_FIELD_GEOMETRY_LIFT_CYLINDER_ROD, p->lift_cylinder_rod);
+    point_rule(&v, CRANE_FIELD_GEOMETRY_TILT_CYLINDER_BASE, p->tilt_cylinder_base);
+    point_rule(&v, CRANE_FIELD_GEOMETRY_LINK1_PIVOT, p->link1_pivot);
+    point_rule(&v, CRANE_FIELD_GEOMETRY_TILT_PIVOT, p->tilt_pivot);
+    point_rule(&v, CRANE_FIELD_GEOMETRY_LINK_PIN, p->link_pin);
+    point_rule(&v, CRANE_FIELD_GEOMETRY_LINK2_END, p->link2_end);
+    point_rule(&v, CRANE_FIELD_GEOMETRY_LINK2_ATTACH, p->link2_attach);
+    point_rule(&v, CRANE_FIELD_GEOMETRY_EXTENSION_MOUNT, p->extension_mount);
+    /* The load point lies beyond the extension boom's mount, along its axis. */
+    rule(&v, CRANE_FIELD_GEOMETRY_TIP_DISTANCE, p->tip_distance, p->tip_distance > 0, CRANE_E_FIELD);
+    rule(&v, CRANE_FIELD_GEOMETRY_EXTENSION_MIN, p->extension_min, 1, CRANE_OK);
+    rule(&v, CRANE_FIELD_GEOMETRY_EXTENSION_MAX, p->extension_max,
+         p->extension_max >= p->extension_min, CRANE_E_FIELD);
+    body_rules(&v, CRANE_FIELD_LIFT_BOOM_MASS, &p->lift_boom, 0);
+    body_rules(&v, CRANE_FIELD_OUTER_BOOM_MASS, &p->outer_boom, 0);
+    body_rules(&v, CRANE_FIELD_EXTENSION_BOOM_MASS, &p->extension_boom, 0);
+    body_rules(&v, CRANE_FIELD_SIDE_LINK1_MASS, &p->side_link1, 1);
+    body_rules(&v, CRANE_FIELD_SIDE_LINK2_MASS, &p->side_link2, 1);
     for (i = 0; i < 2; ++i)
-        if (!cylinder_ok(&p->cylinder[i]))
-            return CRANE_E_CYLINDER;
-    for (i = 0; i < 2; ++i)
-        if (!friction_ok(&p->cylinder[i].friction))
-            return CRANE_E_FRICTION;
-    if (!(p->gravity >= 0))
-        return CRANE_E_GRAVITY;
-    for (i = 0; i < 2; ++i)
-        if (!crane__hydraulics_ok(&p->cylinder[i].hydraulics))
-            return CRANE_E_HYDRAULICS;
-    return CRANE_OK;
+        cylinder_rules(&v, i, &p->cylinder[i]);
+    *field = v.field;
+    return v.status;
 }
 
-/* 0 < gamma < pi over the lift stroke. cos(gamma) is monotone in L, so the two ends decide. */
-static int lift_triangle_ok(const crane_model *m)
+const char *crane_field_rule(crane_field field)
+{
+    /* The cylinder block's rules, in the order of its fields (bore .. friction.factor). */
+    static const char *const cylinder[CRANE_FIELD_TILT_CYLINDER_BORE - CRANE_FIELD_LIFT_CYLINDER_BORE] = {
+        "> rod", "> 0", "> 0", ">= 0", "> stroke_min", ">= 0", ">= coulomb", ">= 0", "> 0", ">= 0",
+        /* hydraulics: valve .. leakage (the struct's order) */
+        "orifice or compensated", "> tank_pressure and <= 1e8", ">= 0 and <= 1e8",
+        ">= supply_pressure and <= 1e8", "> 0", "> 0",
+        "0 for an orifice valve, in [0, 0.99] for a compensated one",
+        "> 0 for a compensated valve, >= 0 otherwise", "> 0 for a compensated valve, >= 0 otherwise",
+        "in [0, 10]", "> 0", ">= -1e5 and <= tank_pressure", "> 0", "> 0", "> 0", "> 0", "> 0",
+        "in [0, 1e-6]"};
+    const int n_cyl = (int)CRANE_FIELD_TILT_CYLINDER_BORE - (int)CRANE_FIELD_LIFT_CYLINDER_BORE;
+    const int k = (int)field - (int)CRANE_FIELD_LIFT_CYLINDER_BORE;
+
+    if (k >= 0 && k < 2 * n_cyl) {
+        const char *r = cylinder[k % n_cyl];
+        return r ? r : "";
+    }
+    switch (field) {
+    case CRANE_FIELD_GRAVITY:
+    case CRANE_FIELD_LOAD_MASS:
+        return ">= 0";
+    case CRANE_FIELD_GEOMETRY_TIP_DISTANCE:
+    case CRANE_FIELD_LIFT_BOOM_MASS:
+    case CRANE_FIELD_LIFT_BOOM_IZZ:
+    case CRANE_FIELD_OUTER_BOOM_MASS:
+    case CRANE_FIELD_OUTER_BOOM_IZZ:
+    case CRANE_FIELD_EXTENSION_BOOM_MASS:
+    case CRANE_FIELD_EXTENSION_BOOM_IZZ:
+        return "> 0";
+    case CRANE_FIELD_SIDE_LINK1_MASS:
+    case CRANE_FIELD_SIDE_LINK1_IZZ:
+    case CRANE_FIELD_SIDE_LINK2_MASS:
+    case CRANE_FIELD_SIDE_LINK2_IZZ:
+        return ">= 0 (0 = neglected)";
+    case CRANE_FIELD_GEOMETRY_EXTENSION_MIN:
+        return "finite";
+    case CRANE_FIELD_GEOMETRY_EXTENSION_MAX:
+        return ">= extension_min";
+    case CRANE_FIELD_NONE:
+    case CRANE_FIELD_COUNT:
+        return "";
+    default:
+        /* every point: pivots, pins, centres of mass */
+        return field > CRANE_FIELD_NONE && field < CRANE_FIELD_COUNT ? "a finite pair [x, y]" : "";
+    }
+}
+
+/* 0 < gamma < pi over the lift stroke. cos(gamma) is monotone in L, so the two ends decide
+ * (exact). Returns the field at fault, CRANE_FIELD_NONE if the triangle is valid. */
+static crane_field lift_triangle_check(const crane_model *m)
 {
     const crane_real db = m->lift_db, dr = m->lift_dr;
     const crane_real ends[2] = {m->length_retracted[CRANE_LIFT] + m->stroke_min[CRANE_LIFT],
                                 m->length_retracted[CRANE_LIFT] + m->stroke_max[CRANE_LIFT]};
     int k;
 
-    if (!(db > 0) || !(dr > 0))
-        return 0;
+    if (!(db > 0))
+        return CRANE_FIELD_GEOMETRY_LIFT_CYLINDER_BASE;
+    if (!(dr > 0))
+        return CRANE_FIELD_GEOMETRY_LIFT_CYLINDER_ROD;
     for (k = 0; k < 2; ++k) {
         const crane_real cg = (db * db + dr * dr - ends[k] * ends[k]) / (2 * db * dr);
         if (!(cg > -1 && cg < 1))
-            return 0;
+            return k == 0 ? CRANE_FIELD_LIFT_CYLINDER_STROKE_MIN : CRANE_FIELD_LIFT_CYLINDER_STROKE_MAX;
     }
-    return 1;
+    return CRANE_FIELD_NONE;
 }
 
-/* The four-bar closes with finite, nonzero ds/dtheta1 of one sign and theta1 inside
- * (-3pi/2, pi/2) at 101 strokes. Beyond docs/model.md, theta1 must also move monotonically in the
- * direction that sign says: otherwise the wrap cuts the stroke range and the limits are wrong. */
-static int fourbar_ok(const crane_model *m)
-{
-    const crane_real lo = -3 * crane__pi() / 2, hi = crane__pi() / 2;
-    crane_real prev_theta = 0, sign = 0;
-    int k;
-
-    if (!(m->tilt_l1 > 0) || !(m->tilt_l2 > 0) || !(m->tilt_ra > 0))
-        return 0;
-    for (k = 0; k < FOURBAR_POINTS; ++k) {
-        const crane_real s = m->stroke_min[CRANE_TILT] +
-                             (m->stroke_max[CRANE_TILT] - m->stroke_min[CRANE_TILT]) * (crane_real)k /
-                                                 (crane_real)(FOURBAR_POINTS - 1);
-        crane_real theta, ds;
-        if (!crane__tilt_from_stroke(m, s, &theta, &ds, NULL, NULL))
-            return 0;
-        if (!crane__finite(theta) || !crane__finite(ds) || ds == 0 || !(theta > lo && theta < hi))
-            return 0;
-        if (k == 0) {
-            sign = ds > 0 ? 1 : -1;
-        } else {
-            if ((ds > 0 ? 1 : -1) != sign)
-                return 0;
-            if (!((theta - prev_theta) * sign > 0))
-                return 0;
-        }
-        prev_theta = theta;
-    }
-    return 1;
-}
-
-crane_status crane__model_derive(crane_model *m, const crane_params *params, crane_real extension)
+crane_status crane__model_derive(crane_model *m, const crane_params *params, crane_real extension,
+                                 crane_field *field)
 {
     const crane_params *p = params;
     crane_status st;
@@ -135,7 +240,7 @@ crane_status crane__model_derive(crane_model *m, const crane_params *params, cra
     crane_real m_ob, m_ext, m_load, th_lo, th_hi, ds;
     int i;
 
-    st = crane__check_params(p);
+    st = crane__check_params(p, field);
     if (st != CRANE_OK)
         return st;
     if (!crane__finite(extension))
@@ -226,9 +331,11 @@ crane_status crane__model_derive(crane_model *m, const crane_params *params, cra
         }
     }
 
-    if (!lift_triangle_ok(m))
+    *field = lift_triangle_check(m);
+    if (*field != CRANE_FIELD_NONE)
         return CRANE_E_GEOMETRY;
-    if (!fourbar_ok(m))
+    *field = crane__fourbar_check(m);
+    if (*field != CRANE_FIELD_NONE)
         return CRANE_E_FOURBAR;
 
     /* Angle limits from the stroke limits; the smaller angle is the lower limit whatever the
@@ -253,13 +360,32 @@ crane_status crane_model_init(crane_model *model, const crane_params *params, cr
 {
     /* Derived into a local copy so that a rejected crane leaves *model untouched. */
     crane_model m;
+    crane_field field;
     crane_status st;
 
     if (!model || !params)
         return CRANE_E_NULL;
-    st = crane__model_derive(&m, params, extension);
+    st = crane__model_derive(&m, params, extension, &field);
     if (st == CRANE_OK)
         *model = m;
+    return st;
+}
+
+crane_status crane_params_check(const crane_params *params, crane_field *field)
+{
+    /* The kinematic rules need the derived lengths: derived at extension_min, which they do not
+     * depend on (only the lumped outer boom does). */
+    crane_model m;
+    crane_field f = CRANE_FIELD_NONE;
+    crane_status st;
+
+    if (field)
+        *field = CRANE_FIELD_NONE;
+    if (!params)
+        return CRANE_E_NULL;
+    st = crane__model_derive(&m, params, params->extension_min, &f);
+    if (field)
+        *field = st == CRANE_OK ? CRANE_FIELD_NONE : f;
     return st;
 }
 
@@ -282,11 +408,16 @@ const char *crane_status_message(crane_status status)
     case CRANE_E_PRESSURE: return "a pressure is outside [0, 1e8] Pa";
     case CRANE_E_SAMPLES: return "pressure sample times are not strictly increasing or do not cover [0, horizon]";
     case CRANE_E_DT: return "dt <= 0 or dt > horizon";
-    case CRANE_E_HORIZON: return "horizon <= 0, or too many steps";
+    case CRANE_E_HORIZON: return "horizon <= 0";
     case CRANE_E_CAPACITY: return "the output buffer is smaller than the number of samples";
     case CRANE_E_ANGLE: return "an angle is outside the range reachable by the cylinder";
     case CRANE_E_SAMPLE_EVERY: return "sample_every must be >= 1";
     case CRANE_E_DIVERGED: return "the prediction diverged (the state stopped being finite): the parameters are not physical";
+    case CRANE_E_FIELD: return "a crane parameter is outside its range";
+    case CRANE_E_OVERFLOW: return "an argument is too large: a result would not be finite or a size would overflow";
+    case CRANE_E_STEPS: return "horizon / dt asks for more than CRANE_MAX_STEPS (1048576) steps: raise dt or shorten the horizon";
+    case CRANE_E_SAMPLE_COUNT: return "more than CRANE_MAX_SAMPLES (8388608) samples in one call: raise sample_every or dt, shorten the horizon or split the futures";
+    case CRANE_E_BATCH: return "futures x steps over CRANE_MAX_BATCH_STEPS (33554432) in one call: split the futures into several calls";
     case CRANE_E_HYDRAULICS: return "a hydraulic parameter is out of range (docs/model.md, Hydraulics)";
     case CRANE_E_VALVE: return "a valve drive is invalid: lever outside [-1, 1], no hydraulics for the cylinder, or a chamber pressure/spool of the state out of range";
     }

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
  * The prediction entry point: validates every input before anything is written, then hands over
  * to the integrator (docs/model.md, "Integration and samples", "Bad input").
@@ -26,9 +27,9 @@ static crane_status step_count(crane_real horizon, crane_real dt, long *n_steps)
     n = ceil(q);
     if (n < 1)
         n = 1;
-    /* n + 1 samples must fit both a long step counter and a size_t sample count. */
-    if (!(n < (double)LONG_MAX / 2) || !(n < (double)SIZE_MAX / 2))
-        return CRANE_E_HORIZON;
+    /* Bounded work (crane.h); it also keeps the step index exact in a float and in a 32-bit long. */
+    if (!(n <= (double)CRANE_MAX_STEPS))
+        return CRANE_E_STEPS;
     *n_steps = (long)n;
     return CRANE_OK;
 }
@@ -186,11 +187,12 @@ crane_status crane_predict(const crane_params *params, const crane_state *state0
                            crane_sample *out, size_t capacity, size_t *n_written)
 {
     crane_model model;
+    crane_field field;
     crane_status st;
 
     if (!params || !state0 || !inputs || !out || !n_written)
         return CRANE_E_NULL;
-    st = crane__model_derive(&model, params, state0->extension);
+    st = crane__model_derive(&model, params, state0->extension, &field);
     if (st != CRANE_OK)
         return st;
     return predict(&model, state0, inputs, horizon, dt, out, capacity, n_written);
@@ -228,6 +230,7 @@ crane_status crane_predict_many(const crane_params *params, size_t n_futures,
                                 crane_sample *out, size_t stride, size_t *failed)
 {
     crane_model model;
+    crane_field field;
     crane_status st;
     size_t k, count;
     long n_steps;
@@ -237,13 +240,18 @@ crane_status crane_predict_many(const crane_params *params, size_t n_futures,
     *failed = n_futures;
     if (!params || (n_futures > 0 && (!states || !inputs || !out)))
         return CRANE_E_NULL;
-    st = crane__check_params(params);
+    st = crane__check_params(params, &field);
     if (st != CRANE_OK)
         return st;
     st = crane_sample_count_every(horizon, dt, sample_every, &count);
     if (st != CRANE_OK)
         return st;
     (void)step_count(horizon, dt, &n_steps);
+    /* Bounded work and memory of the whole call (crane.h), before the buffers are looked at. */
+    if (n_futures > 0 && count > (size_t)CRANE_MAX_SAMPLES / n_futures)
+        return CRANE_E_SAMPLE_COUNT;
+    if (n_futures > 0 && (size_t)n_steps > (size_t)CRANE_MAX_BATCH_STEPS / n_futures)
+        return CRANE_E_BATCH;
     if (count > stride || (n_futures > 0 && stride > SIZE_MAX / n_futures))
         return CRANE_E_CAPACITY;
 

@@ -35,20 +35,27 @@ def test_s3_compensated_valve_is_expressible(crane):
 
 
 @pytest.mark.parametrize("field, value, words", [
-    ("valve", "spool", "valve must be one of"),
-    ("laminar_pressure_drop", 0.0, "laminar_pressure_drop must be in (0"),
-    ("supply_pressure", 0.5e5, "supply_pressure must be in (100000"),
-    ("relief_pressure", 50e5, "relief_pressure must be in [8e+06"),
-    ("dead_band", 0.1, "dead_band must be 0 for an orifice valve"),
-    ("hose_volume_b", -1e-4, "hose_volume_b must be in (0"),
+    ("laminar_pressure_drop", 0.0, "must be > 0, got 0.0"),
+    ("supply_pressure", 0.5e5, "must be > lift_cylinder.hydraulics.tank_pressure (100000.0) and <= 1e8"),
+    ("relief_pressure", 50e5, "must be >= lift_cylinder.hydraulics.supply_pressure (8000000.0)"),
+    ("dead_band", 0.1, "must be 0 for an orifice valve"),
+    ("hose_volume_b", -1e-4, "must be > 0"),
+    ("cavitation_pressure", 2e5, "must be >= -1e5 and <= lift_cylinder.hydraulics.tank_pressure"),
 ])
 def test_bad_hydraulics_name_the_field(crane, field, value, words):
+    """The C core's validator checks the circuit like every other field and names it."""
     d = crane.to_dict()
     d["lift_cylinder"]["hydraulics"][field] = value
-    with pytest.raises(ValueError, match=r"lift_cylinder\.hydraulics\." + field if field != "dead_band"
-                       else "dead_band") as e:
+    with pytest.raises(ValueError) as e:
         cp.Crane.from_dict(d)
-    assert words in str(e.value)
+    assert str(e.value).startswith(f"lift_cylinder.hydraulics.{field} {words}"), str(e.value)
+
+
+def test_bad_valve_name(crane):
+    d = crane.to_dict()
+    d["tilt_cylinder"]["hydraulics"]["valve"] = "spool"
+    with pytest.raises(ValueError, match=r"tilt_cylinder\.hydraulics\.valve must be one of"):
+        cp.Crane.from_dict(d)
 
 
 def test_lever_and_series_checks():
@@ -111,3 +118,51 @@ def test_lever_open_extends_and_trajectory_carries_the_circuit(crane):
     tp = cp.predict(crane, cp.State(0.116, 0.32), cp.Inputs(lift=cp.Pressure(175e5, 0), tilt=cp.Hold()),
                     0.1)
     assert np.all(tp.p_a[:, 0] == 175e5) and np.all(tp.p_a[:, 1] == 0)
+
+
+def test_the_core_refuses_bad_valve_drives_itself(crane):
+    """The C core checks a valve drive again (the Python layer checks it first): a lever outside
+    [-1, 1], a drive on a cylinder without a circuit, a chamber pressure out of range or NaN."""
+    from cranepredict import _core
+    from cranepredict._cranepredict import ffi, lib
+
+    def run(mutate):
+        prm = ffi.new("crane_params *")
+        prm[0] = _core.params(crane)[0]
+        st = ffi.new("crane_state *")
+        st.stroke = (0.2, 0.3)
+        st.p_a = (50e5, 1e5)
+        st.p_b = (1e5, 20e5)
+        inp = ffi.new("crane_inputs *")
+        for d in inp.drive:
+            d.mode = lib.CRANE_DRIVE_VALVE
+            d.u = 0.5
+        mutate(prm, st, inp)
+        out = ffi.new("crane_sample[]", 11)
+        n = ffi.new("size_t *")
+        return lib.crane_predict(prm, st, inp, 0.01, 1e-3, out, 11, n)
+
+    def nothing(prm, st, inp):
+        pass
+
+    def lever(prm, st, inp):
+        inp.drive[1].u = 1.5
+
+    def no_circuit(prm, st, inp):
+        prm.cylinder[0].hydraulics.valve = lib.CRANE_VALVE_NONE
+
+    def pressure(prm, st, inp):
+        st.p_b = (1e5, -2e5)
+
+    def nan(prm, st, inp):
+        st.spool = (float("nan"), 0.0)
+
+    def circuit(prm, st, inp):
+        prm.cylinder[1].hydraulics.laminar_pressure_drop = 0.0
+
+    assert run(nothing) == lib.CRANE_OK
+    assert run(lever) == lib.CRANE_E_VALVE
+    assert run(no_circuit) == lib.CRANE_E_VALVE
+    assert run(pressure) == lib.CRANE_E_VALVE
+    assert run(nan) == lib.CRANE_E_NONFINITE
+    assert run(circuit) == lib.CRANE_E_HYDRAULICS

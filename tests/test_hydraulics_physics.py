@@ -23,9 +23,12 @@ def _simpson(y: np.ndarray, h: float) -> float:
 
 
 def _friction(f: cp.Friction, v: np.ndarray) -> np.ndarray:
-    """docs/model.md, "Cylinders" (written here again: the test shares no code with the model)."""
-    return ((f.coulomb + (f.static - f.coulomb) * np.exp(-(v / f.stribeck_velocity) ** 2))
-            * np.tanh(v / f.tanh_velocity) + f.viscous * v)
+    """docs/model.md, "Cylinders" ([S1]'s law; written here again: the test shares no code with
+    the model)."""
+    v = np.asarray(v, dtype=float)
+    x = np.abs(v) / f.stribeck_velocity
+    return (f.factor * (f.coulomb * np.tanh(4 * x) + (f.static - f.coulomb) * x / (x * x / 4 + 0.75) ** 2)
+            * np.sign(v) + f.viscous * np.tanh(4.0) * v)
 
 
 def _compliance(h: cp.Hydraulics, v: np.ndarray, v_hose: float) -> np.ndarray:

@@ -30,7 +30,7 @@ def _futures(crane: cp.Crane, n: int, seed: int = 4, horizon: float = HORIZON):
     return initials, inputs
 
 
-FIELDS = ("t", "strokes", "theta", "omega", "tip", "stop")
+FIELDS = cp.types.ARRAYS
 
 
 @pytest.mark.parametrize("threads", [1, 2, 3])

@@ -5,11 +5,15 @@ The crane file is the one source of the parameters; the C example and embedded u
 generated header instead of parsing TOML on the target. The generated header is committed, so the
 C build needs no Python; CI runs this script with --check to prove it is up to date.
 
+The crane file is validated first by the one validator of a crane, the C core's
+crane_params_check (through the cranepredict package: Crane.from_toml), so a header is generated
+only for a crane that the core accepts, and an error names the crane file's field.
+
     python3 tools/crane2header.py                       # PATU 655 -> csrc/example/crane_patu655.h
     python3 tools/crane2header.py --check               # exit 1 if the committed header is stale
     python3 tools/crane2header.py CRANE.toml -o OUT.h --name my_crane
 
-Needs Python >= 3.11 (tomllib) and nothing else.
+Needs Python >= 3.11 (tomllib) and the cranepredict package (pip install .).
 """
 import argparse
 import difflib
@@ -43,13 +47,13 @@ SCALARS = [
 ]
 BODIES = [("lift_boom", "lift_boom"), ("outer_boom", "outer_boom"),
           ("extension_boom", "extension_boom")]
-# the side links of the tilt four-bar (docs/model.md, "Side links"); a crane file without them
-# gets massless links (0 = neglected, the paper's model)
+# the side links of the tilt four-bar (docs/model.md, "Side links"); massless links (mass and izz
+# 0 = neglected, the paper's model) are given as such in the crane file
 SIDE_LINKS = [("side_link1", "side_link1"), ("side_link2", "side_link2")]
 CYLINDERS = [("CRANE_LIFT", "lift_cylinder"), ("CRANE_TILT", "tilt_cylinder")]
 CYL_FIELDS = ["bore", "rod", "length_retracted", "stroke_min", "stroke_max"]
 FRICTION = [("coulomb", "coulomb"), ("static_", "static"), ("viscous", "viscous"),
-            ("stribeck_velocity", "stribeck_velocity"), ("tanh_velocity", "tanh_velocity")]
+            ("stribeck_velocity", "stribeck_velocity"), ("factor", "factor")]
 # a cylinder's [hydraulics] table (docs/model.md, "Hydraulics"); valve is a string -> enum
 HYDRAULICS = ["supply_pressure", "tank_pressure", "relief_pressure", "nominal_flow",
               "nominal_pressure_drop", "dead_band", "meter_out_flow", "meter_out_pressure_drop",
@@ -97,7 +101,21 @@ def leaves(data, prefix=""):
             yield key
 
 
+def validate(toml_path):
+    """The crane file through the cranepredict loader: types by Python, every rule by the C core."""
+    try:
+        from cranepredict.crane import Crane
+    except ImportError as exc:
+        raise SystemExit(f"crane2header: needs the cranepredict package to validate the crane file "
+                         f"with the C core (pip install .): {exc}")
+    try:
+        Crane.from_toml(toml_path)
+    except (ValueError, TypeError) as exc:
+        raise SystemExit(f"crane file {toml_path}: {exc}")
+
+
 def generate(toml_path, name):
+    validate(toml_path)
     with open(toml_path, "rb") as f:
         data = tomllib.load(f)
     used = set()
@@ -123,13 +141,9 @@ def generate(toml_path, name):
         sca(f"{field}.izz", f"{key}.izz")
     sca("load_mass", "load_mass")
     for field, key in SIDE_LINKS:
-        if key in data:
-            sca(f"{field}.mass", f"{key}.mass")
-            vec(f"{field}.com", f"{key}.com")
-            sca(f"{field}.izz", f"{key}.izz")
-        else:
-            L.append(f"    .{field} = {{.mass = CRANE_R(0.0), .com = {{.x = CRANE_R(0.0), "
-                     f".y = CRANE_R(0.0)}}, .izz = CRANE_R(0.0)}}, \\")
+        sca(f"{field}.mass", f"{key}.mass")
+        vec(f"{field}.com", f"{key}.com")
+        sca(f"{field}.izz", f"{key}.izz")
     for idx, key in CYLINDERS:
         for fld in CYL_FIELDS:
             sca(f"cylinder[{idx}].{fld}", f"{key}.{fld}")
@@ -159,7 +173,8 @@ def generate(toml_path, name):
     guard = re.sub(r"[^A-Z0-9]", "_", f"CRANE_{name.upper()}_H")
     macro = re.sub(r"[^A-Z0-9]", "_", f"CRANE_{name.upper()}_INIT")
     rel = os.path.relpath(os.path.abspath(toml_path), ROOT).replace(os.sep, "/")
-    head = f"""/*
+    head = f"""/* SPDX-License-Identifier: MIT */
+/*
  * {crane_name}: crane parameters for the cranepredict C core.
  *
  * GENERATED from {rel} by tools/crane2header.py -- do not edit.

@@ -31,9 +31,10 @@ import sys
 import tempfile
 
 BUDGET = {"data+bss": 1024, "stack": 1024, "text": 24 * 1024}   # text: 24 kB since issue 9
-ENTRY_POINTS = ["crane_predict", "crane_predict_model", "crane_model_init", "crane_points", "crane_sample_count",
-                "crane_joint_angle", "crane_joint_stroke", "crane_inverse_dynamics",
-                "crane_cylinder_force", "crane_status_message"]
+ENTRY_POINTS = ["crane_predict", "crane_predict_model", "crane_model_init", "crane_params_check",
+                "crane_points", "crane_sample_count", "crane_joint_angle", "crane_joint_stroke",
+                "crane_inverse_dynamics", "crane_cylinder_force", "crane_status_message",
+                "crane_field_rule"]
 
 PROBE = r"""
 #include "crane.h"
@@ -48,10 +49,13 @@ static crane_real buf[4 * CRANE_N_POINTS * 3], th[2], w[2], a[2], t[2];
 int main(void)
 {
     size_t n;
+    crane_field field;
     int s = 0;
     s += (int)crane_predict(&params, &state, &inputs, v, v, out, 4, &n);
     s += (int)crane_predict_model(&model, &state, &inputs, v, v, out, 4, &n);
     s += (int)crane_model_init(&model, &params, v);
+    s += (int)crane_params_check(&params, &field);
+    s += (int)crane_field_rule(field)[0];
     s += (int)crane_points(&model, v, 1, th, buf);
     s += (int)crane_sample_count(v, v, &n);
     s += (int)crane_joint_angle(&model, s, v, th, w);

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
  * PATU 655: crane parameters for the cranepredict C core.
  *
@@ -37,8 +38,8 @@
     .lift_boom.com = {.x = CRANE_R(1.229248), .y = CRANE_R(0.055596)}, \
     .lift_boom.izz = CRANE_R(67.0537), \
     .outer_boom.mass = CRANE_R(141.943), \
-    .outer_boom.com = {.x = CRANE_R(0.659935), .y = CRANE_R(0.251085)}, \
-    .outer_boom.izz = CRANE_R(67.05), \
+    .outer_boom.com = {.x = CRANE_R(0.643096), .y = CRANE_R(0.247055)}, \
+    .outer_boom.izz = CRANE_R(58.6619), \
     .extension_boom.mass = CRANE_R(15.928), \
     .extension_boom.com = {.x = CRANE_R(1.225), .y = CRANE_R(0.0)}, \
     .extension_boom.izz = CRANE_R(7.97), \
@@ -58,7 +59,7 @@
     .cylinder[CRANE_LIFT].friction.static_ = CRANE_R(300.0), \
     .cylinder[CRANE_LIFT].friction.viscous = CRANE_R(330.0), \
     .cylinder[CRANE_LIFT].friction.stribeck_velocity = CRANE_R(0.005), \
-    .cylinder[CRANE_LIFT].friction.tanh_velocity = CRANE_R(0.001), \
+    .cylinder[CRANE_LIFT].friction.factor = CRANE_R(4.0), \
     .cylinder[CRANE_LIFT].hydraulics.valve = CRANE_VALVE_ORIFICE, \
     .cylinder[CRANE_LIFT].hydraulics.supply_pressure = CRANE_R(8000000.0), \
     .cylinder[CRANE_LIFT].hydraulics.tank_pressure = CRANE_R(100000.0), \
@@ -86,7 +87,7 @@
     .cylinder[CRANE_TILT].friction.static_ = CRANE_R(300.0), \
     .cylinder[CRANE_TILT].friction.viscous = CRANE_R(330.0), \
     .cylinder[CRANE_TILT].friction.stribeck_velocity = CRANE_R(0.005), \
-    .cylinder[CRANE_TILT].friction.tanh_velocity = CRANE_R(0.001), \
+    .cylinder[CRANE_TILT].friction.factor = CRANE_R(1.0), \
     .cylinder[CRANE_TILT].hydraulics.valve = CRANE_VALVE_ORIFICE, \
     .cylinder[CRANE_TILT].hydraulics.supply_pressure = CRANE_R(8000000.0), \
     .cylinder[CRANE_TILT].hydraulics.tank_pressure = CRANE_R(100000.0), \

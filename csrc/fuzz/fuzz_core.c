@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
  * Fuzz target of the cranepredict C core (libFuzzer entry point LLVMFuzzerTestOneInput; also
  * driven without libFuzzer by replay.c over the files of fuzz/corpus/).
@@ -35,8 +36,9 @@
 #include <string.h>
 #include "crane.h"
 #include "crane_patu655.h"
+#include "crane_scenarios.h"
 
-#define CRANE_STATUS_LAST CRANE_E_DIVERGED
+#define CRANE_STATUS_LAST CRANE_E_BATCH
 #define MAX_SAMPLES 16   /* pressure samples per cylinder */
 #define MAX_CAPACITY 600 /* output samples (bounds the work per input) */
 #define MAX_POSES 4      /* crane_points poses */
@@ -120,7 +122,7 @@ static size_t real_fields(universe *u, crane_real **f)
         f[n++] = &c->stroke_min; f[n++] = &c->stroke_max;
         f[n++] = &c->friction.coulomb; f[n++] = &c->friction.static_;
         f[n++] = &c->friction.viscous; f[n++] = &c->friction.stribeck_velocity;
-        f[n++] = &c->friction.tanh_velocity;
+        f[n++] = &c->friction.factor;
     }
     for (i = 0; i < 2; ++i) {
         f[n++] = &u->state.stroke[i]; f[n++] = &u->state.stroke_rate[i];
@@ -160,19 +162,20 @@ static void set_int(universe *u, unsigned which, const uint8_t *v)
     }
 }
 
-/* The paper's scenario, 0.2 s at 1 ms; the samples a ramp over [-0.1, 0.2 + ...]. */
+/* The paper's scenario (generated header example/crane_scenarios.h), 0.2 s at 1 ms; the samples a
+ * ramp over [-0.1, 0.2 + ...]. */
 static void defaults(universe *u)
 {
     static const crane_params patu = CRANE_PATU655_INIT;
+    static const crane_state paper_state = CRANE_SCENARIO_PAPER_FIG4_STATE;
+    static const crane_inputs paper_inputs = CRANE_SCENARIO_PAPER_FIG4_INPUTS;
     int i, k;
 
     memset(u, 0, sizeof *u);
     u->params = patu;
-    u->state.stroke[0] = (crane_real)0.116;
-    u->state.stroke[1] = (crane_real)0.20;
-    u->inputs.drive[0].mode = CRANE_DRIVE_PRESSURE;
-    u->inputs.drive[0].p_a = (crane_real)175e5;
-    u->inputs.drive[1].mode = CRANE_DRIVE_HOLD;
+    u->params.load_mass = CRANE_SCENARIO_PAPER_FIG4_LOAD_MASS;
+    u->state = paper_state;
+    u->inputs = paper_inputs;
     u->horizon = (crane_real)0.2;
     u->dt = (crane_real)1e-3;
     u->capacity = 201;
@@ -228,6 +231,7 @@ static void decode(universe *u, const uint8_t *data, size_t size)
             u->inputs.drive[n].t = NULL;
             u->inputs.drive[n].p_a_samples = NULL;
             u->inputs.drive[n].p_b_samples = NULL;
+            u->inputs.drive[n].u_samples = NULL;
         }
         u->capacity %= (MAX_CAPACITY + 1);
         u->n_poses %= (MAX_POSES + 1);
@@ -314,6 +318,8 @@ static void run_predict(const universe *u)
         inputs.drive[i].t = ts[i];
         inputs.drive[i].p_a_samples = pas[i];
         inputs.drive[i].p_b_samples = pbs[i];
+        /* a valve drive's lever samples (mostly outside [-1, 1]: CRANE_E_VALVE; the pointer is ours) */
+        inputs.drive[i].u_samples = pas[i];
     }
     /* exactly cap samples (one byte if cap is 0), canary-filled */
     out = (crane_sample *)malloc(cap ? cap * sizeof *out : 1);

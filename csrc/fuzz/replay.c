@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
  * Replays fuzz inputs through the fuzz target's checks without libFuzzer: every file given, and
  * every regular file in every directory given (the regression corpus fuzz/corpus/). A contract

@@ -4,13 +4,17 @@ Data flow: crane file (TOML) -> :class:`Crane` -> :func:`predict` (C core, or th
 with ``backend="python"``) -> :class:`Trajectory` (numpy arrays) -> checks and plots.
 """
 
+from ._checks import MAX_SAMPLES, MAX_STEPS
 from .api import BACKENDS, DEFAULT_DT, predict, predict_many, state_at_rest
 from .crane import Body, Crane, Cylinder, Friction, Geometry, Hydraulics
-from .types import (POINT_NAMES, Hold, Inputs, Pressure, PressureSeries, State, Trajectory,
-                    TrajectoryBatch, Valve, ValveSeries)
+from .statics import holding_pressure
+from .types import (POINT_NAMES, STROKE_RATE_MAX, Hold, Inputs, Pressure, PressureSeries, State,
+                    Trajectory, TrajectoryBatch, Valve, ValveSeries)
 from . import scenarios
 
-__all__ = ["predict", "predict_many", "TrajectoryBatch", "DEFAULT_DT", "BACKENDS", "Crane", "Body", "Cylinder", "Friction", "Geometry", "Hydraulics", "Valve", "ValveSeries", "state_at_rest",
+__all__ = ["predict", "predict_many", "TrajectoryBatch", "DEFAULT_DT", "BACKENDS", "MAX_STEPS",
+           "MAX_SAMPLES", "STROKE_RATE_MAX", "Crane", "Body", "Cylinder", "Friction", "Geometry",
+           "Hydraulics", "Valve", "ValveSeries", "state_at_rest",
            "State", "Pressure", "PressureSeries", "Hold", "Inputs", "Trajectory", "POINT_NAMES",
-           "scenarios"]
+           "scenarios", "holding_pressure"]
 __version__ = "0.1.0"

@@ -7,7 +7,8 @@ user's fields happens in api.py before the core is called; the core checks every
 
 from __future__ import annotations
 
-import functools
+import dataclasses
+import math
 import threading
 from typing import TYPE_CHECKING, Any, Sequence, Tuple
 
@@ -68,7 +69,7 @@ def _cylinder(dst: Any, cyl: Any) -> None:
     dst.stroke_min, dst.stroke_max = cyl.stroke_min, cyl.stroke_max
     f = cyl.friction
     dst.friction.coulomb, dst.friction.static_, dst.friction.viscous = f.coulomb, f.static, f.viscous
-    dst.friction.stribeck_velocity, dst.friction.tanh_velocity = f.stribeck_velocity, f.tanh_velocity
+    dst.friction.stribeck_velocity, dst.friction.factor = f.stribeck_velocity, f.factor
     h = cyl.hydraulics
     hd = dst.hydraulics
     if h is None:
@@ -87,40 +88,102 @@ _HYDRAULIC_FIELDS = ("supply_pressure", "tank_pressure", "relief_pressure", "nom
                      "hose_bulk_modulus", "cylinder_bulk_modulus", "leakage")
 
 
-@functools.lru_cache(maxsize=64)
-def params(crane: "Crane") -> Any:
-    """The crane_params struct of a crane (cached: a Crane is immutable)."""
-    p = ffi.new("crane_params *")
+def _too_large(obj: Any, prefix: str = "") -> str:
+    """The dotted name of the first int in a crane (dataclasses, pairs) too large for a double."""
+    for f in dataclasses.fields(obj):
+        value, name = getattr(obj, f.name), prefix + f.name
+        if dataclasses.is_dataclass(value):
+            found = _too_large(value, name + ".")
+            if found:
+                return found
+        for i, v in enumerate(value if isinstance(value, tuple) else (value,)):
+            if isinstance(v, int):
+                try:
+                    float(v)
+                except OverflowError:
+                    return f"{name}[{i}]" if isinstance(value, tuple) else name
+    return ""
+
+
+def _new_params(crane: "Crane") -> Any:
+    """A new crane_params struct holding the crane's parameters."""
+    try:
+        return _fill_params(crane)
+    except OverflowError:  # a crane built directly (the file loader converts its numbers)
+        name = _too_large(crane) or "a number of the crane"
+        raise ValueError(f"{name} must be a finite number, got an int too large for a float") from None
+
+
+def _fill_params(crane: "Crane") -> Any:
+    prm = ffi.new("crane_params *")
     g = crane.geometry
-    p.gravity = crane.gravity
+    prm.gravity = crane.gravity
     for name in ("lift_pivot", "lift_cylinder_base", "lift_cylinder_rod", "tilt_cylinder_base",
                  "link1_pivot", "tilt_pivot", "link_pin", "link2_end", "link2_attach",
                  "extension_mount"):
-        _vec(getattr(p, name), getattr(g, name))
-    p.tip_distance, p.extension_min, p.extension_max = g.tip_distance, g.extension_min, g.extension_max
-    _body(p.lift_boom, crane.lift_boom)
-    _body(p.outer_boom, crane.outer_boom)
-    _body(p.extension_boom, crane.extension_boom)
-    _body(p.side_link1, crane.side_link1)
-    _body(p.side_link2, crane.side_link2)
-    p.load_mass = crane.load_mass
-    _cylinder(p.cylinder[lib.CRANE_LIFT], crane.lift_cylinder)
-    _cylinder(p.cylinder[lib.CRANE_TILT], crane.tilt_cylinder)
-    return p
+        _vec(getattr(prm, name), getattr(g, name))
+    prm.tip_distance, prm.extension_min, prm.extension_max = g.tip_distance, g.extension_min, g.extension_max
+    _body(prm.lift_boom, crane.lift_boom)
+    _body(prm.outer_boom, crane.outer_boom)
+    _body(prm.extension_boom, crane.extension_boom)
+    _body(prm.side_link1, crane.side_link1)
+    _body(prm.side_link2, crane.side_link2)
+    prm.load_mass = crane.load_mass
+    _cylinder(prm.cylinder[lib.CRANE_LIFT], crane.lift_cylinder)
+    _cylinder(prm.cylinder[lib.CRANE_TILT], crane.tilt_cylinder)
+    return prm
 
 
-@functools.lru_cache(maxsize=64)
+# The one cache of derived structs: a Crane is immutable, so its crane_params and its crane_models
+# (one per extension) are built once per Crane object. It is keyed by identity (the entry holds the
+# crane, so its id is not reused while cached) and the models by the extension's exact bits, never
+# by equality: -0.0 == 0.0, yet the sign of a zero in a point changes the branch of atan2 and so
+# the angles (tests/test_bounds.py); an equality key would hand one crane another's struct. Identity
+# is also cheaper: hashing a Crane (nested frozen dataclasses) costs microseconds per call.
+_CACHE: dict = {}
+_CACHE_MAX = 64
+
+
+def _entry(crane: "Crane") -> Tuple[Any, Any, dict]:
+    """(crane, crane_params *, {extension bits: crane_model *}) of a crane."""
+    entry = _CACHE.get(id(crane))
+    if entry is None or entry[0] is not crane:
+        if len(_CACHE) >= _CACHE_MAX:
+            _CACHE.clear()
+        entry = (crane, _new_params(crane), {})
+        _CACHE[id(crane)] = entry
+    return entry
+
+
+def _cached(crane: "Crane", extension: float) -> Tuple[Any, Any]:
+    """(crane_params *, crane_model *) of a crane at an extension."""
+    _, prm, models = _entry(crane)
+    # By exact bits: only the zeros are two floats that compare equal (NaN never gets here).
+    key: Any = extension if extension != 0.0 else ("-0" if math.copysign(1.0, extension) < 0 else "+0")
+    m = models.get(key)
+    if m is None:
+        m = ffi.new("crane_model *")
+        ensure(lib.crane_model_init(m, prm, extension), "crane")
+        if len(models) < _CACHE_MAX:
+            models[key] = m
+    return prm, m
+
+
+def params(crane: "Crane") -> Any:
+    """The crane_params struct of a crane (cached; no check of the crane)."""
+    return _entry(crane)[1]
+
+
 def model(crane: "Crane", extension: float) -> Any:
-    """A crane_model (derived constants) for kinematics and dynamics queries."""
-    m = ffi.new("crane_model *")
-    ensure(lib.crane_model_init(m, params(crane), extension), "crane")
-    return m
+    """A crane_model (derived constants) for kinematics and dynamics queries (cached)."""
+    return _cached(crane, extension)[1]
 
 
 def check_crane(crane: "Crane") -> None:
     """The kinematic checks of a crane file (lift triangle, four-bar closing), by the C core."""
     m = ffi.new("crane_model *")
-    ensure(lib.crane_model_init(m, params(crane), crane.geometry.extension_min), f"crane {crane.name!r}")
+    ensure(lib.crane_model_init(m, _new_params(crane), crane.geometry.extension_min),
+           f"crane {crane.name!r}")
 
 
 def _sample_dtype() -> np.dtype:
@@ -165,31 +228,6 @@ def _drive(dst: Any, drive: Any, keep: list) -> None:
     keep.extend(arrays)
     dst.t, dst.p_a_samples, dst.p_b_samples = arrays
     dst.n_samples = len(drive.t)
-
-
-# predict()'s per-call cache: a Crane is immutable, so its params struct and its models (one per
-# extension) are built once. Keyed by identity: hashing a Crane (nested frozen dataclasses) costs
-# microseconds on every call, more than the rest of the call's Python layer.
-_BY_ID: dict = {}
-_BY_ID_MAX = 64
-
-
-def _cached(crane: "Crane", extension: float) -> Tuple[Any, Any]:
-    """(crane_params *, crane_model *) of a crane at an extension, without hashing the crane."""
-    entry = _BY_ID.get(id(crane))
-    if entry is None or entry[0] is not crane:
-        if len(_BY_ID) >= _BY_ID_MAX:
-            _BY_ID.clear()
-        entry = (crane, params(crane), {})
-        _BY_ID[id(crane)] = entry
-    models = entry[2]
-    m = models.get(extension)
-    if m is None:
-        m = ffi.new("crane_model *")
-        ensure(lib.crane_model_init(m, entry[1], extension), "crane")
-        if len(models) < _BY_ID_MAX:
-            models[extension] = m
-    return entry[1], m
 
 
 def sample_count(horizon: float, dt: float) -> int:
@@ -239,15 +277,26 @@ def sample_count_every(horizon: float, dt: float, sample_every: int) -> int:
     return int(n[0])
 
 
+#: Work per C call of predict_many, in steps (futures x steps each): about 0.15 s on a desktop
+#: core. Python sees Ctrl-C only between C calls, so a batch stops within about that.
+CHUNK_STEPS = 1_000_000
+
+
+def _run_chunk(*args: Any) -> int:
+    """One crane_predict_many call (a seam for the tests, which interrupt between chunks)."""
+    return lib.crane_predict_many(*args)
+
+
 def predict_many(crane: "Crane", states: Sequence["State"], inputs: Sequence["Inputs"],
                  horizon: float, dt: float, sample_every: int, threads: int) -> np.ndarray:
     """Runs crane_predict_many; returns the samples as a (F, N) structured array (SAMPLE_DTYPE).
 
-    With threads > 1 the batch is cut into that many contiguous slices, each run by one
-    crane_predict_many call in its own thread: cffi releases the GIL during the call, so the
-    slices run on separate cores. All futures are validated (in C) before any thread starts.
+    The batch is cut into chunks of about CHUNK_STEPS steps, one crane_predict_many call each, so
+    that Ctrl-C stops it between chunks. With threads > 1 the batch is first cut into that many
+    contiguous slices, each run chunk by chunk in its own thread: cffi releases the GIL during the
+    call, so the slices run on separate cores. The first error stops every slice at its next chunk.
     """
-    p, _ = _cached(crane, states[0].extension if len(states) else 0.0)
+    prm, _ = _cached(crane, states[0].extension if len(states) else 0.0)
     f = len(states)
     st = ffi.new("crane_state[]", max(f, 1))
     inp = ffi.new("crane_inputs[]", max(f, 1))
@@ -260,30 +309,51 @@ def predict_many(crane: "Crane", states: Sequence["State"], inputs: Sequence["In
     if f == 0:
         return out
     base = ffi.cast("crane_sample *", ffi.from_buffer(out))
-    failed = ffi.new("size_t *")
+    per_call = max(1, CHUNK_STEPS // (sample_count(horizon, dt) - 1))
     threads = max(1, min(int(threads), f))
-    if threads == 1:
-        status = lib.crane_predict_many(p, f, st, inp, horizon, dt, sample_every, base, n, failed)
-        _ensure_many(status, int(failed[0]), f)
-        return out
     bounds = [f * i // threads for i in range(threads + 1)]
-    results: list = [None] * threads
+    errors: list = []  # (status, index of the failed future, or f for a shared argument)
+    stop = threading.Event()
+    done = [threading.Event() for _ in range(threads)]
 
     def run(i: int) -> None:
-        lo, hi = bounds[i], bounds[i + 1]
-        fl = ffi.new("size_t *")
-        status = lib.crane_predict_many(p, hi - lo, st + lo, inp + lo, horizon, dt, sample_every,
-                                        base + lo * n, n, fl)
-        k = int(fl[0])
-        results[i] = (status, lo + k if k < hi - lo else f)
+        try:
+            failed = ffi.new("size_t *")
+            for lo in range(bounds[i], bounds[i + 1], per_call):
+                if stop.is_set():
+                    return
+                hi = min(bounds[i + 1], lo + per_call)
+                status = _run_chunk(prm, hi - lo, st + lo, inp + lo, horizon, dt, sample_every,
+                                    base + lo * n, n, failed)
+                if status != lib.CRANE_OK:
+                    k = int(failed[0])
+                    errors.append((status, lo + k if k < hi - lo else f))
+                    stop.set()
+                    return
+        finally:
+            done[i].set()
 
-    workers = [threading.Thread(target=run, args=(i,)) for i in range(1, threads)]
-    for w in workers:
-        w.start()
-    run(0)
-    for w in workers:
-        w.join()
-    for status, k in results:
+    # The workers write into `out` through raw pointers: this call must not return or raise before
+    # they have finished. Their own events are waited for, not Thread.join(): a join interrupted by
+    # Ctrl-C marks a running thread as stopped (bpo-45274's clean-up) and then returns at once.
+    started = []
+    try:
+        for i in range(1, threads):
+            threading.Thread(target=run, args=(i,)).start()
+            started.append(i)
+        run(0)
+        for i in started:
+            done[i].wait()
+    except BaseException:  # Ctrl-C here (running or waiting): the others stop at their next chunk
+        stop.set()
+        for i in started:
+            while not done[i].is_set():
+                try:
+                    done[i].wait()
+                except KeyboardInterrupt:  # a second Ctrl-C: the first is raised once they stop
+                    pass
+        raise
+    for status, k in sorted(errors, key=lambda e: e[1]):
         _ensure_many(status, k, f)
     return out
 

@@ -1,19 +1,34 @@
-"""The one entry point: :func:`predict`."""
+"""The prediction entry points: :func:`predict` (one future, C core or twin) and
+:func:`predict_many` (many futures of one crane, C core)."""
 
 from __future__ import annotations
 
 import os
-from typing import Optional, Sequence
+from typing import Any, Optional, Sequence
 
 import numpy as np
 
-from . import _core
+from ._checks import MAX_SAMPLES, MAX_STEPS, kept_samples, step_count
 from ._checks import number as _number
 from .crane import Crane
-from .types import (Hold, Inputs, PressureSeries, State, Trajectory, TrajectoryBatch, Valve,
-                    ValveSeries)
+from .types import (ARRAYS, Hold, Inputs, PressureSeries, State, Trajectory, TrajectoryBatch,
+                    Valve, ValveSeries)
 
-__all__ = ["predict", "predict_many", "state_at_rest", "DEFAULT_DT", "BACKENDS"]
+# The C core (the compiled extension) is imported on the first call that needs it, so that the
+# package, its types and the twin import without it (tests/test_package.py).
+_CORE: Any = None
+
+
+def _core_module() -> Any:
+    global _CORE
+    if _CORE is None:
+        from . import _core
+
+        _CORE = _core
+    return _CORE
+
+__all__ = ["predict", "predict_many", "state_at_rest", "DEFAULT_DT", "BACKENDS", "MAX_STEPS",
+           "MAX_SAMPLES"]
 
 #: Default RK4 step, s. Chosen by measured accuracy (tools/dt_study.py): over the named scenarios and
 #: 20 random ones, the tip stays within 0.05 mm of a converged run; see README.
@@ -21,24 +36,32 @@ DEFAULT_DT = 2e-3
 
 BACKENDS = ("c", "python")
 
-# Trajectory array name -> field of the core's crane_sample.
-_FIELDS = (("t", "t"), ("strokes", "stroke"), ("theta", "theta"), ("omega", "omega"),
-           ("tip", "tip"), ("stop", "stop"), ("p_a", "p_a"), ("p_b", "p_b"), ("flow_a", "flow_a"),
-           ("flow_b", "flow_b"), ("spool", "spool"))
+# Trajectory array (types.ARRAYS) -> field of the core's crane_sample, where the names differ.
+_SAMPLE_FIELD = {"strokes": "stroke"}
 
 #: Batches smaller than this run in one thread (a thread costs more than it saves).
 MIN_FUTURES_PER_THREAD = 8
 
 
+def _sample_arrays(samples: np.ndarray) -> dict:
+    """The Trajectory arrays as field views of the core's samples (no copy)."""
+    return {k: samples[_SAMPLE_FIELD.get(k, k)] for k in ARRAYS}
+
+
 def _check(crane: Crane, initial: State, inputs: Inputs, horizon: float, dt: float,
            backend: str) -> None:
     """Checks that need more than one argument, naming the field and the allowed range."""
-    _check_shared(crane, horizon, dt, backend)
+    n_steps = _check_shared(crane, horizon, dt, backend)
+    if n_steps + 1 > MAX_SAMPLES:
+        raise ValueError(f"horizon / dt must give at most {MAX_SAMPLES:,} samples per call "
+                         f"(cranepredict.MAX_SAMPLES), got horizon {horizon:g} s / dt {dt:g} s = "
+                         f"{n_steps + 1:,} samples: shorten the horizon, take a larger dt, or use "
+                         "predict_many with sample_every")
     _check_future(crane, initial, inputs, horizon)
 
 
-def _check_shared(crane: Crane, horizon: float, dt: float, backend: str) -> None:
-    """The checks of the arguments a batch of futures shares."""
+def _check_shared(crane: Crane, horizon: float, dt: float, backend: str) -> int:
+    """The checks of the arguments a batch of futures shares; returns the number of steps."""
     if not isinstance(crane, Crane):
         raise TypeError(f"crane must be a cranepredict.Crane, got {type(crane).__name__}")
     if backend not in BACKENDS:
@@ -48,6 +71,7 @@ def _check_shared(crane: Crane, horizon: float, dt: float, backend: str) -> None
             raise ValueError(f"{name} must be > 0 s, got {value}")
     if dt > horizon:
         raise ValueError(f"dt must be in (0, horizon] = (0, {horizon}] s, got {dt}")
+    return step_count(float(horizon), float(dt))
 
 
 def _check_future(crane: Crane, initial: State, inputs: Inputs, horizon: float) -> None:
@@ -91,15 +115,17 @@ def predict(crane: Crane, initial: State, inputs: Inputs, horizon: float, *,
 
     ``backend="c"`` runs the C core (the product); ``backend="python"`` runs the pure-Python twin,
     an independent implementation of the same model used to validate the core. Slew angle and
-    extension stay as given in ``initial`` during the prediction. Raises ValueError/TypeError
-    naming the field and its allowed range on bad input; the arguments are never modified.
+    extension stay as given in ``initial`` during the prediction. A call takes at most MAX_STEPS
+    steps and returns at most MAX_SAMPLES samples (both checked before anything runs). Raises
+    ValueError/TypeError naming the field and its allowed range on bad input; the arguments are
+    never modified.
     """
     dt = DEFAULT_DT if dt is None else dt
     _check(crane, initial, inputs, horizon, dt, backend)
+    points: Any
     if backend == "c":
-        s = _core.predict(crane, initial, inputs, float(horizon), float(dt))
-        # Field views of the core's sample array: no copy (the arrays are made read-only below).
-        arrays = {k: s[f] for k, f in _FIELDS}
+        _core = _core_module()
+        arrays = _sample_arrays(_core.predict(crane, initial, inputs, float(horizon), float(dt)))
 
         def points(theta: np.ndarray) -> np.ndarray:
             return _core.points(crane, initial.extension, initial.slew, theta)
@@ -112,11 +138,8 @@ def predict(crane: Crane, initial: State, inputs: Inputs, horizon: float, *,
             return twin.points(crane, initial.extension, initial.slew, theta)
     for a in arrays.values():
         a.setflags(write=False)
-    return Trajectory(t=arrays["t"], strokes=arrays["strokes"], theta=arrays["theta"],
-                      omega=arrays["omega"], tip=arrays["tip"], stop=arrays["stop"],
-                      slew=initial.slew, extension=initial.extension, backend=backend,
-                      _points=points, p_a=arrays["p_a"], p_b=arrays["p_b"],
-                      flow_a=arrays["flow_a"], flow_b=arrays["flow_b"], spool=arrays["spool"])
+    return Trajectory(**arrays, slew=initial.slew, extension=initial.extension, backend=backend,
+                      _points=points)
 
 
 def state_at_rest(crane: Crane, lift_stroke: float, tilt_stroke: float, *, slew: float = 0.0,
@@ -141,10 +164,10 @@ def state_at_rest(crane: Crane, lift_stroke: float, tilt_stroke: float, *, slew:
     theta = []
     ratio = []
     for j, s in enumerate((base.lift_stroke, base.tilt_stroke)):
-        th, ds = _core.joint_angle(crane, j, s, base.extension)
+        th, ds = _core_module().joint_angle(crane, j, s, base.extension)
         theta.append(th)
         ratio.append(ds)
-    h = _core.inverse_dynamics(crane, base.extension, theta, (0.0, 0.0), (0.0, 0.0))
+    h = _core_module().inverse_dynamics(crane, base.extension, theta, (0.0, 0.0), (0.0, 0.0))
     fields = {}
     for j, (joint, cyl, rod) in enumerate((("lift", crane.lift_cylinder, lift_rod_pressure),
                                            ("tilt", crane.tilt_cylinder, tilt_rod_pressure))):
@@ -172,6 +195,14 @@ def state_at_rest(crane: Crane, lift_stroke: float, tilt_stroke: float, *, slew:
                  extension=base.extension, **fields)
 
 
+def _sequence(value: Any, name: str, kind: type) -> list:
+    """A list of ``value``'s items; TypeError naming the argument if it is not a sequence."""
+    if isinstance(value, (str, bytes, kind)) or not hasattr(value, "__iter__"):
+        raise TypeError(f"{name} must be a sequence of cranepredict.{kind.__name__}, "
+                        f"got {type(value).__name__}")
+    return list(value)
+
+
 def predict_many(crane: Crane, initials: Sequence[State], inputs_list: Sequence[Inputs],
                  horizon: float, *, dt: Optional[float] = None, sample_every: int = 1,
                  threads: Optional[int] = None) -> TrajectoryBatch:
@@ -180,50 +211,53 @@ def predict_many(crane: Crane, initials: Sequence[State], inputs_list: Sequence[
 
     Returns a :class:`TrajectoryBatch` (arrays of shape (F, N, ...)); ``batch[k]`` equals
     ``predict(crane, initials[k], inputs_list[k], horizon, dt=dt)`` exactly at the kept samples.
-    ``sample_every = m`` keeps only t = 0, every m-th step and the last step (the integration
-    still takes every step of size dt; only the output is thinned), which saves the memory and
-    time of writing F x N samples when a coarser output is enough. ``threads`` (default: 2 on a
-    machine with 2 or more cores, for batches of at least 2 x MIN_FUTURES_PER_THREAD futures)
-    splits the batch into contiguous slices run in parallel; the C core itself stays
+    ``sample_every = m`` (1 <= m <= MAX_STEPS) keeps only t = 0, every m-th step and the last step
+    (the integration still takes every step of size dt; only the output is thinned), which saves
+    the memory and time of writing F x N samples when a coarser output is enough. Each future
+    takes at most MAX_STEPS steps and the batch returns at most MAX_SAMPLES samples (F x N), both
+    checked before anything runs; a long batch can be stopped with Ctrl-C. ``threads`` (default:
+    2 on a machine with 2 or more cores, for batches of at least 2 x MIN_FUTURES_PER_THREAD
+    futures) splits the batch into contiguous slices run in parallel; the C core itself stays
     single-threaded. Validation is predict()'s, per future; an error names the future's index.
     """
     dt = DEFAULT_DT if dt is None else dt
-    _check_shared(crane, horizon, dt, "c")
+    n_steps = _check_shared(crane, horizon, dt, "c")
     if isinstance(sample_every, bool) or not isinstance(sample_every, (int, np.integer)) \
-            or sample_every < 1:
-        raise ValueError(f"sample_every must be an int >= 1, got {sample_every!r}")
-    initials = list(initials)
-    inputs_list = list(inputs_list)
+            or not 1 <= sample_every <= MAX_STEPS:
+        raise ValueError(f"sample_every must be an int in [1, {MAX_STEPS:,}] (cranepredict.MAX_STEPS), "
+                         f"got {sample_every!r}")
+    initials = _sequence(initials, "initials", State)
+    inputs_list = _sequence(inputs_list, "inputs_list", Inputs)
     if len(initials) != len(inputs_list):
         raise ValueError(f"initials and inputs_list must have the same length, got "
                          f"{len(initials)} and {len(inputs_list)}")
+    f = len(initials)
+    per_future = kept_samples(n_steps, int(sample_every))
+    if f * per_future > MAX_SAMPLES:
+        raise ValueError(f"a batch must return at most {MAX_SAMPLES:,} samples (cranepredict.MAX_SAMPLES), "
+                         f"got {f:,} futures x {per_future:,} samples (horizon {horizon:g} s, dt {dt:g} s, "
+                         f"sample_every {sample_every}): raise sample_every, shorten the horizon, "
+                         "take a larger dt or split the batch")
     for k, (initial, inputs) in enumerate(zip(initials, inputs_list)):
         try:
             _check_future(crane, initial, inputs, horizon)
         except (TypeError, ValueError) as e:
             raise type(e)(f"future {k} (initials[{k}], inputs_list[{k}]): {e}") from None
-    f = len(initials)
     if threads is None:
         threads = min(2, os.cpu_count() or 1) if f >= 2 * MIN_FUTURES_PER_THREAD else 1
     if isinstance(threads, bool) or not isinstance(threads, (int, np.integer)) or threads < 1:
         raise ValueError(f"threads must be an int >= 1, got {threads!r}")
-    s = _core.predict_many(crane, initials, inputs_list, float(horizon), float(dt),
-                           int(sample_every), int(threads))
-    arrays = {k: s[fld] for k, fld in _FIELDS}
+    _core = _core_module()
+    arrays = _sample_arrays(_core.predict_many(crane, initials, inputs_list, float(horizon),
+                                               float(dt), int(sample_every), min(int(threads), max(f, 1))))
     arrays["t"] = arrays["t"][0] if f else np.zeros(0)
-    for a in arrays.values():
-        a.setflags(write=False)
     slew = np.array([x.slew for x in initials], dtype=float)
     extension = np.array([x.extension for x in initials], dtype=float)
-    slew.setflags(write=False)
-    extension.setflags(write=False)
+    for a in (*arrays.values(), slew, extension):
+        a.setflags(write=False)
 
     def points(k: int, theta: np.ndarray) -> np.ndarray:
         return _core.points(crane, float(extension[k]), float(slew[k]), theta)
 
-    return TrajectoryBatch(t=arrays["t"], strokes=arrays["strokes"], theta=arrays["theta"],
-                           omega=arrays["omega"], tip=arrays["tip"], stop=arrays["stop"],
-                           slew=slew, extension=extension, backend="c",
-                           sample_every=int(sample_every), _points=points, p_a=arrays["p_a"],
-                           p_b=arrays["p_b"], flow_a=arrays["flow_a"], flow_b=arrays["flow_b"],
-                           spool=arrays["spool"])
+    return TrajectoryBatch(**arrays, slew=slew, extension=extension, backend="c",
+                           sample_every=int(sample_every), _points=points)

@@ -14,6 +14,8 @@ import numpy as np
 def _demo(args: argparse.Namespace) -> int:
     from . import api, scenarios
 
+    if args.repeat < 1:
+        raise ValueError(f"--repeat must be >= 1 (timed repetitions), got {args.repeat}")
     sc = scenarios.get(args.scenario)
     dt = args.dt if args.dt is not None else api.DEFAULT_DT
     traj = api.predict(sc.crane, sc.initial, sc.inputs, sc.horizon, dt=dt)
@@ -63,13 +65,16 @@ def _validate(args: argparse.Namespace) -> int:
 
     from . import reference, scenarios
 
+    # Everything that can fail fast is checked before the slow validation starts.
     if not reference.available():
-        print("cranepredict: error: validate needs Exudyn: pip install 'cranepredict[reference]'",
-              file=sys.stderr)
-        return 2
-    names = args.scenario or scenarios.names()
+        raise ValueError("validate needs Exudyn: pip install 'cranepredict[reference]'")
+    chosen = [scenarios.get(n) for n in (args.scenario or scenarios.names())]
+    if args.plot:
+        _check_plot_dir(args.plot)
     dt_ref = reference.DEFAULT_REFERENCE_DT if args.dt_ref is None else args.dt_ref
-    rows = [reference.compare(scenarios.get(n), dt_ref=dt_ref) for n in names]
+    if not 0.0 < dt_ref <= min(sc.horizon for sc in chosen):
+        raise ValueError(f"--dt-ref must be in (0, horizon] s, got {dt_ref:g}")
+    rows = [reference.compare(sc, dt_ref=dt_ref) for sc in chosen]
     if args.plot:
         _plots(rows, args.plot)
     public = [{k: v for k, v in r.items() if not k.startswith("_")} for r in rows]
@@ -88,9 +93,28 @@ def _validate(args: argparse.Namespace) -> int:
               f"{f(r['first_stop_time_s'], '6.3f'):>6s} {f(r['pressure_rms_bar'], '9.4f'):>9s} "
               f"{r['wall_fast_s'] * 1e3:8.3f} "
               f"{r['wall_reference_s']:6.2f} {r['speed_ratio']:6.0f}")
-    print("targets per scenario: max <= 20 mm, RMS <= 10 mm, chamber pressures RMS <= 2 bar, "
-          "ratio >= 100 (see docs/validation.md)")
+    print(f"targets per scenario: max <= {reference.TARGET_MAX_MM:g} mm, RMS <= "
+          f"{reference.TARGET_RMS_MM:g} mm, chamber pressures RMS <= "
+          f"{reference.TARGET_PRESSURE_RMS_BAR:g} bar, ratio >= {reference.TARGET_SPEED_RATIO:g} "
+          "(see docs/validation.md)")
     return 0
+
+
+def _check_plot_dir(out_dir: str) -> None:
+    """ValueError unless matplotlib is installed and out_dir is a folder we can write into."""
+    import os
+    import tempfile
+
+    try:
+        import matplotlib  # noqa: F401
+    except ImportError:
+        raise ValueError("--plot needs matplotlib: pip install 'cranepredict[plot]'") from None
+    try:
+        os.makedirs(out_dir, exist_ok=True)
+        with tempfile.TemporaryFile(dir=out_dir):
+            pass
+    except OSError as exc:
+        raise ValueError(f"--plot {out_dir}: cannot write there ({exc.strerror or exc})") from None
 
 
 def _plots(rows, out_dir: str) -> None:
@@ -105,7 +129,7 @@ def _plots(rows, out_dir: str) -> None:
     for r in rows:
         fast, ref, err = r["_fast"], r["_ref"], r["_err"]
         fig, (ax, ax2) = plt.subplots(1, 2, figsize=(11, 4.5))
-        for traj, style, label in ((fast, "-", f"fast model (C)"), (ref, "--", "reference (Exudyn)")):
+        for traj, style, label in ((fast, "-", "fast model (C)"), (ref, "--", "reference (Exudyn)")):
             radial = np.hypot(traj.tip[:, 0], traj.tip[:, 1])
             ax.plot(radial, traj.tip[:, 2], style, label=label)
         ax.plot(*[np.hypot(fast.tip[0, 0], fast.tip[0, 1]), fast.tip[0, 2]], "ko", label="start")
@@ -159,6 +183,9 @@ def main(argv: Optional[List[str]] = None) -> int:
     except (ValueError, TypeError) as exc:
         print(f"cranepredict: error: {exc}", file=sys.stderr)
         return 2
+    except KeyboardInterrupt:
+        print("cranepredict: interrupted", file=sys.stderr)
+        return 130
 
 
 if __name__ == "__main__":  # pragma: no cover

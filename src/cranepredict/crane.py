@@ -1,9 +1,9 @@
 """Crane definitions: one TOML file per crane, loaded into frozen dataclasses.
 
-The crane file is the single source of every parameter (SI units). Loading checks each field and
-names the one at fault; the checks that need the kinematics (the lift triangle, the tilt four-bar
-closing over the whole stroke) are done by the C core's ``crane_model_init`` so the formulas live
-once per implementation.
+The crane file is the single source of every parameter (SI units). Loading checks the types and
+shapes here; every rule of the crane (each field's range, the lift triangle, the tilt four-bar over
+the whole stroke) is the C core's ``crane_params_check``, the one validator, which reports the field
+at fault: the error names it by its dotted name in the crane file, with its allowed range.
 """
 
 from __future__ import annotations
@@ -37,13 +37,14 @@ class Body:
 
 @dataclass(frozen=True)
 class Friction:
-    """Smooth Stribeck friction of a cylinder (N, N s/m, m/s); see docs/model.md."""
+    """Smooth Stribeck friction of a cylinder, [S1]'s law (N, N s/m, m/s); see docs/model.md.
+    ``factor`` (k, dimensionless) multiplies the Coulomb and static levels, not the viscous one."""
 
     coulomb: float
     static: float
     viscous: float
     stribeck_velocity: float
-    tanh_velocity: float
+    factor: float
 
 
 @dataclass(frozen=True)
@@ -127,7 +128,6 @@ class Crane:
     gravity: float
     load_mass: float
     geometry: Geometry
-    pillar: Body
     lift_boom: Body
     outer_boom: Body
     extension_boom: Body
@@ -136,6 +136,9 @@ class Crane:
     lift_cylinder: Cylinder
     tilt_cylinder: Cylinder
     estimates: Tuple[str, ...] = field(default=())
+    #: The pillar only slews, and the slew is constant during a prediction, so no model uses its mass
+    #: properties: optional, kept when the crane file gives them (type-checked, no rule applies).
+    pillar: Optional[Body] = None
 
     def __post_init__(self) -> None:
         _check_crane(self)
@@ -150,7 +153,13 @@ class Crane:
     @classmethod
     def from_toml(cls, path: Union[str, Path]) -> "Crane":
         """Loads a crane file. Raises ValueError/TypeError naming the field at fault."""
-        return cls.from_toml_string(Path(path).read_text("utf-8"))
+        try:
+            text = Path(path).read_text("utf-8")
+        except UnicodeDecodeError as exc:
+            bad = exc.object[exc.start:exc.start + 1]
+            raise ValueError(f"crane file {str(path)!r} is not UTF-8 text (TOML must be): at byte "
+                             f"offset {exc.start}, {bad!r}") from None
+        return cls.from_toml_string(text)
 
     @classmethod
     def from_toml_string(cls, text: str) -> "Crane":
@@ -182,8 +191,11 @@ class Crane:
 # -- loading ----------------------------------------------------------------------------------
 
 def _vec2(value: Any, name: str) -> Vec2:
-    if isinstance(value, (str, bytes)) or not hasattr(value, "__len__") or len(value) != 2:
-        raise TypeError(f"{name} must be a pair [x, y] of numbers, got {value!r}")
+    # A table ({x = 1.0, y = 0.0}) has a length of 2 too, but no value[0].
+    if isinstance(value, (str, bytes, Mapping)) or not hasattr(value, "__len__") or len(value) != 2:
+        table = " (a table)" if isinstance(value, Mapping) else ""
+        raise TypeError(f"{name} must be a pair [x, y] of numbers, as in `{name.rsplit('.', 1)[-1]} "
+                        f"= [0.5, 0.1]`, got {value!r}{table}")
     return (_number(value[0], f"{name}[0]"), _number(value[1], f"{name}[1]"))
 
 
@@ -205,6 +217,8 @@ def _build(cls: type, data: Mapping[str, Any], prefix: str) -> Any:
                 continue
             raise ValueError(f"{name} is missing from the crane file")
         value, hint = data[f.name], hints[f.name]
+        if hint == Optional[Body]:
+            hint = Body
         if hint == Optional[Hydraulics]:
             hint = Hydraulics
         if dataclasses.is_dataclass(hint):
@@ -230,97 +244,121 @@ def _hints(cls: type) -> dict:
     return typing.get_type_hints(cls, globalns=globals())
 
 
+def _check_shapes(obj: Any, cls: type, prefix: str) -> None:
+    """Types and shapes of a (possibly directly constructed) dataclass, naming the field."""
+    hints = _hints(cls)
+    for f in dataclasses.fields(cls):
+        name, value, hint = prefix + f.name, getattr(obj, f.name), hints[f.name]
+        if hint in (Optional[Body], Optional[Hydraulics]):
+            if value is None:
+                continue
+            hint = Body if hint == Optional[Body] else Hydraulics
+        if dataclasses.is_dataclass(hint):
+            if not isinstance(value, hint):
+                raise TypeError(f"{name} must be a {hint.__name__}, got {type(value).__name__}")
+            _check_shapes(value, hint, name + ".")
+        elif hint is Vec2:
+            if not isinstance(value, tuple) or len(value) != 2:
+                raise TypeError(f"{name} must be a pair (x, y) of numbers, got {value!r}")
+            for i, x in enumerate(value):
+                if isinstance(x, bool) or not isinstance(x, (int, float)):
+                    raise TypeError(f"{name}[{i}] must be a number, got {type(x).__name__}")
+        elif hint is str:
+            if not isinstance(value, str):
+                raise TypeError(f"{name} must be a string, got {type(value).__name__}")
+        elif hint == Tuple[str, ...]:
+            if not isinstance(value, tuple) or not all(isinstance(v, str) for v in value):
+                raise TypeError(f"{name} must be a tuple of strings")
+        elif isinstance(value, bool) or not isinstance(value, (int, float)):
+            raise TypeError(f"{name} must be a number, got {type(value).__name__}")
+
+
+def _field_names() -> dict:
+    """crane_field code -> the crane file's dotted name (crane.h: the enumerator is the dotted name
+    in capitals with '.' -> '_')."""
+    from ._cranepredict import lib
+
+    def leaves(cls: type, prefix: str) -> list:
+        out = []
+        for f in dataclasses.fields(cls):
+            hint = _hints(cls)[f.name]
+            if f.name in ("name", "estimates", "pillar"):
+                continue
+            if hint == Optional[Hydraulics]:
+                hint = Hydraulics
+            if dataclasses.is_dataclass(hint):
+                out += leaves(hint, prefix + f.name + ".")
+            else:
+                out.append(prefix + f.name)
+        return out
+
+    names = {}
+    for dotted in leaves(Crane, ""):
+        code = getattr(lib, "CRANE_FIELD_" + dotted.upper().replace(".", "_"), None)
+        if code is not None:
+            names[int(code)] = dotted
+    return names
+
+
+_FIELD_NAMES: dict = {}
+
+
+def field_name(code: int) -> str:
+    """The crane file's dotted name of a crane_field code (KeyError for an unknown code)."""
+    if not _FIELD_NAMES:
+        _FIELD_NAMES.update(_field_names())
+    return _FIELD_NAMES[code]
+
+
+def _value(c: Crane, dotted: str) -> Any:
+    node: Any = c
+    for part in dotted.split("."):
+        node = getattr(node, part)
+    return node
+
+
 def _check_crane(c: Crane) -> None:
-    """Field checks with the field's name and allowed range; kinematic checks by the C core."""
-    def positive(x: float, name: str) -> None:
-        if not (math.isfinite(x) and x > 0.0):
-            raise ValueError(f"{name} must be > 0, got {x}")
+    """Types and shapes here; every rule by the C core, which names the field at fault."""
+    _check_shapes(c, Crane, "")
+    from . import _core
+    from ._cranepredict import ffi, lib
 
-    def nonneg(x: float, name: str) -> None:
-        if not (math.isfinite(x) and x >= 0.0):
-            raise ValueError(f"{name} must be >= 0, got {x}")
-
-    nonneg(c.gravity, "gravity")
-    nonneg(c.load_mass, "load_mass")
-    for body_name in ("pillar", "lift_boom", "outer_boom", "extension_boom", "side_link1", "side_link2"):
-        body = getattr(c, body_name)
-        positive(body.mass, f"{body_name}.mass")
-        positive(body.izz, f"{body_name}.izz")
-        for i, v in enumerate(body.com):
-            if not math.isfinite(v):
-                raise ValueError(f"{body_name}.com[{i}] must be finite, got {v}")
-    g = c.geometry
-    positive(g.tip_distance, "geometry.tip_distance")
-    if not g.extension_min <= g.extension_max:
-        raise ValueError(f"geometry.extension_min ({g.extension_min}) must be <= "
-                         f"geometry.extension_max ({g.extension_max})")
     for cyl_name in ("lift_cylinder", "tilt_cylinder"):
-        cyl = getattr(c, cyl_name)
-        positive(cyl.rod, f"{cyl_name}.rod")
-        if not cyl.bore > cyl.rod:
-            raise ValueError(f"{cyl_name}.bore ({cyl.bore} m) must be > {cyl_name}.rod ({cyl.rod} m)")
-        positive(cyl.length_retracted, f"{cyl_name}.length_retracted")
-        nonneg(cyl.stroke_min, f"{cyl_name}.stroke_min")
-        if not cyl.stroke_min < cyl.stroke_max:
-            raise ValueError(f"{cyl_name}.stroke_min ({cyl.stroke_min} m) must be < "
-                             f"{cyl_name}.stroke_max ({cyl.stroke_max} m)")
-        fr = cyl.friction
-        nonneg(fr.coulomb, f"{cyl_name}.friction.coulomb")
-        nonneg(fr.viscous, f"{cyl_name}.friction.viscous")
-        if not fr.static >= fr.coulomb:
-            raise ValueError(f"{cyl_name}.friction.static ({fr.static} N) must be >= "
-                             f"{cyl_name}.friction.coulomb ({fr.coulomb} N)")
-        positive(fr.stribeck_velocity, f"{cyl_name}.friction.stribeck_velocity")
-        positive(fr.tanh_velocity, f"{cyl_name}.friction.tanh_velocity")
-        if cyl.hydraulics is not None:
-            _check_hydraulics(cyl.hydraulics, f"{cyl_name}.hydraulics")
-    from . import _core  # the kinematic checks: the lift triangle and the four-bar closing
-
-    _core.check_crane(c)
-
-
-#: Pa: the range of a chamber pressure (the state's and the circuit's); -1 bar gauge is vacuum.
-CHAMBER_PRESSURE_MIN = -1e5
-
-
-def _check_hydraulics(h: Hydraulics, where: str) -> None:
-    """The ranges of docs/model.md "Hydraulics" (crane file), naming the field."""
-    from ._core import PRESSURE_MAX
-
-    if h.valve not in VALVES:
-        raise ValueError(f"{where}.valve must be one of {VALVES}, got {h.valve!r}")
-
-    def rng(name: str, lo: float, hi: float, lo_open: bool = False) -> None:
-        x = getattr(h, name)
-        if not (math.isfinite(x) and (x > lo if lo_open else x >= lo) and x <= hi):
-            raise ValueError(f"{where}.{name} must be in {'(' if lo_open else '['}{lo:g}, {hi:g}], "
-                             f"got {x}")
-
-    rng("tank_pressure", 0.0, PRESSURE_MAX)
-    rng("supply_pressure", h.tank_pressure, PRESSURE_MAX, lo_open=True)
-    rng("relief_pressure", h.supply_pressure, PRESSURE_MAX)
-    rng("cavitation_pressure", CHAMBER_PRESSURE_MIN, h.tank_pressure)
-    for name in ("nominal_flow", "nominal_pressure_drop", "laminar_pressure_drop", "hose_volume_a",
-                 "hose_volume_b", "oil_bulk_modulus", "hose_bulk_modulus", "cylinder_bulk_modulus"):
-        rng(name, 0.0, math.inf, lo_open=True)
-    rng("dead_band", 0.0, 0.99)
-    rng("spool_time_constant", 0.0, 10.0)
-    rng("leakage", 0.0, 1e-6)
-    if h.valve == "compensated":
-        rng("meter_out_flow", 0.0, math.inf, lo_open=True)
-        rng("meter_out_pressure_drop", 0.0, math.inf, lo_open=True)
+        hyd = getattr(c, cyl_name).hydraulics
+        if hyd is not None and hyd.valve not in VALVES:   # a name: the C core gets its enum
+            raise ValueError(f"{cyl_name}.hydraulics.valve must be one of {VALVES}, got {hyd.valve!r}")
+    field = ffi.new("crane_field *")
+    status = lib.crane_params_check(_core.params(c), field)
+    if status == lib.CRANE_OK:
+        return
+    what = ffi.string(lib.crane_status_message(status)).decode()
+    name = field_name(int(field[0]))
+    value = _value(c, name)
+    if status in (lib.CRANE_E_GEOMETRY, lib.CRANE_E_FOURBAR):
+        context = _core._CONTEXT.get(status)
+        msg = (f"crane {c.name!r}: {what}; it fails at {name} = {value}"
+               + (f" ({context})" if context else ""))
+    elif status == lib.CRANE_E_NONFINITE:
+        msg = f"{name} must be finite, got {value}"
     else:
-        rng("meter_out_flow", 0.0, math.inf)
-        rng("meter_out_pressure_drop", 0.0, math.inf)
-        if h.dead_band != 0.0:
-            raise ValueError(f"{where}.dead_band must be 0 for an orifice valve (critical centre), "
-                             f"got {h.dead_band}")
+        rule = ffi.string(lib.crane_field_rule(field[0])).decode()
+        # a rule that names a sibling field ("> rod") gets its dotted name and value
+        prefix = name.rpartition(".")[0]
+        words = []
+        for word in rule.split(" "):
+            sibling = f"{prefix}.{word}" if prefix else word
+            if word.isidentifier() and sibling != name and sibling in _FIELD_NAMES.values():
+                word = f"{sibling} ({_value(c, sibling)})"
+            words.append(word)
+        msg = f"{name} must be {' '.join(words)}, got {value} ({what})"
+    raise _core.CoreError(status, msg)
 
 
 # -- writing ----------------------------------------------------------------------------------
 
 def _to_plain(obj: Any) -> Any:
     if dataclasses.is_dataclass(obj):
+        # None = an optional table left out (the pillar)
         return {f.name: _to_plain(getattr(obj, f.name)) for f in dataclasses.fields(obj)
                 if getattr(obj, f.name) is not None}
     if isinstance(obj, tuple):

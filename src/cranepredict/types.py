@@ -12,10 +12,11 @@ from typing import Callable, Dict, Optional, Tuple, Union
 import numpy as np
 
 __all__ = ["State", "Pressure", "PressureSeries", "Hold", "Valve", "ValveSeries", "Drive", "Inputs",
-           "Trajectory", "TrajectoryBatch", "POINT_NAMES", "PRESSURE_MAX", "CHAMBER_PRESSURE_MIN"]
+           "Trajectory", "TrajectoryBatch", "POINT_NAMES", "PRESSURE_MAX", "STROKE_RATE_MAX", "ARRAYS",
+           "CHAMBER_PRESSURE_MIN"]
 
+from ._checks import PRESSURE_MAX
 from ._checks import number as _number
-from ._core import PRESSURE_MAX  # Pa: the largest pressure accepted (the C core's CRANE_PRESSURE_MAX)
 
 #: Pa (gauge): the lowest chamber pressure a state may hold (-1 bar: vacuum).
 CHAMBER_PRESSURE_MIN = -1e5
@@ -24,6 +25,15 @@ CHAMBER_PRESSURE_MIN = -1e5
 POINT_NAMES = ("pillar_base", "lift_pivot", "lift_cylinder_base", "lift_cylinder_rod",
                "tilt_cylinder_base", "link1_pivot", "link_pin", "link2_attach", "tilt_pivot",
                "extension_mount", "tip")
+
+
+#: The arrays of a Trajectory (and a TrajectoryBatch), in their order; the twin returns these keys.
+ARRAYS = ("t", "strokes", "theta", "omega", "tip", "stop", "p_a", "p_b", "flow_a", "flow_b", "spool")
+
+#: m/s: the largest initial stroke rate accepted (either sign). Hydraulic cylinders move below
+#: about 1 m/s; far above this the end-stop events of the C core and the twin stop agreeing (they
+#: differ by metres at 1e10 m/s) and at about 1e100 m/s the state overflows.
+STROKE_RATE_MAX = 10.0
 
 
 def _pressure(value: object, name: str) -> float:
@@ -64,6 +74,12 @@ class State:
         for name in ("lift_stroke", "tilt_stroke", "slew", "extension",
                      "lift_stroke_rate", "tilt_stroke_rate", "lift_spool", "tilt_spool"):
             object.__setattr__(self, name, _number(getattr(self, name), f"State.{name}"))
+        for name in ("lift_stroke_rate", "tilt_stroke_rate"):
+            v = getattr(self, name)
+            if not -STROKE_RATE_MAX <= v <= STROKE_RATE_MAX:
+                raise ValueError(f"State.{name} must be in [-{STROKE_RATE_MAX:g}, {STROKE_RATE_MAX:g}] "
+                                 f"m/s (cranepredict.STROKE_RATE_MAX), got {v:g}")
+
         for name in ("lift_p_a", "lift_p_b", "tilt_p_a", "tilt_p_b"):
             v = getattr(self, name)
             if v is None:
@@ -114,6 +130,9 @@ class PressureSeries:
         for name in ("t", "p_a", "p_b"):
             try:
                 a = np.array(getattr(self, name), dtype=float, copy=True)
+            except OverflowError:
+                raise ValueError(f"PressureSeries.{name} must be finite: it holds an int too large "
+                                 "for a float") from None
             except (TypeError, ValueError):
                 raise TypeError(f"PressureSeries.{name} must be a sequence of numbers") from None
             if a.ndim != 1 or a.size < 2:
@@ -321,10 +340,8 @@ class TrajectoryBatch:
         if not -n <= k < n:
             raise IndexError(f"future index {k} out of range for {n} futures")
         k = int(k) % n
-        return Trajectory(t=self.t, strokes=self.strokes[k], theta=self.theta[k],
-                          omega=self.omega[k], tip=self.tip[k], stop=self.stop[k],
-                          slew=float(self.slew[k]), extension=float(self.extension[k]),
+        arrays = {name: getattr(self, name) if name == "t" or getattr(self, name) is None
+                  else getattr(self, name)[k] for name in ARRAYS}
+        return Trajectory(**arrays, slew=float(self.slew[k]), extension=float(self.extension[k]),
                           backend=self.backend,
-                          _points=lambda theta, _k=k: self._points(_k, theta),
-                          **{name: None if getattr(self, name) is None else getattr(self, name)[k]
-                             for name in ("p_a", "p_b", "flow_a", "flow_b", "spool")})
+                          _points=lambda theta, _k=k: self._points(_k, theta))

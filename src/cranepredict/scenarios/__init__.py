@@ -1,7 +1,8 @@
 """Named scenarios, kept as data: one TOML file per scenario in this folder.
 
 A scenario file names a crane (a file in ``cranepredict/cranes`` without ``.toml``), optionally
-overrides its load, and gives the initial state, the drive of each cylinder and the horizon:
+overrides its load, and gives the initial state, the drive of each cylinder and the horizon
+(here shaped like paper-fig4.toml; the file itself is the authority):
 
     name = "paper-fig4"
     description = "..."
@@ -10,7 +11,7 @@ overrides its load, and gives the initial state, the drive of each cylinder and 
     horizon = 2.0              # s
     [initial]                  # State fields (m, rad, m/s)
     lift_stroke = 0.116
-    tilt_stroke = 0.32
+    tilt_stroke = 0.20
     [inputs.lift]              # constant pressures (Pa) ...
     p_a = 175e5
     p_b = 0.0
@@ -29,11 +30,13 @@ from dataclasses import dataclass
 from importlib import resources
 from typing import Any, Dict, List, Mapping, Tuple
 
-from .._checks import tomllib
+import numpy as np
+
+from .._checks import number, tomllib
 from ..crane import Crane
 from ..types import Drive, Hold, Inputs, Pressure, PressureSeries, State, Valve, ValveSeries
 
-__all__ = ["Scenario", "get", "names", "all_scenarios", "from_dict"]
+__all__ = ["Scenario", "get", "names", "all_scenarios", "from_dict", "random_case", "random_drive"]
 
 
 @dataclass(frozen=True)
@@ -99,7 +102,7 @@ def from_dict(data: Mapping[str, Any], where: str = "scenario") -> Scenario:
         initial=_initial(crane, data["initial"]),
         inputs=Inputs(lift=_drive(inputs["lift"], f"{where}.inputs.lift"),
                       tilt=_drive(inputs["tilt"], f"{where}.inputs.tilt")),
-        horizon=float(data["horizon"]),
+        horizon=number(data["horizon"], f"{where}.horizon"),
         tags=tuple(data.get("tags", ())),
     )
 
@@ -139,3 +142,32 @@ def get(name: str) -> Scenario:
 
 def all_scenarios() -> List[Scenario]:
     return [_all()[n] for n in names()]
+
+
+# -- random scenarios (the tests' C-vs-twin comparisons, tools/dt_study.py) -------------------------
+
+def random_drive(rng: np.random.Generator, horizon: float) -> Drive:
+    """A random drive: held, constant pressures, or 2-7 pressure samples over [0, horizon]
+    (pressures in [0, 200] bar)."""
+    kind = rng.integers(0, 3)
+    if kind == 0:
+        return Hold()
+    if kind == 1:
+        return Pressure(p_a=rng.uniform(0, 200e5), p_b=rng.uniform(0, 200e5))
+    n = int(rng.integers(2, 8))
+    t = np.concatenate([[0.0], np.sort(rng.uniform(0, horizon, n - 2)), [horizon]])
+    t = np.unique(t)
+    return PressureSeries(t=t, p_a=rng.uniform(0, 200e5, t.size), p_b=rng.uniform(0, 200e5, t.size))
+
+
+def random_case(rng: np.random.Generator, crane: Crane,
+                horizon: float = 2.0) -> Tuple[Crane, State, Inputs]:
+    """(crane, initial, inputs): loads 0-500 kg, strokes across their ranges, slew, extension."""
+    c = crane.with_load(float(rng.uniform(0, 500)))
+    lc, tc, g = c.lift_cylinder, c.tilt_cylinder, c.geometry
+    initial = State(lift_stroke=float(rng.uniform(lc.stroke_min, lc.stroke_max)),
+                    tilt_stroke=float(rng.uniform(tc.stroke_min, tc.stroke_max)),
+                    slew=float(rng.uniform(-np.pi, np.pi)),
+                    extension=float(rng.uniform(g.extension_min, g.extension_max)))
+    inputs = Inputs(lift=random_drive(rng, horizon), tilt=random_drive(rng, horizon))
+    return c, initial, inputs

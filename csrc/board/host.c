@@ -1,0 +1,39 @@
+/* SPDX-License-Identifier: MIT */
+/*
+ * The board program's host twin: the same scenarios (scenarios.c), the same calls and the same
+ * output lines for the samples, built for the host in float against the host's float library
+ * (csrc/build-float). board_check.py compares the two outputs.
+ */
+#include <stdio.h>
+#include "crane.h"
+#include "scenarios.h"
+
+static crane_params crane;
+enum { CAPACITY = 2001 };
+static crane_sample out[CAPACITY];
+
+int main(void)
+{
+    const board_scenario *sc;
+    char line[BOARD_LINE_MAX];
+    size_t n_sc, i, k, n;
+    crane_status st;
+
+    sc = board_scenarios(&n_sc);
+    for (i = 0; i < n_sc; ++i) {
+        n = 0;
+        board_crane(&sc[i], &crane);
+        st = crane_predict(&crane, &sc[i].state0, &sc[i].inputs, sc[i].horizon, sc[i].dt, out,
+                           CAPACITY, &n);
+        if (st != CRANE_OK) {
+            fprintf(stderr, "%s: %s\n", sc[i].name, crane_status_message(st));
+            return 1;
+        }
+        printf("samples %s %lu\n", sc[i].name, (unsigned long)n);
+        for (k = 0; k < n; ++k) {
+            board_format_sample(line, sc[i].name, k, &out[k]);
+            fputs(line, stdout);
+        }
+    }
+    return 0;
+}

@@ -1,0 +1,99 @@
+/* SPDX-License-Identifier: MIT */
+/*
+ * The board's scenarios (scenarios.h). The paper's Figure 4 from the generated header
+ * example/crane_scenarios.h (src/cranepredict/scenarios/paper-fig4.toml: lift at 175 bar on the
+ * bore side, tilt held, from rest, 2 s; its 200 kg load is also the crane header's) at the Python
+ * API's default step of 2 ms and at the C example's 1 ms.
+ */
+#include <string.h>
+#include "crane_scenarios.h"
+#include "scenarios.h"
+#include "crane_patu655.h"
+
+#define R(x) ((crane_real)(x))
+
+static const board_scenario scenarios[] = {
+    {"paper-dt2ms", CRANE_SCENARIO_PAPER_FIG4_HORIZON, R(2e-3), CRANE_SCENARIO_PAPER_FIG4_LOAD_MASS,
+     CRANE_SCENARIO_PAPER_FIG4_STATE, CRANE_SCENARIO_PAPER_FIG4_INPUTS},
+    {"paper-dt1ms", CRANE_SCENARIO_PAPER_FIG4_HORIZON, R(1e-3), CRANE_SCENARIO_PAPER_FIG4_LOAD_MASS,
+     CRANE_SCENARIO_PAPER_FIG4_STATE, CRANE_SCENARIO_PAPER_FIG4_INPUTS},
+};
+static const crane_params crane = CRANE_PATU655_INIT;
+
+const board_scenario *board_scenarios(size_t *count)
+{
+    *count = sizeof scenarios / sizeof scenarios[0];
+    return scenarios;
+}
+
+void board_crane(const board_scenario *sc, crane_params *params)
+{
+    *params = crane;
+    params->load_mass = sc->load_mass;
+}
+
+char *board_put_str(char *p, const char *s)
+{
+    while (*s != '\0')
+        *p++ = *s++;
+    *p = '\0';
+    return p;
+}
+
+char *board_put_u32(char *p, unsigned long v)
+{
+    char digits[12];
+    int n = 0;
+
+    do {
+        digits[n++] = (char)('0' + v % 10u);
+        v /= 10u;
+    } while (v != 0u);
+    while (n > 0)
+        *p++ = digits[--n];
+    *p = '\0';
+    return p;
+}
+
+static char *put_real(char *p, crane_real x)
+{
+    static const char hex[] = "0123456789abcdef";
+    unsigned char b[sizeof(crane_real)];
+    size_t i;
+
+    /* Most significant byte first: the bits read as one hex number. */
+    memcpy(b, &x, sizeof b);
+    *p++ = ' ';
+    for (i = sizeof b; i-- > 0;) {
+        *p++ = hex[b[i] >> 4];
+        *p++ = hex[b[i] & 15u];
+    }
+    *p = '\0';
+    return p;
+}
+
+static char *put_stop(char *p, int stop)
+{
+    p = board_put_str(p, stop < 0 ? " -" : " ");
+    return board_put_u32(p, (unsigned long)(stop < 0 ? -stop : stop));
+}
+
+void board_format_sample(char *line, const char *name, size_t k, const crane_sample *s)
+{
+    char *p = board_put_str(line, "sample ");
+
+    p = board_put_str(p, name);
+    p = board_put_str(p, " ");
+    p = board_put_u32(p, (unsigned long)k);
+    p = put_real(p, s->t);
+    p = put_real(p, s->tip[0]);
+    p = put_real(p, s->tip[1]);
+    p = put_real(p, s->tip[2]);
+    p = put_real(p, s->stroke[CRANE_LIFT]);
+    p = put_real(p, s->stroke[CRANE_TILT]);
+    p = put_real(p, s->theta[CRANE_LIFT]);
+    p = put_real(p, s->theta[CRANE_TILT]);
+    p = put_stop(p, s->stop[CRANE_LIFT]);
+    p = put_stop(p, s->stop[CRANE_TILT]);
+    (void)board_put_str(p, "\n");
+}

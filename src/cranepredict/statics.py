@@ -1,0 +1,76 @@
+"""Statics of the crane at a pose: the pressure that holds a boom still.
+
+Built on the C core's inverse dynamics (docs/model.md): at rest (omega = alpha = 0) the joint
+torques are the gravity torques, and a cylinder holds its boom when its force p_a A_a - p_b A_b
+times ds/dtheta equals its joint's torque. Friction vanishes at rest in the model, so the holding
+pressure is one value: a little more raises the boom, a little less lets it sink.
+"""
+
+from __future__ import annotations
+
+from typing import Optional
+
+from ._checks import number as _number
+from .crane import Crane
+from .types import PRESSURE_MAX, State
+
+__all__ = ["holding_pressure"]
+
+_JOINTS = ("lift", "tilt")
+
+
+def holding_pressure(crane: Crane, state: State, joint: str = "lift", *,
+                     p_b: Optional[float] = None, p_a: Optional[float] = None) -> float:
+    """The chamber pressure (Pa) with which ``joint``'s cylinder holds the crane still at the pose
+    of ``state`` (its strokes and extension; slew does not matter), the other cylinder held.
+
+    Give the rod-side pressure ``p_b`` (default 0) to get the bore-side p_a, or give ``p_a``
+    instead to get p_b (for a cylinder that the load pulls out, such as the PATU's tilt cylinder,
+    only a rod-side pressure holds). Raises ValueError naming the field if the state is not at
+    rest or outside the crane's ranges, or if no pressure in [0, PRESSURE_MAX] holds the boom.
+    """
+    from . import _core  # the compiled core; imported here so the twin imports without it
+
+    if not isinstance(crane, Crane):
+        raise TypeError(f"crane must be a cranepredict.Crane, got {type(crane).__name__}")
+    if not isinstance(state, State):
+        raise TypeError(f"state must be a cranepredict.State, got {type(state).__name__}")
+    if joint not in _JOINTS:
+        raise ValueError(f"joint must be one of {_JOINTS}, got {joint!r}")
+    if p_a is not None and p_b is not None:
+        raise ValueError("give p_a or p_b (the pressure on the other side is the result), not both")
+    given_name, given = ("p_a", p_a) if p_a is not None else ("p_b", 0.0 if p_b is None else p_b)
+    given = _number(given, given_name)
+    if not 0.0 <= given <= PRESSURE_MAX:
+        raise ValueError(f"{given_name} must be in [0, {PRESSURE_MAX:g}] Pa, got {given:g}")
+
+    g = crane.geometry
+    if not g.extension_min <= state.extension <= g.extension_max:
+        raise ValueError(f"state.extension must be in [{g.extension_min}, {g.extension_max}] m, "
+                         f"got {state.extension}")
+    cylinders = (crane.lift_cylinder, crane.tilt_cylinder)
+    theta, ratio = [], []
+    for name, cyl in zip(_JOINTS, cylinders):
+        stroke, rate = getattr(state, f"{name}_stroke"), getattr(state, f"{name}_stroke_rate")
+        if rate != 0.0:
+            raise ValueError(f"state.{name}_stroke_rate must be 0 (a boom at rest), got {rate}")
+        if not cyl.stroke_min <= stroke <= cyl.stroke_max:
+            raise ValueError(f"state.{name}_stroke must be in [{cyl.stroke_min}, {cyl.stroke_max}] m, "
+                             f"got {stroke}")
+        th, ds = _core.joint_angle(crane, _JOINTS.index(name), stroke, state.extension)
+        theta.append(th)
+        ratio.append(ds)
+
+    j = _JOINTS.index(joint)
+    tau = _core.inverse_dynamics(crane, state.extension, theta, (0.0, 0.0), (0.0, 0.0))[j]
+    force = tau / ratio[j]          # the cylinder force (positive extends) that holds the boom
+    cyl = cylinders[j]
+    if given_name == "p_b":
+        result_name, result = "p_a", (force + given * cyl.area_b) / cyl.area_a
+    else:
+        result_name, result = "p_b", (given * cyl.area_a - force) / cyl.area_b
+    if not 0.0 <= result <= PRESSURE_MAX:
+        raise ValueError(f"no {result_name} in [0, {PRESSURE_MAX:g}] Pa holds the {joint} cylinder at "
+                         f"this pose with {given_name} = {given:g} Pa: it would take {result:g} Pa"
+                         f" (give {result_name} instead to get {given_name})")
+    return result
