@@ -686,7 +686,13 @@ def _solve(model: _Model, span: float, dt: float, spectral_radius: float) -> Non
         ss.solutionSettings.sensorsWritePeriod = 0.0
     ss.displayStatistics = False
     ss.displayComputationTime = False
-    ok = exu.SolveDynamic(mbs, ss, updateInitialValues=False)
+    # Exudyn prints its notes (e.g. on the user functions' allocations) to stdout, which would mix
+    # into `cranepredict validate --json`; a failure is raised below, so the console is muted
+    exu.SetWriteToConsole(False)
+    try:
+        ok = exu.SolveDynamic(mbs, ss, updateInitialValues=False)
+    finally:
+        exu.SetWriteToConsole(True)
     if not ok:
         raise RuntimeError("Exudyn's solver did not converge on the reference model")
 
