@@ -53,9 +53,13 @@ typedef enum {
                                    sample_every, n_futures) */
     CRANE_E_BATCH = 25,         /* n_futures x steps over CRANE_MAX_BATCH_STEPS in one call */
     CRANE_E_HYDRAULICS = 26,    /* a hydraulic parameter out of range (docs/model.md, Hydraulics) */
-    CRANE_E_VALVE = 27          /* a lever outside [-1, 1], a valve drive without hydraulics (or
+    CRANE_E_VALVE = 27,         /* a lever outside [-1, 1], a valve drive without hydraulics (or
                                  * in a build without CRANE_HYDRAULICS), or a chamber pressure /
                                  * spool of the state out of range */
+    /* the collision guard (docs/guard.md) */
+    CRANE_E_SOLID = 40,         /* a solid (obstacle) is not valid, or a pair of two planes */
+    CRANE_E_PART = 41,          /* a crane part is not valid */
+    CRANE_E_GUARD = 42          /* a guard setting (margin, reaction, cycle, tolerances) out of range */
 } crane_status;
 
 enum { CRANE_LIFT = 0, CRANE_TILT = 1 };
@@ -66,9 +70,11 @@ enum { CRANE_PRESSURE_MAX = 100000000 };   /* Pa (1000 bar): the largest pressur
 enum { CRANE_CHAMBER_PRESSURE_MIN = -100000 };  /* Pa gauge (vacuum): the lowest chamber pressure */
 
 /* Bounded work and memory: checked before anything runs or is written (CRANE_E_STEPS,
- * CRANE_E_SAMPLE_COUNT, CRANE_E_BATCH), so that no accepted call runs for more than seconds.
+ * CRANE_E_SAMPLE_COUNT, CRANE_E_BATCH), so that no accepted call runs for more than seconds
+ * (measured on the project's shared 2-core CI machine, both cylinders driven: 1.0 s for one
+ * prediction of CRANE_MAX_STEPS, 0.5 us a step; a PC core is about twice as fast).
  *   CRANE_MAX_STEPS: RK4 steps per prediction (one future), n = ceil(horizon/dt - 1e-9): 2^20,
- *     17 min of crane time at dt = 1 ms, about 0.3 s of one core of a 2020s PC (0.25 us a step).
+ *     17 min of crane time at dt = 1 ms.
  *     Why 2^20: the step times are t_k = k dt in every build (never accumulated), and in the float
  *     build horizon/dt is uncertain by about 4 eps n steps (both operands rounded to 24 bits; the
  *     step count allows for it): up to 2^20 steps that stays under a quarter step, so the last
@@ -76,9 +82,9 @@ enum { CRANE_CHAMBER_PRESSURE_MIN = -100000 };  /* Pa gauge (vacuum): the lowest
  *     stay strictly increasing.
  *   CRANE_MAX_SAMPLES: samples written by one call (all futures of crane_predict_many): 2^23,
  *     0.74 GB of crane_sample in double; a single prediction (n + 1 <= 2^20 + 1) never reaches it.
- *   CRANE_MAX_BATCH_STEPS: steps of one crane_predict_many call, n_futures x n: 2^25, about 8 s of
- *     one core; split larger batches into several calls (they may run on several threads). */
-enum { CRANE_MAX_STEPS = 1048576, CRANE_MAX_SAMPLES = 8388608, CRANE_MAX_BATCH_STEPS = 33554432 };
+ *   CRANE_MAX_BATCH_STEPS: steps of one crane_predict_many call, n_futures x n: 2^23, about 4 s;
+ *     split larger batches into several calls (they may run on several threads). */
+enum { CRANE_MAX_STEPS = 1048576, CRANE_MAX_SAMPLES = 8388608, CRANE_MAX_BATCH_STEPS = 8388608 };
 
 typedef struct {
     crane_real x, y;
@@ -290,29 +296,56 @@ typedef struct {
     crane_real spool[2];         /* the spool position (0 unless valve-driven) */
 } crane_sample;
 
-/* Derived constants of one crane at one extension: filled by crane_model_init, read-only after.
- * Fields are internal; the struct is public only so that the caller can own it. It keeps only
- * the parameters that predictions and the queries read (not a copy of crane_params). */
+/* Derived constants of one crane at one extension e (docs/model.md's symbols): filled by
+ * crane_model_init, read-only after. The struct is public so that a C caller can own it (on the
+ * stack, in static memory); its fields are the core's, not an interface: the Python binding
+ * declares it opaque (only its size is known there), so its layout may change. It keeps only the
+ * parameters that predictions and the queries read (not a copy of crane_params).
+ * Copied from crane_params (p): */
 typedef struct {
-    crane_real gravity;
-    crane_vec2 lift_pivot, lift_cylinder_base, lift_cylinder_rod, tilt_cylinder_base;
-    crane_vec2 link1_pivot, tilt_pivot, link2_attach, extension_mount;
-    crane_real length_retracted[2], stroke_min[2], stroke_max[2];
-    crane_friction friction[2];
-    crane_real extension;
-    crane_real lift_db, lift_dr, lift_beta, lift_eps;
-    crane_real tilt_l1, tilt_l2, tilt_ra, tilt_alpha_a;
-    crane_real tilt_branch;                /* +1 or -1: Q's side of P1 -> A (angle -> stroke) */
-    crane_real area_a[2], area_b[2];
-    crane_real m1, m2, i1, i2;
-    crane_vec2 c1, c2;
-    crane_real theta_min[2], theta_max[2];
-    crane_real lift_cos_off, lift_sin_off; /* cos, sin of (lift_eps - lift_beta) */
-    crane_real j1, j2, m2_o2sq;            /* i1 + m1 |c1|^2, i2 + m2 |c2|^2, m2 |O2|^2 */
-    crane_vec2 tip;                        /* load point in the outer boom frame */
-    int links;                             /* 1 if a side link has mass or inertia */
+    crane_real gravity;                    /* g = p.gravity */
+    crane_vec2 lift_pivot;                 /* O1 = p.lift_pivot */
+    crane_vec2 lift_cylinder_base;         /* B1 = p.lift_cylinder_base */
+    crane_vec2 lift_cylinder_rod;          /* E1 = p.lift_cylinder_rod */
+    crane_vec2 tilt_cylinder_base;         /* B2 = p.tilt_cylinder_base */
+    crane_vec2 link1_pivot;                /* P1 = p.link1_pivot */
+    crane_vec2 tilt_pivot;                 /* O2 = p.tilt_pivot */
+    crane_vec2 link2_attach;               /* p.link2_attach (A in the outer boom frame) */
+    crane_vec2 extension_mount;            /* p.extension_mount */
+    crane_real length_retracted[2], stroke_min[2], stroke_max[2]; /* p.cylinder[i] */
+    crane_friction friction[2];            /* p.cylinder[i].friction */
+    crane_real extension;                  /* e, the argument of crane_model_init */
+    /* Lift triangle: */
+    crane_real lift_db;                    /* db = |B1 - O1| */
+    crane_real lift_dr;                    /* dr = |E1| */
+    crane_real lift_beta;                  /* beta = atan2(B1.y - O1.y, B1.x - O1.x) */
+    crane_real lift_eps;                   /* eps = atan2(E1.y, E1.x) */
+    /* Tilt four-bar: */
+    crane_real tilt_l1;                    /* l1 = |p.link_pin| */
+    crane_real tilt_l2;                    /* l2 = |p.link2_end| */
+    crane_real tilt_ra;                    /* ra = |p.link2_attach| */
+    crane_real tilt_alpha_a;               /* alpha_a = atan2(link2_attach.y, link2_attach.x) */
+    crane_real tilt_branch;                /* -sign(cross(Q - P1, A - Q)), constant over the
+                                              stroke: the side of P1 -> A on which angle ->
+                                              stroke finds Q (+1 left, the PATU's) */
+    /* Cylinders: */
+    crane_real area_a[2];                  /* pi bore^2 / 4 (bore side) */
+    crane_real area_b[2];                  /* pi (bore^2 - rod^2) / 4 (rod side) */
+    /* Bodies (body 2 lumped at e: docs/model.md, "Bodies and the lumped outer boom"): */
+    crane_real m1, m2;                     /* m1 = lift_boom.mass; m2 = m_ob + m_ext + m_load */
+    crane_real i1, i2;                     /* I1 = lift_boom.izz; I2 about c2 (parallel axes) */
+    crane_vec2 c1, c2;                     /* c1 = lift_boom.com; c2 = (m_ob c_ob + m_ext x_ext +
+                                              m_load x_tip) / m2, outer boom frame */
+    crane_real theta_min[2], theta_max[2]; /* angle limits: theta at the two stroke limits,
+                                              ordered (docs/model.md, "End stops") */
+    crane_real lift_cos_off, lift_sin_off; /* cos, sin of (eps - beta) */
+    crane_real j1, j2, m2_o2sq;            /* I1 + m1 |c1|^2, I2 + m2 |c2|^2, m2 |O2|^2 */
+    crane_vec2 tip;                        /* x_tip = extension_mount + (e + tip_distance, 0) */
+    int links;                             /* 1 if a side link has mass or inertia, else 0 */
     crane_real link_m[2], link_i[2];       /* side links 1, 2: mass, Izz */
-    crane_real link_ca[2], link_cb[2];     /* com = ca v + cb perp(v), v = link_pin, link2_end */
+    crane_real link_ca[2], link_cb[2];     /* com = ca v + cb perp(v) with v = link_pin (link 1),
+                                              link2_end (link 2): ca = com.v / |v|^2,
+                                              cb = cross(v, com) / |v|^2 */
     const crane_hydraulics *hyd[2];        /* the params' circuits (NULL: none), not copied */
 } crane_model;
 
@@ -404,6 +437,96 @@ crane_status crane_cylinder_force(const crane_model *model, int joint, crane_rea
 
 /* A short English description of a status code (a static string). */
 const char *crane_status_message(crane_status status);
+/* ---- Collision guard (docs/guard.md): solids, exact distances, the crane's shape, the verdict ----
+ * A solid is a half-space, an oriented box or a segment grown by a radius (capsule, sphere, and a
+ * cylinder, whose distances are those of its capsule: conservative, never larger than the true
+ * one). Distances are between surfaces, 0 when solids touch or overlap. */
+enum { CRANE_SOLID_PLANE = 0, CRANE_SOLID_BOX = 1, CRANE_SOLID_CAPSULE = 2, CRANE_SOLID_SPHERE = 3,
+       CRANE_SOLID_CYLINDER = 4 };
+/* The field of a solid or part at fault (crane_solid_check, crane_guard_check). */
+enum { CRANE_GUARD_FIELD_KIND = 1, CRANE_GUARD_FIELD_A = 2, CRANE_GUARD_FIELD_B = 3,
+       CRANE_GUARD_FIELD_RADIUS = 4, CRANE_GUARD_FIELD_AXES = 5, CRANE_GUARD_FIELD_HALF = 6,
+       CRANE_GUARD_FIELD_DROP = 7 };
+/* Frames a part's points are given in (docs/model.md "Frames"): the boom plane, the lift boom,
+ * the pin Q of the side links (a point given relative to Q, in lift boom axes), the outer boom, the
+ * extension boom. */
+enum { CRANE_FRAME_BASE = 0, CRANE_FRAME_LIFT = 1, CRANE_FRAME_LINK_PIN = 2, CRANE_FRAME_OUTER = 3,
+       CRANE_FRAME_EXTENSION = 4 };
+enum { CRANE_GO = 0, CRANE_WARN = 1, CRANE_STOP = 2 };
+
+typedef struct {
+    int kind;                    /* CRANE_SOLID_* */
+    crane_real a[3];             /* plane: a point of it; box, sphere: centre; capsule, cylinder: axis end */
+    crane_real b[3];             /* plane: unit normal out of the solid; capsule, cylinder: other axis end */
+    crane_real radius;           /* capsule (>= 0), sphere and cylinder (> 0), m */
+    crane_real axes[9];          /* box: rows are its unit axes (orthonormal) in the world frame */
+    crane_real half[3];          /* box: half extents along its axes, > 0, m */
+} crane_solid;
+
+typedef struct {
+    int frame;                   /* CRANE_FRAME_* */
+    crane_vec2 at;               /* m, in that frame */
+} crane_anchor;
+
+typedef struct {
+    int kind;                    /* CRANE_SOLID_CAPSULE, CRANE_SOLID_SPHERE or CRANE_SOLID_BOX */
+    crane_anchor a, b;           /* capsule: axis ends; sphere, box: a is where it hangs (b unused) */
+    crane_real radius;           /* capsule (>= 0), sphere (> 0), m */
+    crane_real drop;             /* sphere, box: centre this far below a (world vertical), m */
+    crane_real half[3];          /* box: half extents (outward in the boom plane, lateral, up), m */
+} crane_part;
+
+typedef struct {
+    crane_real margin;           /* clearance below which the guard calls it a contact, m, >= 0 */
+    crane_real reaction;         /* delay from the stop decision to the stop, s, >= 0 */
+    crane_real cycle;            /* control cycle, s, > 0: STOP if stopping cannot wait one more */
+    crane_real time_tolerance;   /* the first contact is located within this, s, > 0 */
+    crane_real clearance_tolerance; /* per-part minima may be this much too large, m, >= 0 */
+} crane_guard_config;
+
+typedef struct {
+    int signal;                  /* CRANE_GO, CRANE_WARN or CRANE_STOP */
+    int contact;                 /* 1: the clearance falls below the margin within the horizon */
+    int at_start;                /* 1: it is below the margin at t = 0 already */
+    crane_real t;                /* first contact, s: the clearance is >= margin on [0, t) */
+    int part, obstacle;          /* the pair at the first contact */
+    crane_real clearance;        /* their clearance at t, m */
+    crane_real on_part[3];       /* the closest points at t, world, m */
+    crane_real on_obstacle[3];
+    crane_real theta[2];         /* joint angles at t, rad */
+    crane_real gradient[2];      /* d clearance / d theta_j of the pair at t, m/rad */
+    crane_real approach[2];      /* gradient_j * omega_j at t, m/s: < 0 = joint j closes the gap */
+    crane_real stop_latest;      /* latest time to begin stopping, s (t - reaction; < 0: too late) */
+    size_t evaluations;          /* pair distances computed */
+} crane_guard_result;
+
+/* The checks of one solid: CRANE_E_SOLID with *field = the CRANE_GUARD_FIELD_* at fault, else 0. */
+crane_status crane_solid_check(const crane_solid *solid, int *field);
+
+/* Exact distance between two solids (any pair but two planes) and the closest points. */
+crane_status crane_solid_distance(const crane_solid *a, const crane_solid *b, crane_real *distance,
+                                  crane_real on_a[3], crane_real on_b[3]);
+
+/* Checks the parts and the obstacles; on an error *which is the index of the bad part (CRANE_E_PART)
+ * or obstacle (CRANE_E_SOLID) and *field its CRANE_GUARD_FIELD_*. */
+crane_status crane_guard_check(const crane_part *parts, size_t n_parts, const crane_solid *obstacles,
+                               size_t n_obstacles, size_t *which, int *field);
+
+/* The parts as world solids at one pose (for drawing and tests): out[n_parts]. */
+crane_status crane_part_solids(const crane_model *model, const crane_part *parts, size_t n_parts,
+                               crane_real slew, const crane_real theta[2], crane_solid *out);
+
+/* The verdict on a predicted future (samples from crane_predict_model of the same model, at the
+ * given slew): per-part minimum clearance over the samples (part_clearance[n_parts]), the first
+ * contact, between samples too (docs/guard.md, "Nothing is missed"), the stop analysis for a stop
+ * that freezes the crane after config->reaction, and the signal. work is scratch of
+ * n_parts * (n_obstacles + 5) reals (CRANE_E_CAPACITY if work_capacity is smaller). Nothing is
+ * written on an error. */
+crane_status crane_guard(const crane_model *model, const crane_part *parts, size_t n_parts,
+                         const crane_solid *obstacles, size_t n_obstacles, crane_real slew,
+                         const crane_sample *samples, size_t n_samples,
+                         const crane_guard_config *config, crane_real *part_clearance,
+                         crane_real *work, size_t work_capacity, crane_guard_result *result);
 /* CRANE_CDEF_END */
 
 #endif /* CRANE_H */

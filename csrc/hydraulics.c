@@ -149,9 +149,11 @@ long crane__substeps(const crane_model *m, const crane_real stroke[2], const int
             lam = lb;
     }
     n = crane__ceil(h * lam / SUBSTEP_STABILITY);
-    /* Bounded so that a long fits; validation keeps the parameters where this never binds. */
-    if (!(n < (crane_real)1e6))
-        n = (crane_real)1e6;
+    /* Bounded so that a long fits: a prediction that would need more substeps than
+     * CRANE_MAX_STEPS is refused before it runs (predict.c, check_work), so this never binds
+     * while integrating. */
+    if (!(n <= (crane_real)CRANE_MAX_STEPS))
+        n = (crane_real)CRANE_MAX_STEPS + 1;
     return n < 1 ? 1 : (long)n;
 }
 #endif /* CRANE_HYDRAULICS */

@@ -4,6 +4,7 @@
  * the lumped outer boom", "End stops"), and the status messages.
  */
 #include "crane_internal.h"
+#include "guard_internal.h"
 
 /* The first rule broken so far: every check below is one call that does nothing once a rule has
  * failed, so the checks read as a list, one line per field, in the order of the crane file. */
@@ -415,11 +416,14 @@ const char *crane_status_message(crane_status status)
     case CRANE_E_DIVERGED: return "the prediction diverged (the state stopped being finite): the parameters are not physical";
     case CRANE_E_FIELD: return "a crane parameter is outside its range";
     case CRANE_E_OVERFLOW: return "an argument is too large: a result would not be finite or a size would overflow";
-    case CRANE_E_STEPS: return "horizon / dt asks for more than CRANE_MAX_STEPS (1048576) steps: raise dt or shorten the horizon";
+    case CRANE_E_STEPS: return "horizon / dt asks for more than CRANE_MAX_STEPS (1048576) steps (with valve-driven cylinders: their worst-case substeps included): raise dt or shorten the horizon";
     case CRANE_E_SAMPLE_COUNT: return "more than CRANE_MAX_SAMPLES (8388608) samples in one call: raise sample_every or dt, shorten the horizon or split the futures";
-    case CRANE_E_BATCH: return "futures x steps over CRANE_MAX_BATCH_STEPS (33554432) in one call: split the futures into several calls";
+    case CRANE_E_BATCH: return "futures x steps over CRANE_MAX_BATCH_STEPS (8388608) in one call: split the futures into several calls";
     case CRANE_E_HYDRAULICS: return "a hydraulic parameter is out of range (docs/model.md, Hydraulics)";
     case CRANE_E_VALVE: return "a valve drive is invalid: lever outside [-1, 1], no hydraulics for the cylinder, or a chamber pressure/spool of the state out of range";
+    case CRANE_E_SOLID:
+    case CRANE_E_PART:
+    case CRANE_E_GUARD: return crane__guard_status_message(status);
     }
-    return "unknown status";
+    return crane__guard_status_message(status);
 }

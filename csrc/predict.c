@@ -155,6 +155,32 @@ static crane_status check_future(const crane_model *model, const crane_state *st
     return CRANE_OK;
 }
 
+/* Bounded work with valve-driven cylinders (docs/model.md, "Hydraulics", "Bad input"): every step
+ * may be cut into substeps, at most as many as at the stroke ends (where the chambers are
+ * smallest; the last step may be up to 1.25 dt long), and those count against CRANE_MAX_STEPS.
+ * *work is the most RK4 steps the prediction can take. */
+static crane_status check_work(const crane_model *m, const crane_inputs *in, crane_real dt,
+                               long n_steps, double *work)
+{
+    long n_max = 1;
+#if CRANE_HYDRAULICS
+    const int valve[2] = {in->drive[0].mode == CRANE_DRIVE_VALVE,
+                          in->drive[1].mode == CRANE_DRIVE_VALVE};
+    if (valve[0] || valve[1]) {
+        const crane_real h = dt * (crane_real)1.25;
+        const long a = crane__substeps(m, m->stroke_min, valve, h);
+        const long b = crane__substeps(m, m->stroke_max, valve, h);
+        n_max = a > b ? a : b;
+    }
+#else
+    (void)m;
+    (void)in;
+    (void)dt;
+#endif
+    *work = (double)n_steps * (double)n_max;
+    return *work <= (double)CRANE_MAX_STEPS ? CRANE_OK : CRANE_E_STEPS;
+}
+
 /* crane_predict_model after its NULL checks. Both entry points call it, so that crane_predict
  * does not add crane_predict_model's frame to its stack. */
 static CRANE__ALWAYS_INLINE crane_status predict(const crane_model *model,
@@ -165,6 +191,7 @@ static CRANE__ALWAYS_INLINE crane_status predict(const crane_model *model,
 {
     crane_status st;
     long n_steps;
+    double work;
 
     if (!crane__finite(state0->extension))
         return CRANE_E_NONFINITE;
@@ -174,6 +201,9 @@ static CRANE__ALWAYS_INLINE crane_status predict(const crane_model *model,
     if (st != CRANE_OK)
         return st;
     st = check_future(model, state0, inputs, horizon);
+    if (st != CRANE_OK)
+        return st;
+    st = check_work(model, inputs, dt, n_steps, &work);
     if (st != CRANE_OK)
         return st;
     if ((size_t)n_steps + 1 > capacity)
@@ -234,6 +264,7 @@ crane_status crane_predict_many(const crane_params *params, size_t n_futures,
     crane_status st;
     size_t k, count;
     long n_steps;
+    double work, total = 0;
 
     if (!failed)
         return CRANE_E_NULL;
@@ -260,21 +291,29 @@ crane_status crane_predict_many(const crane_params *params, size_t n_futures,
     for (k = 0; k < n_futures; ++k) {
         const crane_state *s = &states[k];
         if (k == 0 || !(s->extension == states[k - 1].extension)) {
-            st = crane_model_init(&model, params, s->extension);
+            /* straight into this frame's model: crane_model_init's own copy would add its size
+             * to this entry point's stack (the budget of docs/embedding.md) */
+            st = crane__model_derive(&model, params, s->extension, &field);
             if (st != CRANE_OK) {
                 *failed = k;
                 return st;
             }
         }
         st = check_future(&model, s, &inputs[k], horizon);
+        if (st == CRANE_OK)
+            st = check_work(&model, &inputs[k], dt, n_steps, &work);
         if (st != CRANE_OK) {
             *failed = k;
             return st;
         }
+        /* the substeps of valve-driven futures count against the batch's bound too */
+        total += work;
+        if (total > (double)CRANE_MAX_BATCH_STEPS)
+            return CRANE_E_BATCH;
     }
     for (k = 0; k < n_futures; ++k) {
         if (k == 0 || !(states[k].extension == states[k - 1].extension))
-            (void)crane_model_init(&model, params, states[k].extension);
+            (void)crane__model_derive(&model, params, states[k].extension, &field);
         st = crane__integrate(&model, &states[k], &inputs[k], horizon, dt, n_steps,
                               (long)sample_every, out + k * stride, &count);
         if (st != CRANE_OK) {

@@ -89,10 +89,9 @@ def _random_valve_case(rng, crane, horizon=2.0):
 
 
 def test_twenty_random_valve_driven_cases_agree():
-    """Tip to 1e-9 m (the issue's target) and chamber pressures to 1e-2 Pa (the issue asks
-    1e-3 Pa; measured 5.0e-3 Pa, 8e-10 relative, in one case: right after a release from a stop
-    located by bisection in the first step, whose time the two implementations' roundings place
-    a few 1e-12 s apart while the pressure moves at 1e9 Pa/s; away from it <= 1e-6 Pa)."""
+    """Tip to 1e-9 m and chamber pressures to 1e-3 Pa (the issue's targets; measured 7e-15 m
+    and 3e-7 Pa. With the earlier tanh friction law, smoothing over 1 mm/s, a release from a stop
+    located by bisection put 5e-3 Pa between them in one case.)"""
     crane = cp.Crane.patu655()
     rng = np.random.default_rng(909)
     worst_tip = worst_p = 0.0
@@ -109,5 +108,5 @@ def test_twenty_random_valve_driven_cases_agree():
         np.testing.assert_allclose(a.spool, b.spool, rtol=0, atol=1e-12)
     print(f"C vs twin, 20 valve-driven cases: tip {worst_tip:.2e} m, pressures {worst_p:.2e} Pa, "
           f"{stops} with end stops")
-    assert worst_tip < TOL and worst_p < 1e-2
+    assert worst_tip < TOL and worst_p < 1e-3
     assert stops >= 4

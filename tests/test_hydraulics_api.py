@@ -166,3 +166,19 @@ def test_the_core_refuses_bad_valve_drives_itself(crane):
     assert run(pressure) == lib.CRANE_E_VALVE
     assert run(nan) == lib.CRANE_E_NONFINITE
     assert run(circuit) == lib.CRANE_E_HYDRAULICS
+
+
+def test_the_substeps_count_against_the_step_limit(crane):
+    """A laminar region of 1e-6 Pa makes the chamber equations so stiff that a 2-s prediction
+    would need billions of substeps: refused before it runs, by both implementations."""
+    tiny = dataclasses.replace(crane, lift_cylinder=dataclasses.replace(
+        crane.lift_cylinder, hydraulics=dataclasses.replace(crane.lift_cylinder.hydraulics,
+                                                            laminar_pressure_drop=1e-6)))
+    rest = cp.state_at_rest(tiny, 0.2, 0.3)
+    inputs = cp.Inputs(lift=cp.Valve(0.5), tilt=cp.Hold())
+    for backend in ("c", "python"):
+        with pytest.raises(ValueError, match="more than .*steps"):
+            cp.predict(tiny, rest, inputs, 2.0, backend=backend)
+    # a short one still runs
+    tr = cp.predict(tiny, rest, inputs, 1e-3, dt=1e-3)
+    assert tr.t.size == 2

@@ -17,22 +17,37 @@ from typing import Any, Mapping, Optional, Tuple, Union
 
 from ._checks import number as _number
 from ._checks import tomllib
+from .shape import Shape
 
 Vec2 = Tuple[float, float]
 
-__all__ = ["Body", "Friction", "Hydraulics", "Cylinder", "Geometry", "Crane", "VALVES"]
+__all__ = ["Body", "Friction", "Hydraulics", "Cylinder", "SlewDrive", "ExtensionCylinder", "Geometry",
+           "Crane", "FOUR_JOINT_FIELDS", "VALVES"]
 
 #: The valve types of a cylinder's hydraulics (docs/model.md, "Hydraulics").
 VALVES = ("orifice", "compensated")
 
+#: Crane file fields of the four-joint model (docs/model.md, "Four joints"), which no model uses
+#: yet: loaded and type-checked, no rule of the core applies (top-level tables, and the fields of
+#: every body).
+FOUR_JOINT_FIELDS = ("pillar", "slew_drive", "extension_cylinder")
+FOUR_JOINT_BODY_FIELDS = ("ixx", "iyy", "ixy")
+
 
 @dataclass(frozen=True)
 class Body:
-    """A rigid body: mass (kg), centre of mass in its own frame (m), Izz about the centre (kg m^2)."""
+    """A rigid body: mass (kg), centre of mass in its own frame (m), Izz about the centre (kg m^2).
+
+    ``ixx``, ``iyy``, ``ixy`` (kg m^2, optional) are the in-plane entries of its inertia tensor about
+    the centre in its own frame, as [S1] gives them (``ixy = -integral(x y dm)``); the four-joint
+    model's slew inertia needs them (docs/model.md, "Four joints"; left out: 0, izz, 0)."""
 
     mass: float
     com: Vec2
     izz: float
+    ixx: Optional[float] = None
+    iyy: Optional[float] = None
+    ixy: Optional[float] = None
 
 
 @dataclass(frozen=True)
@@ -102,6 +117,49 @@ class Cylinder:
 
 
 @dataclass(frozen=True)
+class SlewDrive:
+    """The slew actuator: two cylinders of one bore on a rack turning a pinion of pitch radius
+    ``pinion_radius`` (m) on the pillar; the slew range ``slew_min`` .. ``slew_max`` (rad) is the
+    rack's travel; friction at the rack's speed (docs/model.md, "Four joints")."""
+
+    bore: float
+    pinion_radius: float
+    slew_min: float
+    slew_max: float
+    friction: Friction
+
+    @property
+    def area(self) -> float:
+        """One cylinder's piston area, m^2 (both chambers of the equivalent cylinder)."""
+        return math.pi * self.bore**2 / 4.0
+
+    @property
+    def displacement(self) -> float:
+        """Oil volume per radian of slew, m^3/rad (area times pinion radius)."""
+        return self.area * self.pinion_radius
+
+
+@dataclass(frozen=True)
+class ExtensionCylinder:
+    """The telescope's cylinder inside the outer boom: its stroke is the extension minus
+    ``geometry.extension_min`` (m), bore side extending (docs/model.md, "Four joints")."""
+
+    bore: float
+    rod: float
+    friction: Friction
+
+    @property
+    def area_a(self) -> float:
+        """Bore-side piston area, m^2."""
+        return math.pi * self.bore**2 / 4.0
+
+    @property
+    def area_b(self) -> float:
+        """Rod-side annulus area, m^2."""
+        return math.pi * (self.bore**2 - self.rod**2) / 4.0
+
+
+@dataclass(frozen=True)
 class Geometry:
     """Pivot and pin positions (m), each in the frame named in docs/model.md."""
 
@@ -139,6 +197,12 @@ class Crane:
     #: The pillar only slews, and the slew is constant during a prediction, so no model uses its mass
     #: properties: optional, kept when the crane file gives them (type-checked, no rule applies).
     pillar: Optional[Body] = None
+    #: The four-joint model's actuators (docs/model.md, "Four joints"); optional, no model uses
+    #: them yet (type-checked, no rule applies).
+    slew_drive: Optional[SlewDrive] = None
+    extension_cylinder: Optional[ExtensionCylinder] = None
+    #: The parts for the collision guard (the crane file's ``[shape]``; docs/guard.md), if given.
+    shape: Optional[Shape] = None
 
     def __post_init__(self) -> None:
         _check_crane(self)
@@ -217,10 +281,12 @@ def _build(cls: type, data: Mapping[str, Any], prefix: str) -> Any:
                 continue
             raise ValueError(f"{name} is missing from the crane file")
         value, hint = data[f.name], hints[f.name]
+        if hint == Optional[Shape]:
+            kwargs[f.name] = None if value is None else Shape.from_dict(value)
+            continue
         if hint == Optional[Body]:
             hint = Body
-        if hint == Optional[Hydraulics]:
-            hint = Hydraulics
+        hint = _unwrap_optional(hint)
         if dataclasses.is_dataclass(hint):
             kwargs[f.name] = _build(hint, value, name + ".")
         elif hint is Vec2:
@@ -238,6 +304,16 @@ def _build(cls: type, data: Mapping[str, Any], prefix: str) -> Any:
     return cls(**kwargs)
 
 
+def _unwrap_optional(hint: Any) -> Any:
+    """Optional[X] -> X (a field the crane file may leave out); anything else unchanged."""
+    import typing
+
+    args = typing.get_args(hint)
+    if typing.get_origin(hint) is Union and len(args) == 2 and type(None) in args:
+        return args[0] if args[1] is type(None) else args[1]
+    return hint
+
+
 def _hints(cls: type) -> dict:
     import typing
 
@@ -249,10 +325,18 @@ def _check_shapes(obj: Any, cls: type, prefix: str) -> None:
     hints = _hints(cls)
     for f in dataclasses.fields(cls):
         name, value, hint = prefix + f.name, getattr(obj, f.name), hints[f.name]
-        if hint in (Optional[Body], Optional[Hydraulics]):
+        if hint == Optional[Shape]:   # checked by Shape itself (the collision guard's parts)
+            if value is not None and not isinstance(value, Shape):
+                raise TypeError(f"{name} must be a cranepredict.Shape, got {type(value).__name__}")
+            continue
+        if hint == Optional[Body]:
             if value is None:
                 continue
-            hint = Body if hint == Optional[Body] else Hydraulics
+            hint = Body
+        if _unwrap_optional(hint) is not hint:
+            if value is None:
+                continue
+            hint = _unwrap_optional(hint)
         if dataclasses.is_dataclass(hint):
             if not isinstance(value, hint):
                 raise TypeError(f"{name} must be a {hint.__name__}, got {type(value).__name__}")
@@ -282,7 +366,7 @@ def _field_names() -> dict:
         out = []
         for f in dataclasses.fields(cls):
             hint = _hints(cls)[f.name]
-            if f.name in ("name", "estimates", "pillar"):
+            if f.name in ("name", "estimates", "pillar", "shape"):
                 continue
             if hint == Optional[Hydraulics]:
                 hint = Hydraulics
@@ -357,8 +441,10 @@ def _check_crane(c: Crane) -> None:
 # -- writing ----------------------------------------------------------------------------------
 
 def _to_plain(obj: Any) -> Any:
+    if hasattr(obj, "to_plain"):
+        return obj.to_plain()
     if dataclasses.is_dataclass(obj):
-        # None = an optional table left out (the pillar)
+        # None = an optional table left out (the pillar, the shape)
         return {f.name: _to_plain(getattr(obj, f.name)) for f in dataclasses.fields(obj)
                 if getattr(obj, f.name) is not None}
     if isinstance(obj, tuple):

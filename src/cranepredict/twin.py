@@ -1258,6 +1258,18 @@ def _run(crane: Any, state: Any, inputs: Any, horizon: float, dt: float
     x = pred.stop_at_start(x, strokes0, rates0)
 
     n = int(math.ceil(horizon / dt - 1e-9))
+    if pred.hydraulic:
+        # docs/model.md "Hydraulics", bad input: the worst-case substeps (at the stroke ends, where
+        # the chambers are smallest; the last step up to 1.25 dt) count against MAX_STEPS
+        from ._checks import MAX_STEPS
+
+        lam = max(drive.stiffness(s) for drive, valve in zip(pred.drives, pred.valve) if valve
+                  for s in (drive.stroke_min, drive.stroke_max))
+        worst = max(1, int(math.ceil(1.25 * dt * lam / SUBSTEP_STABILITY)))
+        if n * worst > MAX_STEPS:
+            raise ValueError(f"horizon / dt asks for more than {MAX_STEPS} steps with the "
+                             f"valve-driven cylinders' substeps ({n} steps x up to {worst} "
+                             "substeps): raise dt or shorten the horizon")
     t_out = np.empty(n + 1)
     strokes = np.empty((n + 1, 2))
     theta = np.empty((n + 1, 2))

@@ -68,13 +68,30 @@ def _drive(d: Mapping[str, Any], where: str) -> Drive:
                      f"or u, or t and u; got keys {sorted(keys)}")
 
 
-def _initial(crane: Crane, d: Mapping[str, Any]) -> State:
-    d = dict(d)
-    if d.pop("at_rest", False) is True:
+def _initial(crane: Crane, d: Any, where: str) -> State:
+    """[initial]: State fields, or at_rest = true and the arguments of state_at_rest."""
+    if isinstance(d, Mapping) and d.get("at_rest", False) is True:
         from ..api import state_at_rest
 
-        return state_at_rest(crane, **d)
-    return State(**d)
+        args = {k: v for k, v in d.items() if k != "at_rest"}
+        try:
+            return state_at_rest(crane, **args)
+        except TypeError as exc:  # an unknown or missing argument
+            raise TypeError(f"{where} (at_rest): {exc}") from None
+    return _state(d, where)
+
+
+def _state(d: Any, where: str) -> State:
+    if not isinstance(d, Mapping):
+        raise TypeError(f"{where} must be a table of State fields, got {type(d).__name__}")
+    unknown = sorted(set(d) - set(State.__dataclass_fields__))
+    if unknown:
+        raise ValueError(f"{where}: unknown field(s) {unknown}; allowed: "
+                         f"{sorted(State.__dataclass_fields__)}")
+    try:
+        return State(**d)
+    except TypeError as exc:  # a required stroke missing
+        raise TypeError(f"{where}: {exc}") from None
 
 
 def _crane(name: str, where: str) -> Crane:
@@ -89,6 +106,9 @@ def from_dict(data: Mapping[str, Any], where: str = "scenario") -> Scenario:
     unknown = sorted(set(data) - allowed)
     if unknown:
         raise ValueError(f"{where}: unknown field(s) {unknown}; allowed: {sorted(allowed)}")
+    missing = sorted({"name", "horizon", "initial"} - set(data))
+    if missing:
+        raise ValueError(f"{where}: missing field(s) {missing}")
     crane = _crane(data.get("crane", "patu655"), where)
     if "load_mass" in data:
         crane = crane.with_load(data["load_mass"])
@@ -99,7 +119,7 @@ def from_dict(data: Mapping[str, Any], where: str = "scenario") -> Scenario:
         name=data["name"],
         description=data.get("description", ""),
         crane=crane,
-        initial=_initial(crane, data["initial"]),
+        initial=_initial(crane, data["initial"], f"{where}.initial"),
         inputs=Inputs(lift=_drive(inputs["lift"], f"{where}.inputs.lift"),
                       tilt=_drive(inputs["tilt"], f"{where}.inputs.tilt")),
         horizon=number(data["horizon"], f"{where}.horizon"),
