@@ -25,8 +25,10 @@ typedef struct {
     signed char mode[2];        /* CRANE__FREE, _HELD, _STOP_LO, _STOP_HI */
     signed char lo_flag[2];     /* stop flag at the lower angle limit: -1 stroke_min, +1 stroke_max
                                  * (the upper angle limit has the other one) */
-    int valve[2];               /* joint i is valve-driven */
+#if CRANE_HYDRAULICS
+    unsigned char valve[2];     /* joint i is valve-driven */
     unsigned char hyd;          /* some joint is: the state carries pressures */
+#endif
     /* The last step ended with the release rule run at its end (the next step's start time and
      * state) releasing nothing: the release at the next step's start would repeat it exactly. */
     unsigned char release_clear;
@@ -43,6 +45,19 @@ typedef struct {
     crane_real tk_th;
     crane__tilt_kin tk;
 } ctx_t;
+
+/* Joint i is valve-driven (never in a build without CRANE_HYDRAULICS, whose validation refuses
+ * valve drives; the fields are left out there to keep the stack of docs/embedding.md). */
+static inline int is_valve(const ctx_t *c, int i)
+{
+#if CRANE_HYDRAULICS
+    return c->valve[i];
+#else
+    (void)c;
+    (void)i;
+    return 0;
+#endif
+}
 
 /* The stroke at joint i's stop flag (-1: stroke_min, +1: stroke_max). */
 static crane_real flag_stroke(const ctx_t *c, int i, int flag)
@@ -182,7 +197,7 @@ static void forces(ctx_t *c, crane_real t, const xstate *x, const int act[2], cr
         if (i == CRANE_TILT) {
             ds = tk->ds;
             stroke = tk->stroke;
-        } else if (c->valve[i]) {
+        } else if (is_valve(c, i)) {
             crane__lift_from_angle(m, c0, s0, &stroke, &ds);
         } else if (cached && c->kin_has_lift) {
             ds = c->kin_ds_lift;
@@ -677,17 +692,16 @@ crane_status crane__integrate(const crane_model *m, const crane_state *s0, const
     c.kin_has_lift = 0;
     c.tk_valid = 0;
     c.release_clear = 0;
+#if CRANE_HYDRAULICS
     c.hyd = 0;
     for (i = 0; i < 2; ++i) {
-        /* without CRANE_HYDRAULICS the validation has refused valve drives */
-        c.valve[i] = CRANE_HYDRAULICS && in->drive[i].mode == CRANE_DRIVE_VALVE;
+        c.valve[i] = (unsigned char)(in->drive[i].mode == CRANE_DRIVE_VALVE);
         c.hyd = (unsigned char)(c.hyd || c.valve[i]);
-#if CRANE_HYDRAULICS
         x.p[2 * i] = c.valve[i] ? s0->p_a[i] : 0;
         x.p[2 * i + 1] = c.valve[i] ? s0->p_b[i] : 0;
         x.y[i] = c.valve[i] ? s0->spool[i] : 0;
-#endif
     }
+#endif
     for (i = 0; i < 2; ++i) {
         crane_real ds;
         c.cursor[i] = 0;
@@ -733,20 +747,21 @@ crane_status crane__integrate(const crane_model *m, const crane_state *s0, const
         const crane_real h = last ? horizon - t : dt;
 
         const crane_real t_end = last ? horizon : (crane_real)(k + 1) * dt;
-
+#if CRANE_HYDRAULICS
         long j, n_sub = 1;
         crane_real sub = h;
 
         /* docs/model.md "Hydraulics": with valve-driven joints, n equal substeps, each a full
          * step of the scheme (one call site of step, so that it stays inlined: the stack). */
-#if CRANE_HYDRAULICS
         if (c.hyd && h > 0) {
             crane_real stroke[2];
             valve_strokes(&c, &x, stroke);
-            n_sub = crane__substeps(m, stroke, c.valve, h);
+            {
+                const int valve[2] = {c.valve[0], c.valve[1]};
+                n_sub = crane__substeps(m, stroke, valve, h);
+            }
             sub = h / (crane_real)n_sub;
         }
-#endif
         for (j = 0; j < n_sub; ++j) {
             const int final = j == n_sub - 1;
             const crane_real t_sub = j == 0 ? t : t + (crane_real)j * sub;
@@ -756,6 +771,12 @@ crane_status crane__integrate(const crane_model *m, const crane_state *s0, const
                 step(&c, t_sub, &x, final ? (j == 0 ? h : t_end - t_sub) : sub,
                      final ? t_end : t_sub + sub);
         }
+#else
+        if (!c.release_clear)
+            release(&c, t, &x);
+        if (h > 0)
+            step(&c, t, &x, h, t_end);
+#endif
         if (!finite_state(&x)) {
             *n_written = next;
             return CRANE_E_DIVERGED;

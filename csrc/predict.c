@@ -155,31 +155,35 @@ static crane_status check_future(const crane_model *model, const crane_state *st
     return CRANE_OK;
 }
 
+#if CRANE_HYDRAULICS
 /* Bounded work with valve-driven cylinders (docs/model.md, "Hydraulics", "Bad input"): every step
  * may be cut into substeps, at most as many as at the stroke ends (where the chambers are
- * smallest; the last step may be up to 1.25 dt long), and those count against CRANE_MAX_STEPS.
- * *work is the most RK4 steps the prediction can take. */
+ * smallest; the last step may be up to 1.25 dt long), and those count against CRANE_MAX_STEPS
+ * (CRANE_E_STEPS) and, with total (the batch's RK4 steps so far, updated), against
+ * CRANE_MAX_BATCH_STEPS (CRANE_E_BATCH). Integer arithmetic without overflow on a 32-bit long. */
 static crane_status check_work(const crane_model *m, const crane_inputs *in, crane_real dt,
-                               long n_steps, double *work)
+                               long n_steps, long *total)
 {
-    long n_max = 1;
-#if CRANE_HYDRAULICS
     const int valve[2] = {in->drive[0].mode == CRANE_DRIVE_VALVE,
                           in->drive[1].mode == CRANE_DRIVE_VALVE};
+    long n_max = 1;
+
     if (valve[0] || valve[1]) {
         const crane_real h = dt * (crane_real)1.25;
         const long a = crane__substeps(m, m->stroke_min, valve, h);
         const long b = crane__substeps(m, m->stroke_max, valve, h);
         n_max = a > b ? a : b;
     }
-#else
-    (void)m;
-    (void)in;
-    (void)dt;
-#endif
-    *work = (double)n_steps * (double)n_max;
-    return *work <= (double)CRANE_MAX_STEPS ? CRANE_OK : CRANE_E_STEPS;
+    if (n_max > (long)CRANE_MAX_STEPS / n_steps)
+        return CRANE_E_STEPS;
+    if (total) {
+        if (n_steps * n_max > (long)CRANE_MAX_BATCH_STEPS - *total)
+            return CRANE_E_BATCH;
+        *total += n_steps * n_max;
+    }
+    return CRANE_OK;
 }
+#endif
 
 /* crane_predict_model after its NULL checks. Both entry points call it, so that crane_predict
  * does not add crane_predict_model's frame to its stack. */
@@ -191,7 +195,6 @@ static CRANE__ALWAYS_INLINE crane_status predict(const crane_model *model,
 {
     crane_status st;
     long n_steps;
-    double work;
 
     if (!crane__finite(state0->extension))
         return CRANE_E_NONFINITE;
@@ -203,9 +206,11 @@ static CRANE__ALWAYS_INLINE crane_status predict(const crane_model *model,
     st = check_future(model, state0, inputs, horizon);
     if (st != CRANE_OK)
         return st;
-    st = check_work(model, inputs, dt, n_steps, &work);
+#if CRANE_HYDRAULICS
+    st = check_work(model, inputs, dt, n_steps, NULL);
     if (st != CRANE_OK)
         return st;
+#endif
     if ((size_t)n_steps + 1 > capacity)
         return CRANE_E_CAPACITY;
 
@@ -264,7 +269,9 @@ crane_status crane_predict_many(const crane_params *params, size_t n_futures,
     crane_status st;
     size_t k, count;
     long n_steps;
-    double work, total = 0;
+#if CRANE_HYDRAULICS
+    long total = 0;   /* RK4 steps of the futures validated so far, their substeps included */
+#endif
 
     if (!failed)
         return CRANE_E_NULL;
@@ -300,16 +307,16 @@ crane_status crane_predict_many(const crane_params *params, size_t n_futures,
             }
         }
         st = check_future(&model, s, &inputs[k], horizon);
+#if CRANE_HYDRAULICS
+        /* the substeps of valve-driven futures count against the bounds too (CRANE_E_BATCH
+         * here names the future that takes the batch over) */
         if (st == CRANE_OK)
-            st = check_work(&model, &inputs[k], dt, n_steps, &work);
+            st = check_work(&model, &inputs[k], dt, n_steps, &total);
+#endif
         if (st != CRANE_OK) {
             *failed = k;
             return st;
         }
-        /* the substeps of valve-driven futures count against the batch's bound too */
-        total += work;
-        if (total > (double)CRANE_MAX_BATCH_STEPS)
-            return CRANE_E_BATCH;
     }
     for (k = 0; k < n_futures; ++k) {
         if (k == 0 || !(states[k].extension == states[k - 1].extension))
