@@ -453,6 +453,9 @@ enum { CRANE_GUARD_FIELD_KIND = 1, CRANE_GUARD_FIELD_A = 2, CRANE_GUARD_FIELD_B 
 enum { CRANE_FRAME_BASE = 0, CRANE_FRAME_LIFT = 1, CRANE_FRAME_LINK_PIN = 2, CRANE_FRAME_OUTER = 3,
        CRANE_FRAME_EXTENSION = 4 };
 enum { CRANE_GO = 0, CRANE_WARN = 1, CRANE_STOP = 2 };
+/* The largest coordinate or size a solid or part may have, m: a site, not the globe (squares of
+ * lengths stay far from overflow in float). */
+enum { CRANE_GUARD_LENGTH_MAX = 1000000 };
 
 typedef struct {
     int kind;                    /* CRANE_SOLID_* */
@@ -480,7 +483,8 @@ typedef struct {
     crane_real margin;           /* clearance below which the guard calls it a contact, m, >= 0 */
     crane_real reaction;         /* delay from the stop decision to the stop, s, >= 0 */
     crane_real cycle;            /* control cycle, s, > 0: STOP if stopping cannot wait one more */
-    crane_real time_tolerance;   /* the first contact is located within this, s, > 0 */
+    crane_real time_tolerance;   /* the first contact is located within this, s, > 0 (at least
+                                    1e-4 of the samples' spacing is used) */
     crane_real clearance_tolerance; /* per-part minima may be this much too large, m, >= 0 */
 } crane_guard_config;
 

@@ -334,7 +334,7 @@ int crane__solid_distance(const crane_solid *a, const crane_solid *b, crane_real
 
 static int finite3(const crane_real *v)
 {
-    return crane__finite(v[0]) && crane__finite(v[1]) && crane__finite(v[2]);
+    return crane__length_ok(v[0]) && crane__length_ok(v[1]) && crane__length_ok(v[2]);
 }
 
 /* Tolerance of the unit-length and orthogonality checks (float rounding of a caller's matrix). */
@@ -360,7 +360,7 @@ int crane__solid_field(const crane_solid *s)
     }
     if (s->kind == CRANE_SOLID_BOX) {
         for (i = 0; i < 3; ++i)
-            if (!(crane__finite(s->half[i]) && s->half[i] > 0))
+            if (!(crane__length_ok(s->half[i]) && s->half[i] > 0))
                 return CRANE_GUARD_FIELD_HALF;
         for (i = 0; i < 9; ++i)
             if (!crane__finite(s->axes[i]))
@@ -377,7 +377,7 @@ int crane__solid_field(const crane_solid *s)
     }
     if (s->kind != CRANE_SOLID_SPHERE && !finite3(s->b))
         return CRANE_GUARD_FIELD_B;
-    if (!(crane__finite(s->radius) && s->radius >= 0) ||
+    if (!(crane__length_ok(s->radius) && s->radius >= 0) ||
         (s->kind != CRANE_SOLID_CAPSULE && !(s->radius > 0)))
         return CRANE_GUARD_FIELD_RADIUS;
     if (s->kind == CRANE_SOLID_CYLINDER) {

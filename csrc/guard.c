@@ -278,6 +278,10 @@ static CRANE__NOINLINE int advance(scene *sc, size_t i, size_t j, const crane_re
             }
             ub = ua + (ub - ua) / 2;
         }
+        if (!(ub > ua)) { /* no progress left in this precision: cannot exclude the contact */
+            *u_hit = ua;
+            return 1;
+        }
         if (ub >= 1) {
             pose_at(sc->m, s1->theta[0], s1->theta[1], &b);
             *d_end = pair_distance(sc, i, j, &b, NULL, NULL);
@@ -303,7 +307,7 @@ static crane_status check_config(const crane_guard_config *c)
 static int anchor_ok(crane_anchor an)
 {
     return an.frame >= CRANE_FRAME_BASE && an.frame <= CRANE_FRAME_EXTENSION &&
-           crane__finite_vec(an.at);
+           crane__length_ok(an.at.x) && crane__length_ok(an.at.y);
 }
 
 static int part_field(const crane_part *p)
@@ -316,16 +320,16 @@ static int part_field(const crane_part *p)
     if (p->kind == CRANE_SOLID_CAPSULE) {
         if (!anchor_ok(p->b))
             return CRANE_GUARD_FIELD_B;
-        if (!(crane__finite(p->radius) && p->radius >= 0))
+        if (!(crane__length_ok(p->radius) && p->radius >= 0))
             return CRANE_GUARD_FIELD_RADIUS;
         return 0;
     }
-    if (!crane__finite(p->drop))
+    if (!crane__length_ok(p->drop))
         return CRANE_GUARD_FIELD_DROP;
     if (p->kind == CRANE_SOLID_SPHERE)
-        return crane__finite(p->radius) && p->radius > 0 ? 0 : CRANE_GUARD_FIELD_RADIUS;
+        return crane__length_ok(p->radius) && p->radius > 0 ? 0 : CRANE_GUARD_FIELD_RADIUS;
     for (i = 0; i < 3; ++i)
-        if (!(crane__finite(p->half[i]) && p->half[i] > 0))
+        if (!(crane__length_ok(p->half[i]) && p->half[i] > 0))
             return CRANE_GUARD_FIELD_HALF;
     return 0;
 }
@@ -430,22 +434,34 @@ static CRANE__NOINLINE void record_contact(scene *sc, crane_guard_result *r, siz
     crane__v3_store(r->on_obstacle, pb);
 }
 
+/* The time tolerance as a fraction of a step, at least 1e-4: each jump of the advancement is
+ * longer than half of it, so one pair takes at most 20,000 jumps over one step. */
+static crane_real u_tolerance(crane_real time_tolerance, crane_real h)
+{
+    const crane_real u = time_tolerance / h, u_min = (crane_real)1e-4;
+    return u > u_min ? u : u_min;
+}
+
+/* d theta_j / dt at the fraction u of the step (the Hermite angle's derivative). */
+static CRANE__NOINLINE crane_real rate_at(const crane_sample *s0, const crane_sample *s1, int j,
+                                          crane_real u)
+{
+    crane_real c[4];
+    hermite(s0, s1, j, c);
+    return (c[1] + u * (2 * c[2] + u * 3 * c[3])) / (s1->t - s0->t);
+}
+
 /* A contact of pair (i, j) at the fraction u of the step s0 -> s1: its time, pose, points and the
  * joint rates there (the Hermite angles' derivative). */
 static CRANE__NOINLINE void note_contact(scene *sc, crane_guard_result *r, size_t i, size_t j,
                                          const crane_sample *s0, const crane_sample *s1,
                                          crane_real u, crane_real omega[2])
 {
-    const crane_real h = s1->t - s0->t;
     pose p;
-    int q;
     pose_between(sc->m, s0, s1, u, &p);
-    record_contact(sc, r, i, j, s0->t + u * h, &p);
-    for (q = 0; q < 2; ++q) {
-        crane_real c[4];
-        hermite(s0, s1, q, c);
-        omega[q] = (c[1] + u * (2 * c[2] + u * 3 * c[3])) / h;
-    }
+    record_contact(sc, r, i, j, s0->t + u * (s1->t - s0->t), &p);
+    omega[0] = rate_at(s0, s1, 0, u);
+    omega[1] = rate_at(s0, s1, 1, u);
 }
 
 /* The largest excursion over the step s0 -> s1 (pose *p0 at s0) of theta0, theta1 and side link
@@ -571,7 +587,7 @@ crane_status crane_guard(const crane_model *model, const crane_part *parts, size
                 if (searching && lb <= margin) {
                     crane_real u_hit;
                     if (advance(&sc, i, j, pp, s0, s1, &prev, margin,
-                                config->time_tolerance / (s1->t - s0->t), &u_hit, &d)) {
+                                u_tolerance(config->time_tolerance, s1->t - s0->t), &u_hit, &d)) {
                         if (!found || s0->t + u_hit * (s1->t - s0->t) < result->t) {
                             note_contact(&sc, result, i, j, s0, s1, u_hit, hit_omega);
                             if (result->clearance < part_clearance[i])

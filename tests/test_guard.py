@@ -365,7 +365,7 @@ def test_malformed_world_files_name_the_obstacle_and_field(text, words):
 def test_bad_shapes_and_settings_are_named(crane):
     d = crane.to_dict()
     d["shape"]["load"]["radius"] = 0.0
-    with pytest.raises(ValueError, match=r"shape\.load\.radius must be > 0"):
+    with pytest.raises(ValueError, match=r"shape\.load\.radius must be in \(0, 1e\+06\] m"):
         cp.Crane.from_dict(d)
     d = crane.to_dict()
     d["shape"]["outer_boom"]["a"] = ["jib", 0.0, 0.0]
@@ -434,3 +434,17 @@ def test_c_guard_buffer_too_small_and_bad_obstacle_write_nothing(crane):
     # the Python layer names the obstacle and field for what reaches the core
     with pytest.raises(ValueError, match=r"obstacle 'cab' \(obstacle\[1\]\)\.size is not valid"):
         g._check_layout(g._parts(crane, crane.shape), len(crane.shape.parts), solids, world, crane.shape)
+
+
+def test_lengths_beyond_a_site_are_named(crane):
+    """Coordinates and sizes are limited to +-1e6 m (the C core's CRANE_GUARD_LENGTH_MAX), so that
+    squared lengths cannot overflow: a world file beyond that names the obstacle and field, and
+    the core rejects such a solid itself."""
+    with pytest.raises(ValueError, match=r"obstacle 'far' \(obstacle\[0\]\)\.centre\[0\] must be within"):
+        cp.World.from_toml_string("margin = 0.1\n[[obstacle]]\nname = 'far'\nkind = 'sphere'\n"
+                                  "centre = [1e7, 0, 0]\nradius = 1")
+    from test_guard_geometry import _solid
+
+    field = ffi.new("int *")
+    far = _solid({"kind": "sphere", "a": np.array([2e6, 0.0, 0.0]), "r": 1.0})
+    assert lib.crane_solid_check(far, field) == lib.CRANE_E_SOLID and field[0] == lib.CRANE_GUARD_FIELD_A
