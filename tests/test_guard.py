@@ -448,3 +448,12 @@ def test_lengths_beyond_a_site_are_named(crane):
     field = ffi.new("int *")
     far = _solid({"kind": "sphere", "a": np.array([2e6, 0.0, 0.0]), "r": 1.0})
     assert lib.crane_solid_check(far, field) == lib.CRANE_E_SOLID and field[0] == lib.CRANE_GUARD_FIELD_A
+
+
+def test_an_empty_world_is_go_and_its_json_is_valid(crane):
+    import json
+
+    v = cp.guard(crane, _world(0.1), REST, HELD, 0.5)
+    assert v.signal == "GO" and all(math.isinf(c) for c in v.clearance.values())
+    d = json.loads(json.dumps(v.to_dict(), allow_nan=False))
+    assert d["min_clearance_m"]["load"] is None

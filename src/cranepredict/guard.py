@@ -143,7 +143,10 @@ class Verdict:
         c = self.contact
         out: dict = {"signal": self.signal, "reason": self.reason, "world": self.world.name,
                      "margin_m": self.margin, "horizon_s": self.horizon,
-                     "min_clearance_m": dict(self.clearance), "evaluations": self.evaluations,
+                     # None: no obstacle to measure against (JSON has no infinity)
+                     "min_clearance_m": {k: (c if math.isfinite(c) else None)
+                                         for k, c in self.clearance.items()},
+                     "evaluations": self.evaluations,
                      "contact": None, "stop": None}
         if c is not None:
             out["contact"] = {"t_s": c.t, "part": c.part, "obstacle": c.obstacle,
