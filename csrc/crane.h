@@ -52,6 +52,10 @@ typedef enum {
     CRANE_E_SAMPLE_COUNT = 24,  /* more than CRANE_MAX_SAMPLES samples in one call (horizon, dt,
                                    sample_every, n_futures) */
     CRANE_E_BATCH = 25,         /* n_futures x steps over CRANE_MAX_BATCH_STEPS in one call */
+    CRANE_E_HYDRAULICS = 26,    /* a hydraulic parameter out of range (docs/model.md, Hydraulics) */
+    CRANE_E_VALVE = 27,         /* a lever outside [-1, 1], a valve drive without hydraulics (or
+                                 * in a build without CRANE_HYDRAULICS), or a chamber pressure /
+                                 * spool of the state out of range */
     /* the collision guard (docs/guard.md) */
     CRANE_E_SOLID = 40,         /* a solid (obstacle) is not valid, or a pair of two planes */
     CRANE_E_PART = 41,          /* a crane part is not valid */
@@ -59,9 +63,11 @@ typedef enum {
 } crane_status;
 
 enum { CRANE_LIFT = 0, CRANE_TILT = 1 };
-enum { CRANE_DRIVE_PRESSURE = 0, CRANE_DRIVE_HOLD = 1 };
+enum { CRANE_DRIVE_PRESSURE = 0, CRANE_DRIVE_HOLD = 1, CRANE_DRIVE_VALVE = 2 };
+enum { CRANE_VALVE_NONE = 0, CRANE_VALVE_ORIFICE = 1, CRANE_VALVE_COMPENSATED = 2 };
 enum { CRANE_N_POINTS = 11 };
 enum { CRANE_PRESSURE_MAX = 100000000 };   /* Pa (1000 bar): the largest pressure accepted */
+enum { CRANE_CHAMBER_PRESSURE_MIN = -100000 };  /* Pa gauge (vacuum): the lowest chamber pressure */
 
 /* Bounded work and memory: checked before anything runs or is written (CRANE_E_STEPS,
  * CRANE_E_SAMPLE_COUNT, CRANE_E_BATCH), so that no accepted call runs for more than seconds
@@ -98,6 +104,27 @@ typedef struct {
     crane_real factor;             /* k >= 0: multiplies F_C and F_S, not sigma ([S1]: 4 on the lift) */
 } crane_friction;
 
+/* A cylinder's valve and oil (docs/model.md, "Hydraulics"); SI: Pa, m^3, m^3/s, s. */
+typedef struct {
+    int valve;                       /* CRANE_VALVE_NONE (no circuit: cannot be valve-driven),
+                                      * CRANE_VALVE_ORIFICE or CRANE_VALVE_COMPENSATED */
+    crane_real supply_pressure;      /* p_S */
+    crane_real tank_pressure;        /* p_T */
+    crane_real relief_pressure;      /* port relief setting p_R */
+    crane_real nominal_flow;         /* orifice: at full opening and nominal_pressure_drop;
+                                      * compensated: the meter-in flow at full opening */
+    crane_real nominal_pressure_drop;
+    crane_real dead_band;            /* compensated: u0 in [0, 0.99]; orifice: 0 */
+    crane_real meter_out_flow;       /* compensated: meter-out orifice, flow at ... */
+    crane_real meter_out_pressure_drop;   /* ... this pressure drop */
+    crane_real spool_time_constant;  /* s; 0 = no spool lag */
+    crane_real laminar_pressure_drop;     /* d_l > 0: width of the laminar region */
+    crane_real cavitation_pressure;  /* anti-cavitation valve opens below this */
+    crane_real hose_volume_a, hose_volume_b;   /* dead volumes, m^3 */
+    crane_real oil_bulk_modulus, hose_bulk_modulus, cylinder_bulk_modulus;
+    crane_real leakage;              /* m^3/(s Pa) across the piston; 0 = none */
+} crane_hydraulics;
+
 typedef struct {
     crane_real bore;               /* piston diameter, m */
     crane_real rod;                /* rod diameter, m */
@@ -105,6 +132,7 @@ typedef struct {
     crane_real stroke_min;         /* end stops, m */
     crane_real stroke_max;
     crane_friction friction;
+    crane_hydraulics hydraulics;   /* .valve = CRANE_VALVE_NONE when the crane file has none */
 } crane_cylinder;
 
 typedef struct {
@@ -179,6 +207,24 @@ typedef enum {
     CRANE_FIELD_LIFT_CYLINDER_FRICTION_VISCOUS,
     CRANE_FIELD_LIFT_CYLINDER_FRICTION_STRIBECK_VELOCITY,
     CRANE_FIELD_LIFT_CYLINDER_FRICTION_FACTOR,
+    CRANE_FIELD_LIFT_CYLINDER_HYDRAULICS_VALVE,
+    CRANE_FIELD_LIFT_CYLINDER_HYDRAULICS_SUPPLY_PRESSURE,
+    CRANE_FIELD_LIFT_CYLINDER_HYDRAULICS_TANK_PRESSURE,
+    CRANE_FIELD_LIFT_CYLINDER_HYDRAULICS_RELIEF_PRESSURE,
+    CRANE_FIELD_LIFT_CYLINDER_HYDRAULICS_NOMINAL_FLOW,
+    CRANE_FIELD_LIFT_CYLINDER_HYDRAULICS_NOMINAL_PRESSURE_DROP,
+    CRANE_FIELD_LIFT_CYLINDER_HYDRAULICS_DEAD_BAND,
+    CRANE_FIELD_LIFT_CYLINDER_HYDRAULICS_METER_OUT_FLOW,
+    CRANE_FIELD_LIFT_CYLINDER_HYDRAULICS_METER_OUT_PRESSURE_DROP,
+    CRANE_FIELD_LIFT_CYLINDER_HYDRAULICS_SPOOL_TIME_CONSTANT,
+    CRANE_FIELD_LIFT_CYLINDER_HYDRAULICS_LAMINAR_PRESSURE_DROP,
+    CRANE_FIELD_LIFT_CYLINDER_HYDRAULICS_CAVITATION_PRESSURE,
+    CRANE_FIELD_LIFT_CYLINDER_HYDRAULICS_HOSE_VOLUME_A,
+    CRANE_FIELD_LIFT_CYLINDER_HYDRAULICS_HOSE_VOLUME_B,
+    CRANE_FIELD_LIFT_CYLINDER_HYDRAULICS_OIL_BULK_MODULUS,
+    CRANE_FIELD_LIFT_CYLINDER_HYDRAULICS_HOSE_BULK_MODULUS,
+    CRANE_FIELD_LIFT_CYLINDER_HYDRAULICS_CYLINDER_BULK_MODULUS,
+    CRANE_FIELD_LIFT_CYLINDER_HYDRAULICS_LEAKAGE,
     CRANE_FIELD_TILT_CYLINDER_BORE,
     CRANE_FIELD_TILT_CYLINDER_ROD,
     CRANE_FIELD_TILT_CYLINDER_LENGTH_RETRACTED,
@@ -189,6 +235,24 @@ typedef enum {
     CRANE_FIELD_TILT_CYLINDER_FRICTION_VISCOUS,
     CRANE_FIELD_TILT_CYLINDER_FRICTION_STRIBECK_VELOCITY,
     CRANE_FIELD_TILT_CYLINDER_FRICTION_FACTOR,
+    CRANE_FIELD_TILT_CYLINDER_HYDRAULICS_VALVE,
+    CRANE_FIELD_TILT_CYLINDER_HYDRAULICS_SUPPLY_PRESSURE,
+    CRANE_FIELD_TILT_CYLINDER_HYDRAULICS_TANK_PRESSURE,
+    CRANE_FIELD_TILT_CYLINDER_HYDRAULICS_RELIEF_PRESSURE,
+    CRANE_FIELD_TILT_CYLINDER_HYDRAULICS_NOMINAL_FLOW,
+    CRANE_FIELD_TILT_CYLINDER_HYDRAULICS_NOMINAL_PRESSURE_DROP,
+    CRANE_FIELD_TILT_CYLINDER_HYDRAULICS_DEAD_BAND,
+    CRANE_FIELD_TILT_CYLINDER_HYDRAULICS_METER_OUT_FLOW,
+    CRANE_FIELD_TILT_CYLINDER_HYDRAULICS_METER_OUT_PRESSURE_DROP,
+    CRANE_FIELD_TILT_CYLINDER_HYDRAULICS_SPOOL_TIME_CONSTANT,
+    CRANE_FIELD_TILT_CYLINDER_HYDRAULICS_LAMINAR_PRESSURE_DROP,
+    CRANE_FIELD_TILT_CYLINDER_HYDRAULICS_CAVITATION_PRESSURE,
+    CRANE_FIELD_TILT_CYLINDER_HYDRAULICS_HOSE_VOLUME_A,
+    CRANE_FIELD_TILT_CYLINDER_HYDRAULICS_HOSE_VOLUME_B,
+    CRANE_FIELD_TILT_CYLINDER_HYDRAULICS_OIL_BULK_MODULUS,
+    CRANE_FIELD_TILT_CYLINDER_HYDRAULICS_HOSE_BULK_MODULUS,
+    CRANE_FIELD_TILT_CYLINDER_HYDRAULICS_CYLINDER_BULK_MODULUS,
+    CRANE_FIELD_TILT_CYLINDER_HYDRAULICS_LEAKAGE,
     CRANE_FIELD_COUNT
 } crane_field;
 
@@ -197,6 +261,9 @@ typedef struct {
     crane_real stroke_rate[2];   /* m/s; 0 = at rest; must be 0 for a held cylinder */
     crane_real slew;             /* rad, about the vertical axis; constant during a prediction */
     crane_real extension;        /* m; constant during a prediction */
+    /* A valve-driven cylinder's chamber pressures (Pa gauge, in [CRANE_CHAMBER_PRESSURE_MIN,
+     * CRANE_PRESSURE_MAX]) and spool position (in [-1, 1]; read only with a spool lag). */
+    crane_real p_a[2], p_b[2], spool[2];
 } crane_state;
 
 typedef struct {
@@ -206,7 +273,9 @@ typedef struct {
     const crane_real *t;         /* n_samples sample times, s, strictly increasing */
     const crane_real *p_a_samples;
     const crane_real *p_b_samples;
-    size_t n_samples;            /* 0: constant pressures */
+    size_t n_samples;            /* 0: constant pressures (or lever) */
+    crane_real u;                /* CRANE_DRIVE_VALVE: the lever in [-1, 1] (n_samples == 0) */
+    const crane_real *u_samples; /* CRANE_DRIVE_VALVE: the lever at the times t */
 } crane_drive;
 
 typedef struct {
@@ -220,6 +289,11 @@ typedef struct {
     crane_real omega[2];         /* rad/s */
     crane_real tip[3];           /* world, m */
     int stop[2];                 /* -1 at stroke_min, +1 at stroke_max, 0 otherwise (cylinder terms) */
+    crane_real p_a[2], p_b[2];   /* Pa: valve: the chamber pressures; pressure drive: the given
+                                  * ones at t; held: 0 */
+    crane_real flow_a[2];        /* m^3/s: the valve's flow into the bore side (0 unless valve) */
+    crane_real flow_b[2];        /* m^3/s: the valve's flow out of the rod side (0 unless valve) */
+    crane_real spool[2];         /* the spool position (0 unless valve-driven) */
 } crane_sample;
 
 /* Derived constants of one crane at one extension e (docs/model.md's symbols): filled by
@@ -272,6 +346,7 @@ typedef struct {
     crane_real link_ca[2], link_cb[2];     /* com = ca v + cb perp(v) with v = link_pin (link 1),
                                               link2_end (link 2): ca = com.v / |v|^2,
                                               cb = cross(v, com) / |v|^2 */
+    const crane_hydraulics *hyd[2];        /* the params' circuits (NULL: none), not copied */
 } crane_model;
 
 /* The crane's rules, the one validator of a crane (the Python layer and tools/crane2header.py call
@@ -288,6 +363,8 @@ const char *crane_field_rule(crane_field field);
 
 /* crane_params_check, then the extension against [extension_min, extension_max], then derives
  * the model constants. On an error *model is left untouched. */
+/* A model of a crane with hydraulics refers to params->cylinder[i].hydraulics (so that a model
+ * on a small stack stays small): keep params alive and unchanged while the model is used. */
 crane_status crane_model_init(crane_model *model, const crane_params *params, crane_real extension);
 
 /* Number of samples a prediction writes: ceil(horizon/dt - 1e-9) + 1. */

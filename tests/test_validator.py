@@ -58,6 +58,8 @@ def test_every_crane_field_code_is_a_field_of_the_crane_file(crane):
 def test_each_field_made_nonfinite_is_named_by_the_core(crane):
     # Built directly, so that no Python check runs first: the names come from the core's codes.
     for name, value in _numeric_leaves(crane):
+        if isinstance(value, str):   # hydraulics.valve: a name (crane.py checks it), an enum in C
+            continue
         bad = (math.nan, value[1]) if isinstance(value, tuple) else math.inf
         with pytest.raises(ValueError, match=rf"^{name.replace('.', '[.]')} must be finite"):
             _replace(crane, name, bad)

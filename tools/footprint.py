@@ -31,9 +31,9 @@ import subprocess
 import sys
 import tempfile
 
-BUDGET = {"data+bss": 1024, "stack": 1024, "text": 16 * 1024, "guard text": 10 * 1024}
+BUDGET = {"data+bss": 1024, "stack": 1024, "text": 24 * 1024, "guard text": 10 * 1024}
 # The collision guard (issue 10) is an optional module: a controller that only predicts does not
-# link it (--gc-sections). Its code has its own budget; the 16 kB of issue 5 stay the prediction's.
+# link it (--gc-sections). Its code has its own budget; the prediction's is 24 kB since issue 9.
 GUARD_OBJECTS = {"geometry.o", "guard.o"}
 
 

@@ -44,7 +44,7 @@
 #include "crane_patu655.h"
 #include "crane_scenarios.h"
 
-#define CRANE_STATUS_LAST CRANE_E_BATCH
+#define CRANE_STATUS_LAST CRANE_E_VALVE
 #define MAX_SAMPLES 16   /* pressure samples per cylinder */
 #define MAX_CAPACITY 600 /* output samples (bounds the work per input) */
 #define MAX_POSES 4      /* crane_points poses */
@@ -239,6 +239,7 @@ static void decode(universe *u, const uint8_t *data, size_t size)
             u->inputs.drive[n].t = NULL;
             u->inputs.drive[n].p_a_samples = NULL;
             u->inputs.drive[n].p_b_samples = NULL;
+            u->inputs.drive[n].u_samples = NULL;
         }
         u->capacity %= (MAX_CAPACITY + 1);
         u->n_poses %= (MAX_POSES + 1);
@@ -398,6 +399,8 @@ static void run_predict(const universe *u)
         inputs.drive[i].t = ts[i];
         inputs.drive[i].p_a_samples = pas[i];
         inputs.drive[i].p_b_samples = pbs[i];
+        /* a valve drive's lever samples (mostly outside [-1, 1]: CRANE_E_VALVE; the pointer is ours) */
+        inputs.drive[i].u_samples = pas[i];
     }
     /* exactly cap samples (one byte if cap is 0), canary-filled */
     out = (crane_sample *)malloc(cap ? cap * sizeof *out : 1);
