@@ -65,9 +65,14 @@ def _r(x: float) -> str:
     return f"CRANE_R({_lit(x)})"
 
 
-def _r0(x) -> str:
-    """A state's optional chamber pressure or spool (None: not valve-driven, 0 in C)."""
-    return _r(0.0 if x is None else x)
+def _chambers(s) -> str:
+    """The state's chamber pressures and spools (valve-driven cylinders, issue 9), if any."""
+    p = [s.lift_p_a, s.tilt_p_a, s.lift_p_b, s.tilt_p_b]
+    if all(v is None for v in p) and s.lift_spool == 0 and s.tilt_spool == 0:
+        return ""
+    p = [0.0 if v is None else v for v in p]
+    return (f", \\\n    .p_a = {{{_r(p[0])}, {_r(p[1])}}}, .p_b = {{{_r(p[2])}, {_r(p[3])}}}, "
+            f".spool = {{{_r(s.lift_spool)}, {_r(s.tilt_spool)}}}")
 
 
 def _drive(d) -> str | None:
@@ -129,10 +134,8 @@ def scenarios_header() -> str:
         out.append(f"#define CRANE_SCENARIO_{x}_STATE {{ \\\n"
                    f"    .stroke = {{{_r(s.lift_stroke)}, {_r(s.tilt_stroke)}}}, \\\n"
                    f"    .stroke_rate = {{{_r(s.lift_stroke_rate)}, {_r(s.tilt_stroke_rate)}}}, \\\n"
-                   f"    .slew = {_r(s.slew)}, .extension = {_r(s.extension)}, \\\n"
-                   f"    .p_a = {{{_r0(s.lift_p_a)}, {_r0(s.tilt_p_a)}}}, "
-                   f".p_b = {{{_r0(s.lift_p_b)}, {_r0(s.tilt_p_b)}}}, \\\n"
-                   f"    .spool = {{{_r0(s.lift_spool)}, {_r0(s.tilt_spool)}}}}}")
+                   f"    .slew = {_r(s.slew)}, .extension = {_r(s.extension)}"
+                   + _chambers(s) + "}")
         out.append(f"#define CRANE_SCENARIO_{x}_INPUTS {{.drive = {{ \\\n"
                    f"    {_drive(sc.inputs.lift)}, \\\n    {_drive(sc.inputs.tilt)}}}}}")
         out.append(f"#define CRANE_SCENARIO_{x}_HORIZON {_r(sc.horizon)}")
