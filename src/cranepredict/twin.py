@@ -182,6 +182,7 @@ class _LinkPose(NamedTuple):
     d2: Vec          #: side link 2's centre of mass, Q + R(phi2) cL2
     e2: Vec          #: R(phi2) cL2
     j2: Vec          #: side link 2's centre-of-mass velocity per unit tilt rate, v2/u
+    stroke: float    #: the tilt stroke at this angle
 
 
 class _Configuration(NamedTuple):
@@ -194,6 +195,7 @@ class _Configuration(NamedTuple):
     dot products, cross products and perp."""
 
     ratio: Pair      #: (ds/dtheta0, ds/dtheta1)
+    tilt_stroke: float  #: the tilt stroke (from the four-bar pose)
     r12: Vec         #: R(theta0) O2
     cc1: Vec         #: R(theta0) c1
     cc2: Vec         #: R(theta0 + theta1) c2
@@ -531,9 +533,10 @@ class TwinModel:
         # v1 = dphi1 perp(e1), v2 = dQ + dphi2 perp(e2), dQ = dphi1 perp(Q - P1); per unit u
         j1 = (-k1 * e1[1], k1 * e1[0])
         j2 = (-k1 * arm_q[1] - k2 * e2[1], k1 * arm_q[0] + k2 * e2[0])
-        ratio = self._tilt_ratio(q, a, _norm(_sub(q, self.tilt_cylinder_base)))
+        length = _norm(_sub(q, self.tilt_cylinder_base))
+        ratio = self._tilt_ratio(q, a, length)
         pose = _LinkPose(theta, ratio, arm_a, arm_q, link, den1, den2, k1, k2,
-                         d1, e1, j1, d2, e2, j2)
+                         d1, e1, j1, d2, e2, j2, length - self.length_retracted[TILT])
         self._pose = pose
         return pose
 
@@ -568,7 +571,7 @@ class TwinModel:
 
         pose = self._link_pose(th1)
         return _Configuration(
-            (self._lift_transmission(th0), pose.ratio),
+            (self._lift_transmission(th0), pose.ratio), pose.stroke,
             rot(self.tilt_pivot), rot(self.c1), _rotate(th0 + th1, self.c2),
             rot(pose.arm_a), rot(pose.arm_q), rot(pose.link), pose.den1, pose.den2,
             pose.k1, pose.k2,
@@ -770,9 +773,143 @@ class _PressureDrive:
                 self.p_b[k] + s * (self.p_b[k + 1] - self.p_b[k]))
 
 
-def _drive(drive: Any) -> Optional[_PressureDrive]:
-    """None for a held cylinder, else its pressure drive."""
-    return None if getattr(drive, "held", False) else _PressureDrive(drive)
+def _signed_root(dp: float, laminar: float) -> float:
+    """The orifice law g(dp) of docs/model.md: sign(dp) sqrt|dp|, replaced for |dp| < laminar by
+    the odd cubic that meets it with the same value and slope (so the flow stays Lipschitz)."""
+    if dp >= laminar:
+        return math.sqrt(dp)
+    if dp <= -laminar:
+        return -math.sqrt(-dp)
+    x = dp / laminar
+    return math.sqrt(laminar) * x * (5.0 - x * x) * 0.25
+
+
+def _saturation(x: float) -> float:
+    """phi(x) of the compensated valve's meter-in edge: 0 below 0, 1 above 1, C1 in between."""
+    if x <= 0.0:
+        return 0.0
+    if x >= 1.0:
+        return 1.0
+    return x * (3.0 - x * x) * 0.5
+
+
+class _ValveDrive:
+    """A valve-driven cylinder: the lever signal and the circuit of docs/model.md "Hydraulics"."""
+
+    def __init__(self, drive: Any, cylinder: Any) -> None:
+        hyd = cylinder.hydraulics
+        times = getattr(drive, "t", None)
+        if times is None:
+            self.times: Optional[List[float]] = None
+            self.u: Any = float(drive.u)
+        else:
+            self.times = [float(x) for x in times]
+            self.u = [float(x) for x in drive.u]
+        self.compensated = hyd.valve == "compensated"
+        self.p_s = float(hyd.supply_pressure)
+        self.p_t = float(hyd.tank_pressure)
+        self.p_r = float(hyd.relief_pressure)
+        self.p_c = float(hyd.cavitation_pressure)
+        self.laminar = float(hyd.laminar_pressure_drop)
+        self.q_n = float(hyd.nominal_flow)
+        self.k = self.q_n / math.sqrt(float(hyd.nominal_pressure_drop))
+        self.dead_band = float(hyd.dead_band)
+        if self.compensated:
+            self.k_m = float(hyd.meter_out_flow) / math.sqrt(float(hyd.meter_out_pressure_drop))
+            self.gradient = max(1.25 * self.k_m / math.sqrt(self.laminar),
+                                1.5 * self.q_n / self.laminar)
+        else:
+            self.k_m = 0.0
+            self.gradient = 1.25 * self.k / math.sqrt(self.laminar)
+        self.tau = float(hyd.spool_time_constant)
+        self.leakage = float(hyd.leakage)
+        self.v_hose = (float(hyd.hose_volume_a), float(hyd.hose_volume_b))
+        self.b_oil = float(hyd.oil_bulk_modulus)
+        self.b_hose = float(hyd.hose_bulk_modulus)
+        self.b_cyl = float(hyd.cylinder_bulk_modulus)
+        self.area_a = math.pi * float(cylinder.bore) ** 2 / 4.0
+        self.area_b = math.pi * (float(cylinder.bore) ** 2 - float(cylinder.rod) ** 2) / 4.0
+        self.stroke_min = float(cylinder.stroke_min)
+        self.stroke_max = float(cylinder.stroke_max)
+
+    def lever(self, t: float) -> float:
+        if self.times is None:
+            return self.u
+        ts = self.times
+        k = bisect_right(ts, t) - 1
+        k = min(max(k, 0), len(ts) - 2)
+        s = (t - ts[k]) / (ts[k + 1] - ts[k])
+        return self.u[k] + s * (self.u[k + 1] - self.u[k])
+
+    def volumes(self, stroke: float) -> Pair:
+        return (self.v_hose[0] + self.area_a * (stroke - self.stroke_min),
+                self.v_hose[1] + self.area_b * (self.stroke_max - stroke))
+
+    def compliance(self, volume: float, side: int) -> float:
+        """C(V) = V / Be: the oil, the cylinder wall and the hose in series."""
+        v_hose = self.v_hose[side]
+        return volume / self.b_oil + (volume - v_hose) / self.b_cyl + v_hose / self.b_hose
+
+    def flows(self, y: float, p_a: float, p_b: float) -> Pair:
+        """(Q_a into the bore side, Q_b out of the rod side) through the valve at spool y."""
+        lam = self.laminar
+        if not self.compensated:
+            k = y * self.k
+            if y >= 0.0:
+                return k * _signed_root(self.p_s - p_a, lam), k * _signed_root(p_b - self.p_t, lam)
+            return k * _signed_root(p_a - self.p_t, lam), k * _signed_root(self.p_s - p_b, lam)
+        u0 = self.dead_band
+        if y > u0:
+            r = (y - u0) / (1.0 - u0)
+            return (r * self.q_n * _saturation((self.p_s - p_a) / lam),
+                    r * self.k_m * _signed_root(p_b - self.p_t, lam))
+        if y < -u0:
+            r = (-y - u0) / (1.0 - u0)
+            return (-r * self.k_m * _signed_root(p_a - self.p_t, lam),
+                    -r * self.q_n * _saturation((self.p_s - p_b) / lam))
+        return 0.0, 0.0
+
+    def limit_flow(self, p: float) -> float:
+        """Relief (above p_R, to tank) and anti-cavitation (below p_C, from tank) into a chamber."""
+        if p < self.p_c:
+            return self.gradient * (self.p_c - p)
+        if p > self.p_r:
+            return -self.gradient * (p - self.p_r)
+        return 0.0
+
+    def rates(self, t: float, stroke: float, v: float, p_a: float, p_b: float,
+              y: float) -> Tuple[float, float, float]:
+        """(dp_a/dt, dp_b/dt, dy/dt) of the chamber equations."""
+        if self.tau > 0.0:
+            dy = (self.lever(t) - y) / self.tau
+        else:
+            y = self.lever(t)
+            dy = 0.0
+        q_a, q_b = self.flows(y, p_a, p_b)
+        v_a, v_b = self.volumes(stroke)
+        q_l = self.leakage * (p_a - p_b)
+        dp_a = (q_a - self.area_a * v - q_l + self.limit_flow(p_a)) / self.compliance(v_a, 0)
+        dp_b = (self.area_b * v - q_b + q_l + self.limit_flow(p_b)) / self.compliance(v_b, 1)
+        return dp_a, dp_b, dy
+
+    def stiffness(self, stroke: float) -> float:
+        """lambda of docs/model.md: the bound of both chambers' self-feedback rate at this stroke."""
+        v_a, v_b = self.volumes(stroke)
+        g = 2.0 * self.gradient + self.leakage
+        return max(g / self.compliance(v_a, 0), g / self.compliance(v_b, 1))
+
+
+#: Substeps keep lambda h/n below this (RK4 is stable on the negative real axis up to 2.785).
+SUBSTEP_STABILITY = 2.5
+
+
+def _drive(drive: Any, cylinder: Any = None) -> Any:
+    """None for a held cylinder, else its pressure or valve drive."""
+    if getattr(drive, "held", False):
+        return None
+    if hasattr(drive, "u"):
+        return _ValveDrive(drive, cylinder)
+    return _PressureDrive(drive)
 
 
 # --------------------------------------------------------------------------------------------
@@ -789,6 +926,10 @@ class _Prediction:
         self.model = model
         self.drives = tuple(drives)
         self.held = tuple(d is None for d in drives)
+        #: the valve-driven joints; with any, the state is 10 long: (theta0, theta1, omega0,
+        #: omega1, p_a0, p_b0, p_a1, p_b1, y0, y1), entries of other joints unused (kept at 0)
+        self.valve = tuple(isinstance(d, _ValveDrive) for d in drives)
+        self.hydraulic = any(self.valve)
         #: stop[j]: 0 not stopped, -1 at the lower angle limit, +1 at the upper (angle terms;
         #: the reported flag is converted to cylinder terms by TwinModel.stop_flag)
         self.stop = [0, 0]
@@ -808,20 +949,76 @@ class _Prediction:
         model = self.model
         conf = model._configuration((x[0], x[1]))
         omega = (x[2], x[3])
-        return model._forward_dynamics(conf, omega, self.torques(t, conf, omega, locked), locked)
+        return model._forward_dynamics(conf, omega, self.torques(t, conf, omega, locked, x), locked)
 
     def torques(self, t: float, conf: _Configuration, omega: Pair,
-                locked: Sequence[bool]) -> Pair:
+                locked: Sequence[bool], x: Sequence[float]) -> Pair:
         """Cylinder torques at time t of the joints that are not locked (0 for the others)."""
         tau = [0.0, 0.0]
         for j in (LIFT, TILT):
             if not locked[j]:
-                p_a, p_b = self.drives[j].pressures(t)  # type: ignore[union-attr]
+                if self.valve[j]:
+                    p_a, p_b = x[4 + 2 * j], x[5 + 2 * j]
+                else:
+                    p_a, p_b = self.drives[j].pressures(t)  # type: ignore[union-attr]
                 tau[j] = self.model._joint_torque(j, conf.ratio[j], omega[j], p_a, p_b)
         return tau[0], tau[1]
 
+    def stroke(self, j: int, theta: float, conf: Optional[_Configuration] = None) -> float:
+        """Joint j's stroke: its limit on a stop, else from the angle."""
+        if self.stop[j] != 0:
+            return self.model.stroke_at_stop[j][self.stop[j]]
+        if j == LIFT:
+            return self.model.lift_stroke(theta)
+        return conf.tilt_stroke if conf is not None else self.model.tilt_stroke(theta)
+
+    def derivative(self, t: float, x: Sequence[float], locked: Tuple[bool, bool]) -> Tuple[float, ...]:
+        """d/dt of the 10-long hydraulic state: omega, alpha, the chamber pressures, the spools."""
+        model = self.model
+        conf = model._configuration((x[0], x[1]))
+        omega = (x[2], x[3])
+        if locked[0] and locked[1]:
+            alpha: Pair = (0.0, 0.0)
+        else:
+            alpha = model._forward_dynamics(conf, omega, self.torques(t, conf, omega, locked, x),
+                                            locked)
+        d = [x[2], x[3], alpha[0], alpha[1],
+             0.0, 0.0, 0.0, 0.0, 0.0, 0.0]
+        for j in (LIFT, TILT):
+            if not self.valve[j]:
+                continue
+            v = 0.0 if locked[j] else conf.ratio[j] * omega[j]
+            d[4 + 2 * j], d[5 + 2 * j], d[8 + j] = self.drives[j].rates(  # type: ignore[union-attr]
+                t, self.stroke(j, x[j], conf), v, x[4 + 2 * j], x[5 + 2 * j], x[8 + j])
+        return tuple(d)
+
+    def rk4_hydraulic(self, t: float, x: Sequence[float], h: float,
+                      locked: Tuple[bool, bool]) -> Tuple[float, ...]:
+        """Classical RK4 on the whole hydraulic state (docs/model.md, "Hydraulics")."""
+        half = 0.5 * h
+        k1 = self.derivative(t, x, locked)
+        x2 = tuple(a + half * b for a, b in zip(x, k1))
+        k2 = self.derivative(t + half, x2, locked)
+        x3 = tuple(a + half * b for a, b in zip(x, k2))
+        k3 = self.derivative(t + half, x3, locked)
+        x4 = tuple(a + h * b for a, b in zip(x, k3))
+        k4 = self.derivative(t + h, x4, locked)
+        sixth = h / 6.0
+        return tuple(a + sixth * (b1 + 2.0 * b2 + 2.0 * b3 + b4)
+                     for a, b1, b2, b3, b4 in zip(x, k1, k2, k3, k4))
+
+    def substeps(self, x: Sequence[float], h: float) -> int:
+        """n = max(1, ceil(h Lambda / 2.5)), Lambda from the chamber volumes at the step's start."""
+        lam = 0.0
+        for j in (LIFT, TILT):
+            if self.valve[j]:
+                lam = max(lam, self.drives[j].stiffness(self.stroke(j, x[j])))  # type: ignore
+        return max(1, int(math.ceil(h * lam / SUBSTEP_STABILITY)))
+
     def rk4(self, t: float, x: State4, h: float, locked: Tuple[bool, bool]) -> State4:
-        """One classical RK4 step of size h on (theta, omega)."""
+        """One classical RK4 step of size h on (theta, omega) (and the pressures, if any)."""
+        if self.hydraulic:
+            return self.rk4_hydraulic(t, x, h, locked)  # type: ignore[return-value]
         th0, th1, w0, w1 = x
         half = 0.5 * h
         k1 = self.acceleration(t, x, locked)
@@ -853,7 +1050,7 @@ class _Prediction:
             w[1] -= minv[1][joint] * scale
         w[joint] = 0.0
         self.stop[joint] = side
-        return (th[0], th[1], w[0], w[1])
+        return (th[0], th[1], w[0], w[1]) + tuple(x[4:])  # type: ignore[return-value]
 
     def stop_at_start(self, x: State4, strokes: Pair, rates: Pair) -> State4:
         """t = 0 rule: a free joint at a stroke limit whose stroke rate does not point into the
@@ -904,7 +1101,7 @@ class _Prediction:
         conf = m._configuration((x[0], x[1]))
         omega = (x[2], x[3])
         h = m._inverse_dynamics(conf, omega, (0.0, 0.0), m.gravity)
-        tau = self.torques(t, conf, omega, self.held)
+        tau = self.torques(t, conf, omega, self.held, x)
         net = (tau[0] - h[0], tau[1] - h[1])
         mass: Optional[Matrix2] = None   # only a candidate that moves a joint needs M
         stopped = [self.stop[j] != 0 for j in (LIFT, TILT)]
@@ -1038,7 +1235,8 @@ def _run(crane: Any, state: Any, inputs: Any, horizon: float, dt: float
     horizon = float(horizon)
     dt = float(dt)
     model = TwinModel(crane, state.extension)
-    pred = _Prediction(model, (_drive(inputs.lift), _drive(inputs.tilt)))
+    pred = _Prediction(model, (_drive(inputs.lift, crane.lift_cylinder),
+                               _drive(inputs.tilt, crane.tilt_cylinder)))
     slew = float(state.slew)
 
     strokes0 = (float(state.lift_stroke), float(state.tilt_stroke))
@@ -1049,15 +1247,40 @@ def _run(crane: Any, state: Any, inputs: Any, horizon: float, dt: float
         theta0[j], ratio = model.joint_angle(j, strokes0[j])
         omega0[j] = 0.0 if pred.held[j] else rates0[j] / ratio
     x: State4 = (theta0[0], theta0[1], omega0[0], omega0[1])
+    if pred.hydraulic:
+        hyd = [0.0] * 6
+        for j, name in ((LIFT, "lift"), (TILT, "tilt")):
+            if pred.valve[j]:
+                hyd[2 * j] = float(getattr(state, f"{name}_p_a"))
+                hyd[2 * j + 1] = float(getattr(state, f"{name}_p_b"))
+                hyd[4 + j] = float(getattr(state, f"{name}_spool"))
+        x = x + tuple(hyd)  # type: ignore[assignment]
     x = pred.stop_at_start(x, strokes0, rates0)
 
     n = int(math.ceil(horizon / dt - 1e-9))
+    if pred.hydraulic:
+        # docs/model.md "Hydraulics", bad input: the worst-case substeps (at the stroke ends, where
+        # the chambers are smallest; the last step up to 1.25 dt) count against MAX_STEPS
+        from ._checks import MAX_STEPS
+
+        lam = max(drive.stiffness(s) for drive, valve in zip(pred.drives, pred.valve) if valve
+                  for s in (drive.stroke_min, drive.stroke_max))
+        worst = max(1, int(math.ceil(1.25 * dt * lam / SUBSTEP_STABILITY)))
+        if n * worst > MAX_STEPS:
+            raise ValueError(f"horizon / dt asks for more than {MAX_STEPS} steps with the "
+                             f"valve-driven cylinders' substeps ({n} steps x up to {worst} "
+                             "substeps): raise dt or shorten the horizon")
     t_out = np.empty(n + 1)
     strokes = np.empty((n + 1, 2))
     theta = np.empty((n + 1, 2))
     omega = np.empty((n + 1, 2))
     tip = np.empty((n + 1, 3))
     stop = np.zeros((n + 1, 2), dtype=np.int64)
+    p_a = np.zeros((n + 1, 2))
+    p_b = np.zeros((n + 1, 2))
+    flow_a = np.zeros((n + 1, 2))
+    flow_b = np.zeros((n + 1, 2))
+    spool = np.zeros((n + 1, 2))
 
     def record(i: int, t: float, x: State4) -> None:
         t_out[i] = t
@@ -1074,6 +1297,17 @@ def _run(crane: Any, state: Any, inputs: Any, horizon: float, dt: float
         theta[i] = (x[0], x[1])
         omega[i] = (x[2], x[3])
         tip[i] = model.tip((x[0], x[1]), slew)
+        for j in (LIFT, TILT):
+            drive = pred.drives[j]
+            if drive is None:
+                continue
+            if pred.valve[j]:
+                y = x[8 + j] if drive.tau > 0.0 else drive.lever(t)
+                p_a[i, j], p_b[i, j] = x[4 + 2 * j], x[5 + 2 * j]
+                flow_a[i, j], flow_b[i, j] = drive.flows(y, x[4 + 2 * j], x[5 + 2 * j])
+                spool[i, j] = y
+            else:
+                p_a[i, j], p_b[i, j] = drive.pressures(t)
 
     cylinders = (crane.lift_cylinder, crane.tilt_cylinder)
     record(0, 0.0, x)
@@ -1081,15 +1315,26 @@ def _run(crane: Any, state: Any, inputs: Any, horizon: float, dt: float
         t = k * dt
         last = k == n - 1
         h = horizon - t if last else dt
-        pred.release(t, x)
-        x = pred.step(t, x, h)
+        if pred.hydraulic:
+            # docs/model.md "Hydraulics": n equal substeps, each a full step of the scheme
+            n_sub = pred.substeps(x, h)
+            sub = h / n_sub
+            for i in range(n_sub):
+                t_sub = t + i * sub
+                pred.release(t_sub, x)
+                x = pred.step(t_sub, x, (horizon if last else (k + 1) * dt) - t_sub
+                              if i == n_sub - 1 else sub)
+        else:
+            pred.release(t, x)
+            x = pred.step(t, x, h)
         if not all(math.isfinite(v) for v in x):
             raise ValueError(f"the prediction diverged at t = {t:g} s (the state is no longer finite): "
                              "check the crane's parameters for absurd values")
         record(k + 1, horizon if last else (k + 1) * dt, x)
 
     out = {"t": t_out, "strokes": strokes, "theta": theta, "omega": omega, "tip": tip,
-           "stop": stop}
+           "stop": stop, "p_a": p_a, "p_b": p_b, "flow_a": flow_a, "flow_b": flow_b,
+           "spool": spool}
     return out, pred.events
 
 
