@@ -245,3 +245,33 @@ def test_crane_file_four_joint_tables_are_type_checked(crane):
     plain = cp.Crane.from_dict(d)
     assert plain.slew_drive is None and plain.lift_boom.ixx is None
     assert cp.Crane.from_toml_string(crane.to_toml()) == crane
+
+
+# -- the twin (stage 2) ------------------------------------------------------------------------
+
+def test_twin_four_joint_inverse_dynamics_equals_lagrange(crane):
+    """The twin's four-joint Newton-Euler (docs: ID with the slew's centripetal and gyroscopic
+    terms, the sliding body 3, J_z alpha_s + Jdot_z omega_s) against the spatial oracle, every
+    component to 1e-9 of the largest, random states, loads and extensions."""
+    from cranepredict import twin
+
+    worst = 0.0
+    for q, qd, qdd, load in _random_states(60, 11, crane):
+        c = crane.with_load(load)
+        ref = Lagrange4(c).torques(q, qd, qdd)
+        tau = twin.TwinModel(c, 0.0).inverse_dynamics4(tuple(q), tuple(qd), tuple(qdd))
+        worst = max(worst, _rel(tau, ref))
+        # the extension force on its own scale (it is small next to the torques)
+        assert tau[EXTENSION] == pytest.approx(ref[EXTENSION], rel=1e-8, abs=1e-9 * abs(ref).max())
+    assert worst < 1e-9, worst
+
+
+def test_twin_four_joint_lagrange_comparison_has_teeth(crane):
+    """A 1 % error in the pillar's or the extension boom's inertia is seen far above 1e-9."""
+    from cranepredict import twin
+
+    q, qd, qdd = (0.3, -1.0, 0.5, 0.6), (0.5, -0.7, 0.8, 0.3), (1.0, 2.0, -1.5, 0.7)
+    ref = Lagrange4(crane).torques(q, qd, qdd)
+    wrong = dataclasses.replace(crane, extension_boom=dataclasses.replace(
+        crane.extension_boom, ixx=crane.extension_boom.ixx + 0.01 * crane.extension_boom.iyy))
+    assert _rel(twin.TwinModel(wrong, 0.0).inverse_dynamics4(q, qd, qdd), ref) > 1e-7
