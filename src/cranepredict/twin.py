@@ -117,6 +117,24 @@ def _circle(c0: Vec, r0: float, c1: Vec, r1: float, sign: float) -> Vec:
     return (c0[0] + a * ux - h * uy, c0[1] + a * uy + h * ux)
 
 
+def _solve(a: List[List[float]], b: List[float]) -> List[float]:
+    """x with a x = b, Gaussian elimination with partial pivoting (n <= 4)."""
+    n = len(b)
+    m = [row[:] + [b[i]] for i, row in enumerate(a)]
+    for c in range(n):
+        p = max(range(c, n), key=lambda r: abs(m[r][c]))
+        m[c], m[p] = m[p], m[c]
+        for r in range(c + 1, n):
+            f = m[r][c] / m[c][c]
+            if f != 0.0:
+                for k in range(c, n + 1):
+                    m[r][k] -= f * m[c][k]
+    x = [0.0] * n
+    for r in range(n - 1, -1, -1):
+        x[r] = (m[r][n] - sum(m[r][k] * x[k] for k in range(r + 1, n))) / m[r][r]
+    return x
+
+
 def _wrap_tilt(theta: float) -> float:
     """Wrap into (-3pi/2, pi/2]: the PATU tilt runs from ~0 to ~-190 deg, so this keeps it continuous."""
     while theta > _HALF_PI:
@@ -322,10 +340,41 @@ class TwinModel:
         self.area_bore: Pair = tuple(math.pi * float(c.bore) ** 2 / 4.0 for c in cylinders)  # type: ignore
         self.area_rod: Pair = tuple(
             math.pi * (float(c.bore) ** 2 - float(c.rod) ** 2) / 4.0 for c in cylinders)  # type: ignore
+        frictions = [c.friction for c in cylinders]
+
+        # --- slew drive and extension cylinder (spec "Four joints"): equivalent cylinders --
+        slew_drive = getattr(crane, "slew_drive", None)
+        ext_cyl = getattr(crane, "extension_cylinder", None)
+        self.has_actuator = (True, True, slew_drive is not None, ext_cyl is not None)
+        e_min, e_max = float(geo.extension_min), float(geo.extension_max)
+        if slew_drive is not None:
+            area = math.pi * float(slew_drive.bore) ** 2 / 4.0
+            #: ds/dpsi of the rack (constant)
+            self.slew_ratio = float(slew_drive.pinion_radius)
+            slew_limits = (float(slew_drive.slew_min), float(slew_drive.slew_max))
+            slew_areas = (area, area)
+            frictions.append(slew_drive.friction)
+        else:
+            self.slew_ratio = 1.0
+            slew_limits = (-math.inf, math.inf)
+            slew_areas = (0.0, 0.0)
+            frictions.append(None)
+        if ext_cyl is not None:
+            ext_areas = (math.pi * float(ext_cyl.bore) ** 2 / 4.0,
+                         math.pi * (float(ext_cyl.bore) ** 2 - float(ext_cyl.rod) ** 2) / 4.0)
+            frictions.append(ext_cyl.friction)
+        else:
+            ext_areas = (0.0, 0.0)
+            frictions.append(None)
+        self.area_bore = self.area_bore + (slew_areas[0], ext_areas[0])  # type: ignore
+        self.area_rod = self.area_rod + (slew_areas[1], ext_areas[1])  # type: ignore
         self.friction = tuple(
-            (float(c.friction.coulomb), float(c.friction.static), float(c.friction.viscous),
-             float(c.friction.stribeck_velocity), float(c.friction.factor))
-            for c in cylinders)
+            (0.0, 0.0, 0.0, 1.0, 0.0) if f is None else
+            (float(f.coulomb), float(f.static), float(f.viscous), float(f.stribeck_velocity),
+             float(f.factor))
+            for f in frictions)
+        self.slew_limits: Pair = slew_limits
+        self.extension_limits: Pair = (e_min, e_max)
 
         # --- bodies (spec "Four joints": body 2 the outer boom alone, body 3 extension + load)
         self.m1 = float(crane.lift_boom.mass)
@@ -358,16 +407,17 @@ class TwinModel:
         lift_hi = self.lift_angle(self.stroke_max[LIFT])[0]
         tilt_lo = self.tilt_angle(self.stroke_max[TILT])[0]
         tilt_hi = self.tilt_angle(self.stroke_min[TILT])[0]
-        #: angle_limits[joint] = (lower, upper)
-        self.angle_limits: Tuple[Pair, Pair] = ((lift_lo, lift_hi), (tilt_lo, tilt_hi))
+        #: angle_limits[joint] = (lower, upper), for the slew and the extension their range
+        self.angle_limits: Tuple[Pair, ...] = ((lift_lo, lift_hi), (tilt_lo, tilt_hi),
+                                               self.slew_limits, self.extension_limits)
         #: stroke_at_stop[joint][side]: the stroke reported at a lower (-1) / upper (+1) stop
         self.stroke_at_stop = (
             {-1: self.stroke_min[LIFT], +1: self.stroke_max[LIFT]},
             {-1: self.stroke_max[TILT], +1: self.stroke_min[TILT]},
         )
-        #: stop_flag[joint][side]: the reported flag, in cylinder terms (-1 at stroke_min,
+        #: stop_flag[joint][side]: the reported flag, in actuator terms (-1 at stroke_min,
         #: +1 at stroke_max), for a joint stopped at its lower (-1) / upper (+1) angle limit
-        self.stop_flag = ({-1: -1, +1: +1}, {-1: +1, +1: -1})
+        self.stop_flag = ({-1: -1, +1: +1}, {-1: +1, +1: -1}, {-1: -1, +1: +1}, {-1: -1, +1: +1})
 
     def _extension_body(self, crane: Any) -> Tuple[float, Vec, float, Tensor]:
         """Body 3 = extension boom + load at the tip, lumped once per crane in the extension
@@ -721,6 +771,40 @@ class TwinModel:
         return ((m11 / det, -m01 / det), (-m10 / det, m00 / det))
 
     # ---------------------------------------------------------------------------------
+    # Four joints: mass matrix and forward dynamics (spec "Four joints")
+    # ---------------------------------------------------------------------------------
+
+    def _mass_matrix4(self, conf: _Configuration, joints: Sequence[int]) -> List[List[float]]:
+        """The rows and columns `joints` of M (columns ID(q, 0, e_j, 0)); block diagonal, so the
+        slew's entry is J_z alone."""
+        cols = []
+        for j in joints:
+            unit = [0.0, 0.0, 0.0, 0.0]
+            unit[j] = 1.0
+            col = self._id4(conf, (0.0, 0.0, 0.0, 0.0), unit, 0.0)
+            cols.append([col[i] for i in joints])
+        return [[cols[c][r] for c in range(len(joints))] for r in range(len(joints))]
+
+    def _forward4(self, conf: _Configuration, qd: Sequence[float], tau: Sequence[float],
+                  locked: Sequence[bool]) -> Quad:
+        """qdd from M qdd = tau - h over the joints that are not locked (the others 0)."""
+        free = [j for j in (LIFT, TILT, SLEW, EXTENSION) if not locked[j]]
+        if not free:
+            return 0.0, 0.0, 0.0, 0.0
+        h = self._id4(conf, qd, (0.0, 0.0, 0.0, 0.0), self.gravity)
+        mass = self._mass_matrix4(conf, free)
+        sol = _solve(mass, [tau[j] - h[j] for j in free])
+        out = [0.0, 0.0, 0.0, 0.0]
+        for j, a in zip(free, sol):
+            out[j] = a
+        return out[0], out[1], out[2], out[3]
+
+    def forward_dynamics4(self, q: Sequence[float], qd: Sequence[float], tau: Sequence[float],
+                          locked: Sequence[bool]) -> Quad:
+        """Joint accelerations of the four joints; a locked joint has qdd = 0."""
+        return self._forward4(self._configuration((q[0], q[1]), q[3]), qd, tau, locked)
+
+    # ---------------------------------------------------------------------------------
     # Cylinders
     # ---------------------------------------------------------------------------------
 
@@ -752,18 +836,21 @@ class TwinModel:
     # Points
     # ---------------------------------------------------------------------------------
 
-    def _frames(self, theta: Sequence[float], slew: float) -> Tuple[Matrix4, Matrix4, Matrix4, Matrix4]:
+    def _frames(self, theta: Sequence[float], slew: float, extension: Optional[float] = None
+                ) -> Tuple[Matrix4, Matrix4, Matrix4, Matrix4]:
         """World transforms of the boom plane, lift boom, outer boom and extension boom frames."""
+        e = self.extension if extension is None else extension
         t_w0 = _world_transform(slew)
         t_w1 = _compose(t_w0, _planar_transform(theta[0], self.lift_pivot))
         t_w2 = _compose(t_w1, _planar_transform(theta[1], self.tilt_pivot))
         mount = self.extension_mount
-        t_we = _compose(t_w2, _planar_transform(0.0, (mount[0] + self.extension, mount[1])))
+        t_we = _compose(t_w2, _planar_transform(0.0, (mount[0] + e, mount[1])))
         return t_w0, t_w1, t_w2, t_we
 
-    def points(self, theta: Sequence[float], slew: float) -> List[Tuple[float, float, float]]:
+    def points(self, theta: Sequence[float], slew: float, extension: Optional[float] = None
+               ) -> List[Tuple[float, float, float]]:
         """The 11 POINT_NAMES points in world coordinates (m), for drawing the crane."""
-        t_w0, t_w1, t_w2, t_we = self._frames(theta, slew)
+        t_w0, t_w1, t_w2, t_we = self._frames(theta, slew, extension)
         _, q = self._tilt_pins(theta[1])
         return [
             _apply(t_w0, (0.0, 0.0)),
@@ -779,9 +866,10 @@ class TwinModel:
             _apply(t_we, (self.tip_distance, 0.0)),
         ]
 
-    def tip(self, theta: Sequence[float], slew: float) -> Tuple[float, float, float]:
+    def tip(self, theta: Sequence[float], slew: float, extension: Optional[float] = None
+            ) -> Tuple[float, float, float]:
         """World position of the load point, T_w0 T01 T12 T2e (tip_distance, 0, 0, 1)."""
-        return _apply(self._frames(theta, slew)[3], (self.tip_distance, 0.0))
+        return _apply(self._frames(theta, slew, extension)[3], (self.tip_distance, 0.0))
 
 
 # --------------------------------------------------------------------------------------------
@@ -822,117 +910,135 @@ def _drive(drive: Any) -> Optional[_PressureDrive]:
 # Integration with end stops
 # --------------------------------------------------------------------------------------------
 
-State4 = Tuple[float, float, float, float]   # (theta0, theta1, omega0, omega1)
+State8 = Tuple[float, ...]   # (theta0, theta1, psi, e, omega0, omega1, omega_s, v_e)
+
+JOINTS = (LIFT, TILT, SLEW, EXTENSION)
 
 
 class _Prediction:
-    """One prediction: the model, the drives and the joint status (held / stopped side)."""
+    """One prediction: the model, the drives and the joint status (held / stopped side) of the
+    four joints (spec "Four joints": the end-stop rules of "End stops" over four joints)."""
 
     def __init__(self, model: TwinModel, drives: Sequence[Optional[_PressureDrive]]) -> None:
         self.model = model
         self.drives = tuple(drives)
         self.held = tuple(d is None for d in drives)
         #: stop[j]: 0 not stopped, -1 at the lower angle limit, +1 at the upper (angle terms;
-        #: the reported flag is converted to cylinder terms by TwinModel.stop_flag)
-        self.stop = [0, 0]
+        #: the reported flag is converted to actuator terms by TwinModel.stop_flag)
+        self.stop = [0, 0, 0, 0]
         #: the last release verdict, ((t, x, stop), released): a step that ends on a stop asks
-        #: the rule at its end and the next step asks again at its start, mostly at the same t
+        #: at its end and the next step asks again at its start, mostly at the same t
         self._last_release: Optional[Tuple[Tuple[Any, ...], Tuple[int, ...]]] = None
         #: (time, joint, angle side) of every impact, for diagnostics
         self.events: List[Tuple[float, int, int]] = []
 
-    def locked(self) -> Tuple[bool, bool]:
-        return (self.held[0] or self.stop[0] != 0, self.held[1] or self.stop[1] != 0)
+    def locked(self) -> Tuple[bool, ...]:
+        return tuple(self.held[j] or self.stop[j] != 0 for j in JOINTS)
 
-    def acceleration(self, t: float, x: State4, locked: Tuple[bool, bool]) -> Pair:
-        """alpha at time t: cylinder torques of the unlocked joints into forward dynamics."""
-        if locked[0] and locked[1]:
-            return 0.0, 0.0
-        model = self.model
-        conf = model._configuration((x[0], x[1]))
-        omega = (x[2], x[3])
-        return model._forward_dynamics(conf, omega, self.torques(t, conf, omega, locked), locked)
+    def _conf(self, x: State8) -> _Configuration:
+        return self.model._configuration((x[0], x[1]), x[3])
 
-    def torques(self, t: float, conf: _Configuration, omega: Pair,
-                locked: Sequence[bool]) -> Pair:
-        """Cylinder torques at time t of the joints that are not locked (0 for the others)."""
-        tau = [0.0, 0.0]
-        for j in (LIFT, TILT):
+    def acceleration(self, t: float, x: State8, locked: Tuple[bool, ...]) -> Quad:
+        """qdd at time t: actuator forces of the unlocked joints into forward dynamics."""
+        if all(locked):
+            return 0.0, 0.0, 0.0, 0.0
+        conf = self._conf(x)
+        qd = x[4:]
+        return self.model._forward4(conf, qd, self.torques(t, conf, qd, locked), locked)
+
+    def ratio(self, conf: _Configuration, j: int) -> float:
+        """ds/dq of joint j's actuator."""
+        if j == SLEW:
+            return self.model.slew_ratio
+        if j == EXTENSION:
+            return 1.0
+        return conf.ratio[j]
+
+    def torques(self, t: float, conf: _Configuration, qd: Sequence[float],
+                locked: Sequence[bool]) -> Quad:
+        """Actuator forces at time t of the joints that are not locked (0 for the others)."""
+        tau = [0.0, 0.0, 0.0, 0.0]
+        for j in JOINTS:
             if not locked[j]:
                 p_a, p_b = self.drives[j].pressures(t)  # type: ignore[union-attr]
-                tau[j] = self.model._joint_torque(j, conf.ratio[j], omega[j], p_a, p_b)
-        return tau[0], tau[1]
+                tau[j] = self.model._joint_torque(j, self.ratio(conf, j), qd[j], p_a, p_b)
+        return tau[0], tau[1], tau[2], tau[3]
 
-    def rk4(self, t: float, x: State4, h: float, locked: Tuple[bool, bool]) -> State4:
-        """One classical RK4 step of size h on (theta, omega)."""
-        th0, th1, w0, w1 = x
+    def rk4(self, t: float, x: State8, h: float, locked: Tuple[bool, ...]) -> State8:
+        """One classical RK4 step of size h on (q, qd)."""
         half = 0.5 * h
         k1 = self.acceleration(t, x, locked)
-        x2 = (th0 + half * w0, th1 + half * w1, w0 + half * k1[0], w1 + half * k1[1])
+        x2 = tuple(x[j] + half * x[4 + j] for j in JOINTS) + tuple(x[4 + j] + half * k1[j] for j in JOINTS)
         k2 = self.acceleration(t + half, x2, locked)
-        x3 = (th0 + half * x2[2], th1 + half * x2[3], w0 + half * k2[0], w1 + half * k2[1])
+        x3 = tuple(x[j] + half * x2[4 + j] for j in JOINTS) + tuple(x[4 + j] + half * k2[j] for j in JOINTS)
         k3 = self.acceleration(t + half, x3, locked)
-        x4 = (th0 + h * x3[2], th1 + h * x3[3], w0 + h * k3[0], w1 + h * k3[1])
+        x4 = tuple(x[j] + h * x3[4 + j] for j in JOINTS) + tuple(x[4 + j] + h * k3[j] for j in JOINTS)
         k4 = self.acceleration(t + h, x4, locked)
         sixth = h / 6.0
-        return (th0 + sixth * (w0 + 2.0 * x2[2] + 2.0 * x3[2] + x4[2]),
-                th1 + sixth * (w1 + 2.0 * x2[3] + 2.0 * x3[3] + x4[3]),
-                w0 + sixth * (k1[0] + 2.0 * k2[0] + 2.0 * k3[0] + k4[0]),
-                w1 + sixth * (k1[1] + 2.0 * k2[1] + 2.0 * k3[1] + k4[1]))
+        return (tuple(x[j] + sixth * (x[4 + j] + 2.0 * x2[4 + j] + 2.0 * x3[4 + j] + x4[4 + j])
+                      for j in JOINTS)
+                + tuple(x[4 + j] + sixth * (k1[j] + 2.0 * k2[j] + 2.0 * k3[j] + k4[j]) for j in JOINTS))
 
-    def plastic_impact(self, x: State4, joint: int, side: int) -> State4:
-        """Put the joint on its limit and stop it; the impulse acts on this joint only, so with
-        the other joint free omega <- omega - Minv e_i (omega_i / Minv_ii), else omega_i <- 0."""
-        model = self.model
-        th = [x[0], x[1]]
-        w = [x[2], x[3]]
-        lower, upper = model.angle_limits[joint]
-        th[joint] = lower if side < 0 else upper
-        other = 1 - joint
-        if not self.held[other] and self.stop[other] == 0:
-            minv = model.inverse_mass_matrix(th)
-            scale = w[joint] / minv[joint][joint]
-            w[0] -= minv[0][joint] * scale
-            w[1] -= minv[1][joint] * scale
+    def plastic_impact(self, x: State8, joint: int, side: int) -> State8:
+        """Put the joint on its limit and stop it; the impulse acts on this joint only: over the
+        free joints F, qd_F <- qd_F - Minv e_i (qd_i / Minv_ii) (Minv the inverse of M over F)."""
+        q = list(x[:4])
+        w = list(x[4:])
+        lower, upper = self.model.angle_limits[joint]
+        q[joint] = lower if side < 0 else upper
+        free = [j for j in JOINTS if j == joint or (not self.held[j] and self.stop[j] == 0)]
+        conf = self.model._configuration((q[0], q[1]), q[3])
+        mass = self.model._mass_matrix4(conf, free)
+        i = free.index(joint)
+        unit = [1.0 if k == i else 0.0 for k in range(len(free))]
+        col = _solve(mass, unit)                  # Minv e_i
+        scale = w[joint] / col[i]
+        for k, j in enumerate(free):
+            w[j] -= col[k] * scale
         w[joint] = 0.0
         self.stop[joint] = side
-        return (th[0], th[1], w[0], w[1])
+        return tuple(q) + tuple(w)
 
-    def stop_at_start(self, x: State4, strokes: Pair, rates: Pair) -> State4:
+    def stop_at_start(self, x: State8, strokes: Sequence[float], rates: Sequence[float]) -> State8:
         """t = 0 rule: a free joint at a stroke limit whose stroke rate does not point into the
         range starts STOPPED there (with a plastic impact if it was moving)."""
         model = self.model
-        for j in (LIFT, TILT):
+        for j in JOINTS:
             if self.held[j]:
                 continue
-            if strokes[j] <= model.stroke_min[j] and rates[j] <= 0.0:
+            if j in (LIFT, TILT):
+                lo, hi = model.stroke_min[j], model.stroke_max[j]
+            else:
+                lo, hi = model.angle_limits[j]
+            if strokes[j] <= lo and rates[j] <= 0.0:
                 at_min = True
-            elif strokes[j] >= model.stroke_max[j] and rates[j] >= 0.0:
+            elif strokes[j] >= hi and rates[j] >= 0.0:
                 at_min = False
             else:
                 continue
-            # lift: stroke_min is the lower angle; tilt: stroke_min is the upper angle
-            side = (-1 if at_min else +1) if j == LIFT else (+1 if at_min else -1)
+            # tilt: stroke_min is the upper angle; the others: the lower
+            side = (+1 if at_min else -1) if j == TILT else (-1 if at_min else +1)
             x = self.plastic_impact(x, j, side)
             self.events.append((0.0, j, side))
         return x
 
-    def release(self, t: float, x: State4) -> None:
+    def release(self, t: float, x: State8) -> None:
         """Let go of the STOPPED joints that the release rule frees at (t, x)."""
         for j in self.released(t, x):
             self.stop[j] = 0
 
-    def released(self, t: float, x: State4) -> Tuple[int, ...]:
+    def released(self, t: float, x: State8) -> Tuple[int, ...]:
         """The STOPPED joints that leave their stops at (t, x) (docs/model.md, "Release").
 
-        The two unilateral stops form a small complementarity problem. The candidate release
-        sets are tried in the order none, lift, tilt, both; the first is taken in which every
+        The unilateral stops form a small complementarity problem. The candidate release sets
+        are the subsets of STOPPED joints in the order of their bitmask (lift 1, tilt 2, slew 4,
+        extension 8; for two joints: none, lift, tilt, both); the first is taken in which every
         released joint accelerates into its range and every joint left on its stop is pressed
-        onto it (its reaction M alpha - (tau - h) points into the range). Changes nothing, so
+        onto it (its reaction M qdd - (tau - h) points into the range). Changes nothing, so
         that the release search inside a step can ask it at trial times."""
-        if self.stop[0] == 0 and self.stop[1] == 0:
+        if not any(self.stop):
             return ()
-        key = (t, x, self.stop[0], self.stop[1])
+        key = (t, x, tuple(self.stop))
         last = self._last_release
         if last is not None and last[0] == key:
             return last[1]
@@ -940,35 +1046,36 @@ class _Prediction:
         self._last_release = (key, released)
         return released
 
-    def _release_rule(self, t: float, x: State4) -> Tuple[int, ...]:
+    def _release_rule(self, t: float, x: State8) -> Tuple[int, ...]:
         """The complementarity rule itself, for released()."""
         m = self.model
-        conf = m._configuration((x[0], x[1]))
-        omega = (x[2], x[3])
-        h = m._inverse_dynamics(conf, omega, (0.0, 0.0), m.gravity)
-        tau = self.torques(t, conf, omega, self.held)
-        net = (tau[0] - h[0], tau[1] - h[1])
-        mass: Optional[Matrix2] = None   # only a candidate that moves a joint needs M
-        stopped = [self.stop[j] != 0 for j in (LIFT, TILT)]
-        for released in ((), (LIFT,), (TILT,), (LIFT, TILT)):
+        conf = self._conf(x)
+        qd = x[4:]
+        h = m._id4(conf, qd, (0.0, 0.0, 0.0, 0.0), m.gravity)
+        tau = self.torques(t, conf, qd, self.held)
+        net = tuple(tau[j] - h[j] for j in JOINTS)
+        mass: Optional[List[List[float]]] = None   # only a candidate that moves a joint needs M
+        stopped = [self.stop[j] != 0 for j in JOINTS]
+        for mask in range(16):
+            released = tuple(j for j in JOINTS if mask & (1 << j))
             if any(not stopped[j] for j in released):
                 continue
-            locked = tuple(self.held[j] or (stopped[j] and j not in released) for j in (LIFT, TILT))
-            alpha = m._forward_dynamics(conf, omega, tau, locked)
+            locked = tuple(self.held[j] or (stopped[j] and j not in released) for j in JOINTS)
+            alpha = m._forward4(conf, qd, tau, locked)
             consistent = True
-            for j in (LIFT, TILT):
+            for j in JOINTS:
                 if not stopped[j]:
                     continue
                 inward = float(-self.stop[j])  # the lower stop (-1) is left with alpha > 0
                 if j in released:
                     consistent = consistent and inward * alpha[j] > 0.0
                 else:
-                    if alpha[0] == 0.0 and alpha[1] == 0.0:
+                    if not any(alpha):
                         reaction = -net[j]
                     else:
                         if mass is None:
-                            mass = m._mass_matrix(conf)
-                        reaction = mass[j][0] * alpha[0] + mass[j][1] * alpha[1] - net[j]
+                            mass = m._mass_matrix4(conf, JOINTS)
+                        reaction = sum(mass[j][k] * alpha[k] for k in JOINTS) - net[j]
                     consistent = consistent and inward * reaction >= 0.0
             if consistent:
                 return released
@@ -995,7 +1102,7 @@ class _Prediction:
                 lo = mid
         return hi
 
-    def step(self, t: float, x: State4, h: float) -> State4:
+    def step(self, t: float, x: State8, h: float) -> State8:
         """One step of size h, cut into pieces at the impacts and releases located inside it
         (at most MAX_PIECES; the last takes the rest of the step whatever happens in it)."""
         t_cur = t
@@ -1008,7 +1115,7 @@ class _Prediction:
             tau = self.impact_time(x, x1, remaining, locked)
             if tau is not None:
                 x = self.impacts(t_cur + tau, self.rk4(t_cur, x, tau, locked), touching=True)
-            elif (self.stop[0] != 0 or self.stop[1] != 0) and self.released(t_cur + remaining, x1):
+            elif any(self.stop) and self.released(t_cur + remaining, x1):
                 tau, x = self.release_time(t_cur, x, remaining, x1, locked)
                 self.release(t_cur + tau, x)
             else:
@@ -1019,26 +1126,26 @@ class _Prediction:
                 return x
         raise AssertionError("unreachable: the last piece returns")
 
-    def impact_time(self, x: State4, x1: State4, h: float, locked: Tuple[bool, bool]
+    def impact_time(self, x: State8, x1: State8, h: float, locked: Tuple[bool, ...]
                     ) -> Optional[float]:
         """Size of the piece up to the first impact in the RK4 step x -> x1 of size h, or None
         if no free joint ends strictly outside its limits."""
         tau = math.inf
-        for j in (LIFT, TILT):
+        for j in JOINTS:
             if locked[j]:
                 continue
             lower, upper = self.model.angle_limits[j]
             if x1[j] < lower:
-                tau = min(tau, self.crossing_time(x[j], x[2 + j], x1[j], x1[2 + j], h, lower, True))
+                tau = min(tau, self.crossing_time(x[j], x[4 + j], x1[j], x1[4 + j], h, lower, True))
             elif x1[j] > upper:
-                tau = min(tau, self.crossing_time(x[j], x[2 + j], x1[j], x1[2 + j], h, upper, False))
+                tau = min(tau, self.crossing_time(x[j], x[4 + j], x1[j], x1[4 + j], h, upper, False))
         return None if tau == math.inf else tau
 
-    def impacts(self, t: float, x: State4, touching: bool) -> State4:
+    def impacts(self, t: float, x: State8, touching: bool) -> State8:
         """In joint order, every free joint beyond a limit (or at it, if touching) is put on it
         with a plastic impact. After a located impact the joint is at the limit to within the
         bisection, so it counts as touching; the last piece of a step takes only those beyond."""
-        for j in (LIFT, TILT):
+        for j in JOINTS:
             if self.held[j] or self.stop[j] != 0:
                 continue
             lower, upper = self.model.angle_limits[j]
@@ -1052,8 +1159,8 @@ class _Prediction:
             self.events.append((t, j, side))
         return x
 
-    def release_time(self, t: float, x: State4, h: float, x1: State4,
-                     locked: Tuple[bool, bool]) -> Tuple[float, State4]:
+    def release_time(self, t: float, x: State8, h: float, x1: State8,
+                     locked: Tuple[bool, ...]) -> Tuple[float, State8]:
         """The piece size (and the state it ends in) at which a stopped joint is released,
         given that the release rule frees something at the end of the RK4 step x -> x1 of size
         h: RELEASE_BISECTIONS bisections keeping lo (releases nothing) and hi (releases).
@@ -1074,23 +1181,42 @@ class _Prediction:
         return hi, x_hi
 
 
+def _optional_drive(inputs: Any, name: str, has_actuator: bool) -> Optional[_PressureDrive]:
+    """The slew or extension drive: left out (older Inputs) or Hold means held."""
+    drive = getattr(inputs, name, None)
+    if drive is None or getattr(drive, "held", False):
+        return None
+    if not has_actuator:
+        raise ValueError(f"Inputs.{name}: the crane has no "
+                         f"{'slew_drive' if name == 'slew' else 'extension_cylinder'} to drive")
+    return _PressureDrive(drive)
+
+
 def _run(crane: Any, state: Any, inputs: Any, horizon: float, dt: float
          ) -> Tuple[dict, List[Tuple[float, int, int]]]:
     """simulate() plus the list of impacts (time, joint, angle side), for diagnostics and tests."""
     horizon = float(horizon)
     dt = float(dt)
     model = TwinModel(crane, state.extension)
-    pred = _Prediction(model, (_drive(inputs.lift), _drive(inputs.tilt)))
-    slew = float(state.slew)
+    drives = (_drive(inputs.lift), _drive(inputs.tilt),
+              _optional_drive(inputs, "slew", model.has_actuator[SLEW]),
+              _optional_drive(inputs, "extension", model.has_actuator[EXTENSION]))
+    pred = _Prediction(model, drives)
 
-    strokes0 = (float(state.lift_stroke), float(state.tilt_stroke))
-    rates0 = (float(state.lift_stroke_rate), float(state.tilt_stroke_rate))
-    theta0 = [0.0, 0.0]
-    omega0 = [0.0, 0.0]
+    slew0 = float(state.slew)
+    ext0 = float(state.extension)
+    # the slew and the extension in their own terms (the coordinate is the "stroke")
+    strokes0 = (float(state.lift_stroke), float(state.tilt_stroke), slew0, ext0)
+    rates0 = (float(state.lift_stroke_rate), float(state.tilt_stroke_rate),
+              float(getattr(state, "slew_rate", 0.0)), float(getattr(state, "extension_rate", 0.0)))
+    q0 = [0.0, 0.0, slew0, ext0]
+    qd0 = [0.0, 0.0, 0.0, 0.0]
     for j in (LIFT, TILT):
-        theta0[j], ratio = model.joint_angle(j, strokes0[j])
-        omega0[j] = 0.0 if pred.held[j] else rates0[j] / ratio
-    x: State4 = (theta0[0], theta0[1], omega0[0], omega0[1])
+        q0[j], ratio = model.joint_angle(j, strokes0[j])
+        qd0[j] = 0.0 if pred.held[j] else rates0[j] / ratio
+    for j in (SLEW, EXTENSION):
+        qd0[j] = 0.0 if pred.held[j] else rates0[j]
+    x: State8 = tuple(q0) + tuple(qd0)
     x = pred.stop_at_start(x, strokes0, rates0)
 
     n = int(math.ceil(horizon / dt - 1e-9))
@@ -1100,8 +1226,11 @@ def _run(crane: Any, state: Any, inputs: Any, horizon: float, dt: float
     omega = np.empty((n + 1, 2))
     tip = np.empty((n + 1, 3))
     stop = np.zeros((n + 1, 2), dtype=np.int64)
+    coords = np.empty((n + 1, 2))            # (slew, extension)
+    rates = np.empty((n + 1, 2))             # (slew rate, extension rate)
+    stop2 = np.zeros((n + 1, 2), dtype=np.int64)
 
-    def record(i: int, t: float, x: State4) -> None:
+    def record(i: int, t: float, x: State8) -> None:
         t_out[i] = t
         for j in (LIFT, TILT):
             if pred.held[j]:
@@ -1113,9 +1242,19 @@ def _run(crane: Any, state: Any, inputs: Any, horizon: float, dt: float
                 cyl = cylinders[j]
                 strokes[i, j] = min(max(model.joint_stroke(j, x[j]), cyl.stroke_min), cyl.stroke_max)
             stop[i, j] = model.stop_flag[j][pred.stop[j]] if pred.stop[j] != 0 else 0
+        for k, j in enumerate((SLEW, EXTENSION)):
+            lower, upper = model.angle_limits[j]
+            if pred.held[j]:
+                coords[i, k] = strokes0[j]
+            elif pred.stop[j] != 0:
+                coords[i, k] = lower if pred.stop[j] < 0 else upper
+            else:
+                coords[i, k] = x[j]
+            rates[i, k] = x[4 + j]
+            stop2[i, k] = model.stop_flag[j][pred.stop[j]] if pred.stop[j] != 0 else 0
         theta[i] = (x[0], x[1])
-        omega[i] = (x[2], x[3])
-        tip[i] = model.tip((x[0], x[1]), slew)
+        omega[i] = (x[4], x[5])
+        tip[i] = model.tip((x[0], x[1]), coords[i, 0], coords[i, 1])
 
     cylinders = (crane.lift_cylinder, crane.tilt_cylinder)
     record(0, 0.0, x)
@@ -1131,7 +1270,9 @@ def _run(crane: Any, state: Any, inputs: Any, horizon: float, dt: float
         record(k + 1, horizon if last else (k + 1) * dt, x)
 
     out = {"t": t_out, "strokes": strokes, "theta": theta, "omega": omega, "tip": tip,
-           "stop": stop}
+           "stop": stop, "slew": coords[:, 0].copy(), "extension": coords[:, 1].copy(),
+           "slew_rate": rates[:, 0].copy(), "extension_rate": rates[:, 1].copy(),
+           "slew_stop": stop2[:, 0].copy(), "extension_stop": stop2[:, 1].copy()}
     return out, pred.events
 
 
@@ -1143,7 +1284,9 @@ def simulate(crane: Any, state: Any, inputs: Any, horizon: float, dt: float) -> 
     stroke_max, 0 otherwise; for the tilt, stroke_max is the lower angle limit), with
     N = n + 1 samples.  Inputs are assumed validated by the API layer.
     """
-    return _run(crane, state, inputs, horizon, dt)[0]
+    arrays = _run(crane, state, inputs, horizon, dt)[0]
+    # the slew's and the extension's histories stay out until the API carries them (issue 11)
+    return {name: arrays[name] for name in ("t", "strokes", "theta", "omega", "tip", "stop")}
 
 
 def points(crane: Any, extension: float, slew: float, theta_array: Any) -> np.ndarray:
