@@ -944,7 +944,12 @@ class _Prediction:
             return 0.0, 0.0, 0.0, 0.0
         conf = self._conf(x)
         qd = x[4:]
-        return self.model._forward4(conf, qd, self.torques(t, conf, qd, locked), locked)
+        tau = self.torques(t, conf, qd, locked)
+        if locked[SLEW] and locked[EXTENSION]:
+            # both at rest (held, or stopped with the rate zeroed): the planar 2x2 solve
+            a = self.model._forward_dynamics(conf, qd[:2], tau[:2], locked[:2])
+            return a[0], a[1], 0.0, 0.0
+        return self.model._forward4(conf, qd, tau, locked)
 
     def ratio(self, conf: _Configuration, j: int) -> float:
         """ds/dq of joint j's actuator."""
