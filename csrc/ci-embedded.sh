@@ -5,7 +5,8 @@
 #   bash csrc/ci-embedded.sh
 #
 # 1. installs the Debian packages it needs (SKIP_APT=1 to skip: then they must be there);
-# 2. checks the generated crane header against the crane file (python3 >= 3.11);
+# 2. checks the generated crane header against the crane file, and the board's scenarios against
+#    the scenario files (python3 >= 3.11 with the cranepredict package);
 # 3. builds and tests with gcc and clang, double and float, warnings as errors;
 # 4. the footprint on a Cortex-M4F (float, -Os) against the budget (FOOTPRINT_ENFORCE=0: report only);
 #    the core on an emulated Cortex-M4F board (csrc/board, QEMU mps2-an386, no OS): its samples vs
@@ -68,7 +69,7 @@ if [ "${SKIP_APT:-0}" != 1 ]; then
     echo "packages installed ($(( $(date +%s) - t )) s)"
 fi
 
-# ---- 2. the crane header ----
+# ---- 2. the crane header (and the board's scenarios, generated the same way) ----
 step crane-header make check-header
 
 # ---- 3. host builds: gcc and clang, double and float, -Werror ----
@@ -143,7 +144,7 @@ grep -ah "stat::number_of_executed_units\|Done [0-9]* runs" "$LOG"/fuzz-*.log | 
 # ---- summary ----
 echo
 echo "float vs double (host):  $(tail -n 1 "$LOG/float-vs-double.log")"
-grep -h "^ok    samples\|^paper-dt2ms:\|^ok    stack crane_predict\[paper-dt2ms" "$LOG/board.log" 2>/dev/null
+grep -h "^ok    samples\|^  paper-dt2ms:\|^ok    stack crane_predict\[paper-dt2ms" "$LOG/board.log" 2>/dev/null
 tail -n 1 "$LOG/misra.log"
 for f in "$LOG"/*-vs-host.log; do
     [ -f "$f" ] && echo "$(basename "$f" .log): $(tail -n 1 "$f")"

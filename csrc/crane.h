@@ -41,21 +41,38 @@ typedef enum {
     CRANE_E_PRESSURE = 13,      /* a pressure outside [0, CRANE_PRESSURE_MAX] */
     CRANE_E_SAMPLES = 14,       /* pressure sample times not increasing or not covering [0, horizon] */
     CRANE_E_DT = 15,            /* dt <= 0 or dt > horizon */
-    CRANE_E_HORIZON = 16,       /* horizon <= 0, or more steps than fit in a long */
+    CRANE_E_HORIZON = 16,       /* horizon <= 0 */
     CRANE_E_CAPACITY = 17,      /* output buffer smaller than the number of samples */
     CRANE_E_ANGLE = 18,         /* an angle outside the range reachable by the cylinder */
-    CRANE_E_SAMPLE_EVERY = 19,  /* sample_every is 0 (or does not fit a long) */
+    CRANE_E_SAMPLE_EVERY = 19,  /* sample_every is 0 (or over LONG_MAX) */
     CRANE_E_DIVERGED = 20,      /* the state stopped being finite (absurd parameters, e.g. gravity) */
     CRANE_E_FIELD = 21,         /* a crane parameter outside its range (crane_params_check names it) */
-    CRANE_E_OVERFLOW = 22,      /* a result is not finite: an argument too large for the formula */
+    CRANE_E_OVERFLOW = 22,      /* an argument so large that a result is not finite or a size overflows */
     CRANE_E_STEPS = 23,         /* horizon / dt asks for more than CRANE_MAX_STEPS steps */
-    CRANE_E_SAMPLE_COUNT = 24   /* more than CRANE_MAX_SAMPLES samples (horizon, dt, sample_every) */
+    CRANE_E_SAMPLE_COUNT = 24,  /* more than CRANE_MAX_SAMPLES samples in one call (horizon, dt,
+                                   sample_every, n_futures) */
+    CRANE_E_BATCH = 25          /* n_futures x steps over CRANE_MAX_BATCH_STEPS in one call */
 } crane_status;
 
 enum { CRANE_LIFT = 0, CRANE_TILT = 1 };
 enum { CRANE_DRIVE_PRESSURE = 0, CRANE_DRIVE_HOLD = 1 };
 enum { CRANE_N_POINTS = 11 };
 enum { CRANE_PRESSURE_MAX = 100000000 };   /* Pa (1000 bar): the largest pressure accepted */
+
+/* Bounded work and memory: checked before anything runs or is written (CRANE_E_STEPS,
+ * CRANE_E_SAMPLE_COUNT, CRANE_E_BATCH), so that no accepted call runs for more than seconds.
+ *   CRANE_MAX_STEPS: RK4 steps per prediction (one future), n = ceil(horizon/dt - 1e-9): 2^20,
+ *     17 min of crane time at dt = 1 ms, about 0.3 s of one core of a 2020s PC (0.25 us a step).
+ *     Why 2^20: the step times are t_k = k dt in every build (never accumulated), and in the float
+ *     build horizon/dt is uncertain by about 4 eps n steps (both operands rounded to 24 bits; the
+ *     step count allows for it): up to 2^20 steps that stays under a quarter step, so the last
+ *     step is at most 1.25 dt long, and k dt is within dt/8 of its exact value, so the sample times
+ *     stay strictly increasing.
+ *   CRANE_MAX_SAMPLES: samples written by one call (all futures of crane_predict_many): 2^23,
+ *     0.74 GB of crane_sample in double; a single prediction (n + 1 <= 2^20 + 1) never reaches it.
+ *   CRANE_MAX_BATCH_STEPS: steps of one crane_predict_many call, n_futures x n: 2^25, about 8 s of
+ *     one core; split larger batches into several calls (they may run on several threads). */
+enum { CRANE_MAX_STEPS = 1048576, CRANE_MAX_SAMPLES = 8388608, CRANE_MAX_BATCH_STEPS = 33554432 };
 
 typedef struct {
     crane_real x, y;
@@ -211,6 +228,7 @@ typedef struct {
     crane_real extension;
     crane_real lift_db, lift_dr, lift_beta, lift_eps;
     crane_real tilt_l1, tilt_l2, tilt_ra, tilt_alpha_a;
+    crane_real tilt_branch;                /* +1 or -1: Q's side of P1 -> A (angle -> stroke) */
     crane_real area_a[2], area_b[2];
     crane_real m1, m2, i1, i2;
     crane_vec2 c1, c2;
@@ -290,16 +308,20 @@ crane_status crane_joint_stroke(const crane_model *model, int joint, crane_real 
 /* World positions (x, y, z) of the crane's points for n poses: theta is n x 2, xyz is
  * n x CRANE_N_POINTS x 3, in the order: pillar_base, lift_pivot, lift_cylinder_base,
  * lift_cylinder_rod, tilt_cylinder_base, link1_pivot, link_pin, link2_attach, tilt_pivot,
- * extension_mount, tip. */
+ * extension_mount, tip. Every angle must lie within its limits (CRANE_E_ANGLE); an n whose arrays
+ * would not fit a size_t gives CRANE_E_OVERFLOW. */
 crane_status crane_points(const crane_model *model, crane_real slew, size_t n,
                           const crane_real *theta, crane_real *xyz);
 
-/* Newton-Euler inverse dynamics: joint torques for (theta, omega, alpha), gravity included. */
+/* Newton-Euler inverse dynamics: joint torques for (theta, omega, alpha), gravity included.
+ * theta must lie within the angle limits (CRANE_E_ANGLE); torques too large to be finite (rates
+ * near 1e160 rad/s in double) give CRANE_E_OVERFLOW. */
 crane_status crane_inverse_dynamics(const crane_model *model, const crane_real theta[2],
                                     const crane_real omega[2], const crane_real alpha[2],
                                     crane_real tau[2]);
 
-/* Cylinder force along its axis (positive extends) at pressures p_a, p_b and stroke rate v. */
+/* Cylinder force along its axis (positive extends) at pressures p_a, p_b and stroke rate v;
+ * CRANE_E_OVERFLOW if it is not finite (a stroke rate near the largest real). */
 crane_status crane_cylinder_force(const crane_model *model, int joint, crane_real p_a,
                                   crane_real p_b, crane_real stroke_rate, crane_real *force);
 

@@ -71,7 +71,7 @@ static inline crane_real crane__norm2(crane_vec2 a) { return crane__dot(a, a); }
 static CRANE__ALWAYS_INLINE crane_real crane__norm(crane_vec2 a) { return crane__sqrt(crane__dot(a, a)); }
 
 /* R(a) v, with the caller's cos/sin so that each angle's trig is evaluated once. */
-static inline crane_vec2 crane__rot(crane_real c, crane_real s, crane_vec2 v)
+static CRANE__ALWAYS_INLINE crane_vec2 crane__rot(crane_real c, crane_real s, crane_vec2 v)
 {
     return crane__v2(c * v.x - s * v.y, s * v.x + c * v.y);
 }
@@ -118,6 +118,10 @@ typedef struct {
 /* Fills *tk at cos/sin of theta1; the side-link sums only if m->links (else they are unset). */
 void crane__tilt_kinematics(const crane_model *m, crane_real c1, crane_real s1,
                             crane__tilt_kin *tk);
+
+/* The exact validity of the tilt four-bar over the tilt stroke (docs/model.md, "Tilt kinematics")
+ * on a model whose lengths are derived: the field at fault, or CRANE_FIELD_NONE; sets tilt_branch. */
+crane_field crane__fourbar_check(crane_model *m);
 
 /* theta wrapped into (-3pi/2, pi/2]. */
 crane_real crane__wrap_tilt(crane_real theta);

@@ -42,6 +42,7 @@ crane_status crane_cylinder_force(const crane_model *model, int joint, crane_rea
                                   crane_real p_b, crane_real stroke_rate, crane_real *force)
 {
     const crane_real pmax = (crane_real)CRANE_PRESSURE_MAX;
+    crane_real f;
 
     if (!model || !force)
         return CRANE_E_NULL;
@@ -51,6 +52,10 @@ crane_status crane_cylinder_force(const crane_model *model, int joint, crane_rea
         return CRANE_E_NONFINITE;
     if (p_a < 0 || p_a > pmax || p_b < 0 || p_b > pmax)
         return CRANE_E_PRESSURE;
-    *force = crane__cylinder_force(model, joint, p_a, p_b, stroke_rate);
+    /* The viscous term overflows for stroke rates near the largest real (1e307 m/s). */
+    f = crane__cylinder_force(model, joint, p_a, p_b, stroke_rate);
+    if (!crane__finite(f))
+        return CRANE_E_OVERFLOW;
+    *force = f;
     return CRANE_OK;
 }

@@ -79,6 +79,11 @@ crane_status crane_inverse_dynamics(const crane_model *model, const crane_real t
     for (i = 0; i < 2; ++i)
         if (!crane__finite(theta[i]) || !crane__finite(omega[i]) || !crane__finite(alpha[i]))
             return CRANE_E_NONFINITE;
+    /* The model holds only between the angle limits: beyond them the four-bar may not close
+     * (crane_joint_stroke and crane_points reject the same angles). */
+    for (i = 0; i < 2; ++i)
+        if (theta[i] < model->theta_min[i] || theta[i] > model->theta_max[i])
+            return CRANE_E_ANGLE;
     crane__sincos(theta[0], &s0, &c0);
     crane__sincos(theta[0] + theta[1], &s01, &c01);
     if (model->links) {
@@ -89,6 +94,9 @@ crane_status crane_inverse_dynamics(const crane_model *model, const crane_real t
     crane__inverse_dynamics(model, crane__rot(c0, s0, model->c1), crane__rot(c01, s01, model->c2),
                             crane__rot(c0, s0, model->tilt_pivot), c0, s0,
                             model->links ? &tk : NULL, omega, alpha, model->gravity, t);
+    /* omega^2 overflows for rates near the square root of the largest real (1e160 rad/s). */
+    if (!crane__finite(t[0]) || !crane__finite(t[1]))
+        return CRANE_E_OVERFLOW;
     tau[0] = t[0];
     tau[1] = t[1];
     return CRANE_OK;

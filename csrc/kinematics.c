@@ -3,6 +3,7 @@
  * Joint kinematics (docs/model.md, "Lift kinematics" and "Tilt kinematics") and the crane's
  * point positions.
  */
+#include <stdint.h>
 #include "crane_internal.h"
 
 /* circle() of docs/model.md; returns h2 (the mechanism closes only if h2 > 0). With h2 <= 0 the
@@ -117,7 +118,7 @@ void crane__tilt_from_angle(const crane_model *m, crane_real c1, crane_real s1,
     crane_vec2 Q;
     crane_real L;
 
-    (void)circle(p->link1_pivot, m->tilt_l1, A, m->tilt_l2, 1, &Q);
+    (void)circle(p->link1_pivot, m->tilt_l1, A, m->tilt_l2, m->tilt_branch, &Q);
     L = crane__norm(crane__sub(Q, p->tilt_cylinder_base));
     if (stroke)
         *stroke = L - p->length_retracted[CRANE_TILT];
@@ -186,12 +187,144 @@ void crane__tilt_kinematics(const crane_model *m, crane_real c1, crane_real s1,
 
     /* The same arithmetic as crane__tilt_from_angle, so stroke and ds are the same bits. */
     tk->a = crane__add(p->tilt_pivot, crane__rot(c1, s1, p->link2_attach));
-    (void)circle(p->link1_pivot, m->tilt_l1, tk->a, m->tilt_l2, 1, &tk->q);
+    (void)circle(p->link1_pivot, m->tilt_l1, tk->a, m->tilt_l2, m->tilt_branch, &tk->q);
     L = crane__norm(crane__sub(tk->q, p->tilt_cylinder_base));
     tk->stroke = L - p->length_retracted[CRANE_TILT];
     tk->ds = tilt_ds(p, tk->q, tk->a, L);
     if (m->links)
         side_links(m, tk);
+}
+
+/* x reduced to [0, 2pi): its callers' arguments lie in (-3pi, 5pi). */
+static crane_real wrap_2pi(crane_real x)
+{
+    const crane_real two_pi = 2 * crane__pi();
+    int k;
+
+    for (k = 0; k < 2; ++k) {
+        if (x < 0)
+            x += two_pi;
+        else if (x >= two_pi)
+            x -= two_pi;
+    }
+    return x;
+}
+
+/* The pins of the four-bar at psi, the angle at P1 from u = (B2 - P1)/|B2 - P1| clockwise to
+ * Q - P1 (Q to the right of P1 -> B2, as stroke -> angle puts it): Q = P1 + l1 R(-psi) u, A from Q.
+ * Returns D = cross(Q - P1, A - Q), zero where side links 1 and 2 align. */
+static crane_real fourbar_d(const crane_model *m, crane_vec2 u, crane_real psi)
+{
+    crane_vec2 q, a;
+    crane_real s, c;
+
+    crane__sincos(psi, &s, &c);
+    q = crane__add(m->link1_pivot, crane__scale(m->tilt_l1, crane__rot(c, -s, u)));
+    (void)circle(m->tilt_pivot, m->tilt_ra, q, m->tilt_l2, -1, &a);
+    return crane__cross(crane__sub(q, m->link1_pivot), crane__sub(a, q));
+}
+
+/* docs/model.md, "Tilt kinematics": the exact validity of the four-bar over the tilt stroke.
+ * Q turns about P1 by psi, which grows with the cylinder length L (law of cosines in the triangle
+ * P1 B2 Q), over [psi0, psi1] inside (0, pi) exactly when the triangle closes at both stroke limits.
+ * A closes over that arc when e = |Q - O2| stays inside (|ra - l2|, ra + l2): e^2 = c^2 + l1^2 +
+ * 2 l1 c cos(psi - psi_c) (c = |P1 - O2|) is extreme at the arc's ends or at psi_c, psi_c + pi.
+ * ds/dtheta1 (tilt_ds) is then finite and nonzero unless D = cross(Q - P1, A - Q) vanishes, i.e.
+ * A = Q +- l2 w on the line P1 Q (w = (Q - P1)/l1): |P1 - O2 + (l1 +- l2) w| = ra, at most
+ * four angles psi_c +- acos(r) in closed form. D keeps one sign between them, so its sign at the
+ * ends, at those angles and half-way between them decides. The sign of D is the assembly that
+ * angle -> stroke must pick for Q (tilt_branch). Finally theta1 must not cross the wrap of
+ * (-3pi/2, pi/2] inside the stroke (it moves monotonically, so its ends decide).
+ * Returns the field at fault (CRANE_FIELD_NONE if valid) and sets m->tilt_branch. */
+crane_field crane__fourbar_check(crane_model *m)
+{
+    const crane_real lo = -3 * crane__pi() / 2, hi = crane__pi() / 2;
+    const crane_real l1 = m->tilt_l1, l2 = m->tilt_l2, ra = m->tilt_ra;
+    const crane_vec2 b = crane__sub(m->tilt_cylinder_base, m->link1_pivot);
+    const crane_vec2 cv = crane__sub(m->link1_pivot, m->tilt_pivot);
+    const crane_real d = crane__norm(b), c = crane__norm(cv);
+    const crane_real len[2] = {m->length_retracted[CRANE_TILT] + m->stroke_min[CRANE_TILT],
+                               m->length_retracted[CRANE_TILT] + m->stroke_max[CRANE_TILT]};
+    const crane_field end_field[2] = {CRANE_FIELD_TILT_CYLINDER_STROKE_MIN,
+                                      CRANE_FIELD_TILT_CYLINDER_STROKE_MAX};
+    crane_real psi[2], e[2], pts[6], theta[2], ds[2], sign = 0, psi_c, e_lo, e_hi;
+    crane_vec2 u;
+    int k, j, n = 0;
+
+    if (!(l1 > 0))
+        return CRANE_FIELD_GEOMETRY_LINK_PIN;
+    if (!(l2 > 0))
+        return CRANE_FIELD_GEOMETRY_LINK2_END;
+    if (!(ra > 0))
+        return CRANE_FIELD_GEOMETRY_LINK2_ATTACH;
+    if (!(d > 0))
+        return CRANE_FIELD_GEOMETRY_TILT_CYLINDER_BASE;
+    u = crane__scale(1 / d, b);
+    /* Triangle P1 B2 Q at the stroke limits (L grows with the stroke, so psi does too). */
+    if (!(len[0] > crane__fabs(l1 - d)))
+        return end_field[0];
+    if (!(len[1] < l1 + d))
+        return end_field[1];
+    for (k = 0; k < 2; ++k) {
+        crane_real sp, cp;
+        psi[k] = crane__acos((l1 * l1 + d * d - len[k] * len[k]) / (2 * l1 * d));
+        crane__sincos(psi[k], &sp, &cp);
+        e[k] = crane__norm(crane__add(cv, crane__scale(l1, crane__rot(cp, -sp, u))));
+        if (!(e[k] > crane__fabs(ra - l2) && e[k] < ra + l2))
+            return end_field[k];
+    }
+    /* Triangle O2 Q A inside the arc: e's extremes at psi_c (c + l1) and psi_c + pi (|c - l1|). */
+    e_lo = e[0] < e[1] ? e[0] : e[1];
+    e_hi = e[0] < e[1] ? e[1] : e[0];
+    psi_c = wrap_2pi(crane__atan2(u.y, u.x) - crane__atan2(cv.y, cv.x));
+    if (c > 0 && psi_c > psi[0] && psi_c < psi[1])
+        e_hi = c + l1;
+    if (c > 0 && wrap_2pi(psi_c + crane__pi()) > psi[0] && wrap_2pi(psi_c + crane__pi()) < psi[1])
+        e_lo = crane__fabs(c - l1);
+    if (!(e_lo > crane__fabs(ra - l2) && e_hi < ra + l2))
+        return CRANE_FIELD_GEOMETRY_LINK2_END;
+    /* The angles where D may vanish, in increasing order with the ends. */
+    pts[n++] = psi[0];
+    for (k = 0; k < 2 && c > 0; ++k) {
+        const crane_real kk = k == 0 ? l1 + l2 : l1 - l2;
+        const crane_real r = (ra * ra - c * c - kk * kk) / (2 * kk * c);
+        if (kk == 0 || !(r >= -1 && r <= 1))
+            continue;
+        for (j = 0; j < 2; ++j) {
+            const crane_real x = wrap_2pi(psi_c + (j == 0 ? 1 : -1) * crane__acos(r));
+            int i = n;
+            if (!(x > psi[0] && x < psi[1]))
+                continue;
+            while (i > 1 && pts[i - 1] > x) {
+                pts[i] = pts[i - 1];
+                --i;
+            }
+            pts[i] = x;
+            ++n;
+        }
+    }
+    pts[n++] = psi[1];
+    for (k = 0; k < n; ++k) {
+        /* at each point and half-way to the next */
+        for (j = 0; j < (k + 1 < n ? 2 : 1); ++j) {
+            const crane_real x = j == 0 ? pts[k] : (pts[k] + pts[k + 1]) / 2;
+            const crane_real dk = fourbar_d(m, u, x);
+            if (!(dk != 0) || (sign != 0 && (dk > 0 ? 1 : -1) != sign))
+                return CRANE_FIELD_GEOMETRY_LINK2_END;
+            sign = dk > 0 ? 1 : -1;
+        }
+    }
+    /* D < 0 puts Q to the left of P1 -> A: the +1 intersection of angle -> stroke. */
+    m->tilt_branch = -sign;
+    for (k = 0; k < 2; ++k) {
+        const crane_real s = k == 0 ? m->stroke_min[CRANE_TILT] : m->stroke_max[CRANE_TILT];
+        (void)crane__tilt_from_stroke(m, s, &theta[k], &ds[k], NULL, NULL);
+        if (!(theta[k] > lo && theta[k] < hi) || !crane__finite(ds[k]) || !(ds[k] != 0))
+            return CRANE_FIELD_GEOMETRY_LINK2_ATTACH;
+    }
+    if (!((theta[1] - theta[0]) * ds[0] > 0))
+        return CRANE_FIELD_GEOMETRY_LINK2_ATTACH;
+    return CRANE_FIELD_NONE;
 }
 
 crane_status crane_joint_angle(const crane_model *model, int joint, crane_real stroke,
@@ -260,6 +393,10 @@ crane_status crane_points(const crane_model *model, crane_real slew, size_t n,
         return CRANE_E_NULL;
     if (n > 0 && (!theta || !xyz))
         return CRANE_E_NULL;
+    /* n poses are 2 n angles in and 3 CRANE_N_POINTS n coordinates out: a count whose sizes do
+     * not fit a size_t describes no caller's array (and 2 n would wrap). */
+    if (n > SIZE_MAX / (3 * (size_t)CRANE_N_POINTS * sizeof(crane_real)))
+        return CRANE_E_OVERFLOW;
     if (!crane__finite(slew))
         return CRANE_E_NONFINITE;
     /* Validate every pose before the first write. */

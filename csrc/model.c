@@ -5,8 +5,6 @@
  */
 #include "crane_internal.h"
 
-enum { FOURBAR_POINTS = 101 };
-
 /* The first rule broken so far: every check below is one call that does nothing once a rule has
  * failed, so the checks read as a list, one line per field, in the order of the crane file. */
 typedef struct {
@@ -173,43 +171,6 @@ static crane_field lift_triangle_check(const crane_model *m)
     return CRANE_FIELD_NONE;
 }
 
-/* The four-bar closes with finite, nonzero ds/dtheta1 of one sign and theta1 inside
- * (-3pi/2, pi/2) at 101 strokes. Beyond docs/model.md, theta1 must also move monotonically in the
- * direction that sign says: otherwise the wrap cuts the stroke range and the limits are wrong. */
-static crane_field fourbar_check(const crane_model *m)
-{
-    const crane_real lo = -3 * crane__pi() / 2, hi = crane__pi() / 2;
-    crane_real prev_theta = 0, sign = 0;
-    int k;
-
-    if (!(m->tilt_l1 > 0))
-        return CRANE_FIELD_GEOMETRY_LINK_PIN;
-    if (!(m->tilt_l2 > 0))
-        return CRANE_FIELD_GEOMETRY_LINK2_END;
-    if (!(m->tilt_ra > 0))
-        return CRANE_FIELD_GEOMETRY_LINK2_ATTACH;
-    for (k = 0; k < FOURBAR_POINTS; ++k) {
-        const crane_real s = m->stroke_min[CRANE_TILT] +
-                             (m->stroke_max[CRANE_TILT] - m->stroke_min[CRANE_TILT]) * (crane_real)k /
-                                                 (crane_real)(FOURBAR_POINTS - 1);
-        crane_real theta, ds;
-        if (!crane__tilt_from_stroke(m, s, &theta, &ds, NULL, NULL))
-            return CRANE_FIELD_TILT_CYLINDER_STROKE_MAX;
-        if (!crane__finite(theta) || !crane__finite(ds) || ds == 0 || !(theta > lo && theta < hi))
-            return CRANE_FIELD_TILT_CYLINDER_STROKE_MAX;
-        if (k == 0) {
-            sign = ds > 0 ? 1 : -1;
-        } else {
-            if ((ds > 0 ? 1 : -1) != sign)
-                return CRANE_FIELD_TILT_CYLINDER_STROKE_MAX;
-            if (!((theta - prev_theta) * sign > 0))
-                return CRANE_FIELD_TILT_CYLINDER_STROKE_MAX;
-        }
-        prev_theta = theta;
-    }
-    return CRANE_FIELD_NONE;
-}
-
 crane_status crane__model_derive(crane_model *m, const crane_params *params, crane_real extension,
                                  crane_field *field)
 {
@@ -310,7 +271,7 @@ crane_status crane__model_derive(crane_model *m, const crane_params *params, cra
     *field = lift_triangle_check(m);
     if (*field != CRANE_FIELD_NONE)
         return CRANE_E_GEOMETRY;
-    *field = fourbar_check(m);
+    *field = crane__fourbar_check(m);
     if (*field != CRANE_FIELD_NONE)
         return CRANE_E_FOURBAR;
 
@@ -384,15 +345,16 @@ const char *crane_status_message(crane_status status)
     case CRANE_E_PRESSURE: return "a pressure is outside [0, 1e8] Pa";
     case CRANE_E_SAMPLES: return "pressure sample times are not strictly increasing or do not cover [0, horizon]";
     case CRANE_E_DT: return "dt <= 0 or dt > horizon";
-    case CRANE_E_HORIZON: return "horizon <= 0, or too many steps";
+    case CRANE_E_HORIZON: return "horizon <= 0";
     case CRANE_E_CAPACITY: return "the output buffer is smaller than the number of samples";
     case CRANE_E_ANGLE: return "an angle is outside the range reachable by the cylinder";
     case CRANE_E_SAMPLE_EVERY: return "sample_every must be >= 1";
     case CRANE_E_DIVERGED: return "the prediction diverged (the state stopped being finite): the parameters are not physical";
     case CRANE_E_FIELD: return "a crane parameter is outside its range";
-    case CRANE_E_OVERFLOW: return "a result is not finite: an argument is too large";
-    case CRANE_E_STEPS: return "horizon / dt asks for more than CRANE_MAX_STEPS steps";
-    case CRANE_E_SAMPLE_COUNT: return "more than CRANE_MAX_SAMPLES samples: raise dt or sample_every or shorten the horizon";
+    case CRANE_E_OVERFLOW: return "an argument is too large: a result would not be finite or a size would overflow";
+    case CRANE_E_STEPS: return "horizon / dt asks for more than CRANE_MAX_STEPS (1048576) steps: raise dt or shorten the horizon";
+    case CRANE_E_SAMPLE_COUNT: return "more than CRANE_MAX_SAMPLES (8388608) samples in one call: raise sample_every or dt, shorten the horizon or split the futures";
+    case CRANE_E_BATCH: return "futures x steps over CRANE_MAX_BATCH_STEPS (33554432) in one call: split the futures into several calls";
     }
     return "unknown status";
 }

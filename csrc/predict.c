@@ -27,9 +27,9 @@ static crane_status step_count(crane_real horizon, crane_real dt, long *n_steps)
     n = ceil(q);
     if (n < 1)
         n = 1;
-    /* n + 1 samples must fit both a long step counter and a size_t sample count. */
-    if (!(n < (double)LONG_MAX / 2) || !(n < (double)SIZE_MAX / 2))
-        return CRANE_E_HORIZON;
+    /* Bounded work (crane.h); it also keeps the step index exact in a float and in a 32-bit long. */
+    if (!(n <= (double)CRANE_MAX_STEPS))
+        return CRANE_E_STEPS;
     *n_steps = (long)n;
     return CRANE_OK;
 }
@@ -201,6 +201,11 @@ crane_status crane_predict_many(const crane_params *params, size_t n_futures,
     if (st != CRANE_OK)
         return st;
     (void)step_count(horizon, dt, &n_steps);
+    /* Bounded work and memory of the whole call (crane.h), before the buffers are looked at. */
+    if (n_futures > 0 && count > (size_t)CRANE_MAX_SAMPLES / n_futures)
+        return CRANE_E_SAMPLE_COUNT;
+    if (n_futures > 0 && (size_t)n_steps > (size_t)CRANE_MAX_BATCH_STEPS / n_futures)
+        return CRANE_E_BATCH;
     if (count > stride || (n_futures > 0 && stride > SIZE_MAX / n_futures))
         return CRANE_E_CAPACITY;
 

@@ -1,13 +1,11 @@
 """Bounded work and memory (MAX_STEPS, MAX_SAMPLES, checked before anything runs), a batch that
-Ctrl-C stops, a cache that cannot change a result, and the twin without the compiled core."""
+Ctrl-C stops, and a cache that cannot change a result (issue 8, findings 3 and 4)."""
 
 from __future__ import annotations
 
 import _thread
 import copy
 import math
-import subprocess
-import sys
 
 import numpy as np
 import pytest
@@ -50,13 +48,14 @@ def test_step_count_is_the_c_cores():
 # horizon=1e9 or dt=1e-12 died in numpy ("Unable to allocate 40 TiB"); horizon=1e5 allocated 4.4 GB.
 @pytest.mark.parametrize("backend", cp.BACKENDS)
 @pytest.mark.parametrize("horizon, dt, words", [
-    (1e9, None, r"horizon / dt must be at most 10,000,000 steps \(cranepredict.MAX_STEPS\), got "
+    (1e9, None, r"horizon / dt must be at most 1,048,576 steps \(cranepredict.MAX_STEPS\), got "
                 r"horizon 1e\+09 s / dt 0.002 s"),
-    (1.0, 1e-12, r"at most 10,000,000 steps .* dt 1e-12 s"),
-    (1e300, 1e-300, r"at most 10,000,000 steps"),           # horizon / dt overflows to inf
-    (1e5, None, r"at most 10,000,000 steps .* = 5e\+07 steps"),
-    (1e4, None, r"at most 4,000,000 samples per call \(cranepredict.MAX_SAMPLES\), got horizon "
-                r"10000 s / dt 0.002 s = 5,000,001 samples"),
+    (1.0, 1e-12, r"at most 1,048,576 steps .* dt 1e-12 s"),
+    (1e300, 1e-300, r"at most 1,048,576 steps .* = inf steps"),  # horizon / dt overflows
+    (1e5, None, r"at most 1,048,576 steps .* = 50,000,000 steps"),
+    (2097.154, None, r"at most 1,048,576 steps .* = 1,048,577 steps"),
+    # (one prediction's MAX_STEPS + 1 samples are below MAX_SAMPLES: the steps limit comes first)
+    (1e4, None, r"at most 1,048,576 steps .* = 5,000,000 steps"),
 ])
 def test_predict_refuses_work_over_the_limits(crane, nothing_runs, backend, horizon, dt, words):
     with pytest.raises(ValueError, match=words):
@@ -64,12 +63,12 @@ def test_predict_refuses_work_over_the_limits(crane, nothing_runs, backend, hori
 
 
 @pytest.mark.parametrize("kwargs, n, words", [
-    (dict(horizon=1e9, sample_every=10**12), 1, r"at most 10,000,000 steps .* horizon 1e\+09 s"),
-    (dict(horizon=1e9, sample_every=1000), 1, r"at most 10,000,000 steps .* horizon 1e\+09 s"),
-    (dict(horizon=2.0, dt=1e-12), 1, r"at most 10,000,000 steps .* dt 1e-12 s"),
-    (dict(horizon=2.0, sample_every=10**30), 1, r"sample_every must be an int in \[1, 10,000,000\] "
+    (dict(horizon=1e9, sample_every=10**12), 1, r"at most 1,048,576 steps .* horizon 1e\+09 s"),
+    (dict(horizon=1e9, sample_every=1000), 1, r"at most 1,048,576 steps .* horizon 1e\+09 s"),
+    (dict(horizon=2.0, dt=1e-12), 1, r"at most 1,048,576 steps .* dt 1e-12 s"),
+    (dict(horizon=2.0, sample_every=10**30), 1, r"sample_every must be an int in \[1, 1,048,576\] "
                                                 r"\(cranepredict.MAX_STEPS\), got 1000000000000000000000000000000"),
-    (dict(horizon=2.0), 4000, r"at most 4,000,000 samples \(cranepredict.MAX_SAMPLES\), got 4,000 "
+    (dict(horizon=2.0), 8400, r"at most 8,388,608 samples \(cranepredict.MAX_SAMPLES\), got 8,400 "
                               r"futures x 1,001 samples .* sample_every 1"),
 ])
 def test_predict_many_refuses_work_over_the_limits(crane, nothing_runs, kwargs, n, words):
@@ -84,7 +83,7 @@ def test_the_limits_themselves_are_accepted(crane):
     horizon = cp.MAX_STEPS * 1e-3
     assert _checks.step_count(horizon, 1e-3) == cp.MAX_STEPS
     assert _checks.kept_samples(cp.MAX_STEPS, cp.MAX_STEPS) == 2
-    with pytest.raises(ValueError, match="at most 10,000,000 steps"):
+    with pytest.raises(ValueError, match="at most 1,048,576 steps"):
         _checks.step_count(horizon * (1 + 1e-12), 1e-3)
 
 
@@ -170,47 +169,48 @@ def test_one_cache_holds_each_struct_once(crane):
     assert not hasattr(_core.params, "cache_info") and not hasattr(_core.model, "cache_info")
 
 
-# -- the twin without the compiled extension (issue 8, finding 9) ------------------------------
-
-BLOCKED = """
-import sys
-class Blocker:
-    def find_spec(self, name, path=None, target=None):
-        if name == "cranepredict._cranepredict":
-            raise ImportError("the compiled extension is blocked for this test")
-sys.meta_path.insert(0, Blocker())
-from cranepredict import twin
-from cranepredict.types import Hold, Inputs, Pressure, State
-State(lift_stroke=0.1, tilt_stroke=0.3); Inputs(lift=Pressure(1e7), tilt=Hold())
-assert "cranepredict._cranepredict" not in sys.modules
-print("ok")
-"""
-
-
-def test_twin_and_types_import_without_the_compiled_extension():
-    r = subprocess.run([sys.executable, "-c", BLOCKED], capture_output=True, text=True, timeout=60)
-    assert r.returncode == 0 and r.stdout.strip() == "ok", r.stderr
-
-
-# -- the trajectory's arrays are named once (issue 8, finding 9) --------------------------------
-
-def test_the_trajectory_arrays_are_named_once(crane):
-    import dataclasses
-
-    from cranepredict.types import ARRAYS
-
-    tr = cp.predict(crane, STATE, INPUTS, 0.01)
-    py = twin.simulate(crane, STATE, INPUTS, 0.01, 2e-3)
-    assert tuple(py) == ARRAYS  # the twin's keys
-    for cls in (cp.Trajectory, cp.TrajectoryBatch):
-        arrays = [f.name for f in dataclasses.fields(cls) if "ndarray" in str(f.type)]
-        assert set(ARRAYS) <= set(arrays), cls
-    assert all(isinstance(getattr(tr, name), np.ndarray) for name in ARRAYS)
-
-
 def test_params_of_a_crane_is_built_without_deriving_a_model(crane, monkeypatch):
     """The crane's validator reads params() of a crane that may not pass crane_model_init."""
     other = cp.Crane.from_dict(crane.to_dict())
     _core._CACHE.pop(id(other), None)
     monkeypatch.setattr(_core, "ensure", lambda *a: (_ for _ in ()).throw(AssertionError("checked")))
     assert _core.params(other).lift_boom.mass == crane.lift_boom.mass
+
+
+def test_ctrl_c_while_waiting_for_the_other_threads_stops_them(crane, monkeypatch):
+    """This thread's slice done, it waits for the other thread's: Ctrl-C there stops that one at
+    its next chunk, and predict_many raises only once it has stopped (it writes into the output
+    through raw pointers). A Thread.join() interrupted by Ctrl-C returned at once and left it
+    running, chunk after chunk."""
+    import signal
+    import threading
+    import time
+
+    main = threading.main_thread()
+    worker_chunks = []
+    running = []
+    real = _core._run_chunk
+
+    def chunk(*args):
+        if threading.current_thread() is main:
+            return real(*args)
+        running.append(1)
+        worker_chunks.append(args[1])
+        if len(worker_chunks) == 1:
+            time.sleep(0.2)  # let this thread finish its slice and wait
+            signal.pthread_kill(main.ident, signal.SIGINT)  # a real signal: it wakes a blocked wait
+        time.sleep(0.05)
+        status = real(*args)
+        running.pop()
+        return status
+
+    monkeypatch.setattr(_core, "CHUNK_STEPS", 500)  # 2 futures of 250 steps per chunk
+    monkeypatch.setattr(_core, "_run_chunk", chunk)
+    with pytest.raises(KeyboardInterrupt):
+        cp.predict_many(crane, [STATE] * 80, [INPUTS] * 80, 0.5, threads=2)
+        for _ in range(10 ** 6):
+            pass
+    assert not running, "predict_many raised while the other thread was inside a chunk"
+    chunks = len(worker_chunks)
+    time.sleep(0.3)  # a worker left running would go on: 6 chunks in this time
+    assert len(worker_chunks) == chunks and 1 <= chunks <= 3, worker_chunks  # of its 20

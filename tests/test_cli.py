@@ -93,3 +93,20 @@ def test_validate_without_exudyn_is_one_line(capsys, monkeypatch):
     status, err = _main(capsys, "validate")
     assert status == 2
     assert err == "cranepredict: error: validate needs Exudyn: pip install 'cranepredict[reference]'\n"
+
+
+@pytest.mark.parametrize("dt_ref", ["0", "-1e-4", "nan", "5"])
+def test_validate_bad_dt_ref_fails_before_the_validation(capsys, no_slow_validation, dt_ref):
+    status, err = _main(capsys, "validate", "--scenario", "load-0", f"--dt-ref={dt_ref}")
+    assert status == 2 and err.startswith("cranepredict: error: --dt-ref must be in (0, horizon] s")
+
+
+def test_ctrl_c_is_one_line_with_status_130(capsys, monkeypatch):
+    from cranepredict import api
+
+    def interrupted(*args, **kwargs):
+        raise KeyboardInterrupt
+
+    monkeypatch.setattr(api, "predict", interrupted)
+    status, err = _main(capsys, "demo", "--repeat", "1")
+    assert status == 130 and err == "cranepredict: interrupted\n"

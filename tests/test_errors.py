@@ -1,8 +1,10 @@
 """Every error names the input at fault (issue 8, finding 6): huge ints, tables where pairs are
-expected, files that are not UTF-8, batches that are not sequences, absurd stroke rates. (Crane
-dataclasses built directly with wrong types: the crane's type/shape check, tests/test_validator.py.)"""
+expected, wrong types in crane dataclasses built directly, files that are not UTF-8, batches that
+are not sequences, absurd stroke rates."""
 
 from __future__ import annotations
+
+import dataclasses
 
 import pytest
 
@@ -52,7 +54,7 @@ def test_a_huge_horizon_is_a_value_error_naming_horizon(crane):
 
 
 def test_a_huge_sample_every_is_a_value_error_naming_sample_every(crane):
-    with pytest.raises(ValueError, match=r"sample_every must be an int in \[1, 10,000,000\]"):
+    with pytest.raises(ValueError, match=r"sample_every must be an int in \[1, 1,048,576\]"):
         cp.predict_many(crane, [cp.State(**STATE)], [INPUTS], 1.0, sample_every=HUGE)
 
 
@@ -106,3 +108,34 @@ def test_a_huge_horizon_in_a_scenario_names_the_file_and_field():
             "inputs": {"lift": {"hold": True}, "tilt": {"hold": True}}}
     with pytest.raises(ValueError, match="huge.toml.horizon must be a finite number"):
         cp.scenarios.from_dict(data, "huge.toml")
+
+
+@pytest.mark.parametrize("change, name", [
+    (lambda c: dataclasses.replace(c, gravity=HUGE), "gravity"),
+    (lambda c: dataclasses.replace(c, lift_boom=dataclasses.replace(c.lift_boom, mass=HUGE)),
+     "lift_boom.mass"),
+    (lambda c: dataclasses.replace(c, outer_boom=dataclasses.replace(c.outer_boom, com=(0.1, -HUGE))),
+     r"outer_boom.com\[1\]"),
+    (lambda c: dataclasses.replace(c, tilt_cylinder=dataclasses.replace(
+        c.tilt_cylinder, friction=dataclasses.replace(c.tilt_cylinder.friction, coulomb=HUGE))),
+     "tilt_cylinder.friction.coulomb"),
+])
+def test_a_huge_int_in_a_crane_built_directly_names_the_field(crane, change, name):
+    with pytest.raises(ValueError, match=rf"^{name} must be a finite number, got an int too large"):
+        change(crane)
+
+
+# The finding's messages were "unhashable type: 'list'" (a list com, hashed by the old cache) and
+# "too many values to unpack" (a point of three numbers, unpacked into the C struct).
+@pytest.mark.parametrize("change, exc, words", [
+    (lambda c: dataclasses.replace(c, lift_boom=cp.Body(mass=100.0, com=[0.5, 0.1], izz=10.0)),
+     TypeError, r"lift_boom.com must be a pair \(x, y\) of numbers, got \[0.5, 0.1\]"),
+    (lambda c: dataclasses.replace(c, geometry=dataclasses.replace(c.geometry, lift_pivot=(0.1, 1.4, 0.0))),
+     TypeError, r"geometry.lift_pivot must be a pair \(x, y\) of numbers, got \(0.1, 1.4, 0.0\)"),
+    (lambda c: dataclasses.replace(c, lift_boom={"mass": 100.0}), TypeError,
+     "lift_boom must be a Body, got dict"),
+    (lambda c: dataclasses.replace(c, gravity="9.81"), TypeError, "gravity must be a number, got str"),
+])
+def test_crane_dataclasses_built_directly_with_wrong_types_name_the_field(crane, change, exc, words):
+    with pytest.raises(exc, match=words):
+        change(crane)

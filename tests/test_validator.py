@@ -74,6 +74,7 @@ def test_each_field_made_nonfinite_is_named_by_the_core(crane):
     ("tilt_cylinder.length_retracted", 0.0, "> 0"),
     ("lift_cylinder.friction.coulomb", -1.0, ">= 0"),
     ("lift_cylinder.friction.factor", -1.0, ">= 0"),
+    ("tilt_cylinder.friction.stribeck_velocity", 0.0, "> 0"),
 ])
 def test_a_broken_rule_names_the_field_and_its_range(crane, name, value, rule):
     with pytest.raises(ValueError) as info:

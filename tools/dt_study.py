@@ -2,7 +2,7 @@
 """Tip error of the fast model (C core) against a converged run, for several RK4 steps.
 
 Runs every named scenario and N random ones (loads 0-500 kg, strokes across their ranges, holds,
-constant and sampled pressures, slew, extension; tests/conftest.py's generator), 2 s each, and
+constant and sampled pressures, slew, extension; cranepredict.scenarios.random_case), 2 s each, and
 prints the largest tip distance from a run at dt = 2e-5 s, per scenario and summarized. This is
 how cranepredict.DEFAULT_DT was chosen (README, "Accuracy of the default step").
 
@@ -10,14 +10,11 @@ how cranepredict.DEFAULT_DT was chosen (README, "Accuracy of the default step").
 """
 import argparse
 import sys
-from pathlib import Path
 
 import numpy as np
 
 import cranepredict as cp
-
-sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "tests"))
-from conftest import random_case  # noqa: E402
+from cranepredict.scenarios import random_case
 
 REF_DT = 2e-5
 DTS = (1e-2, 5e-3, 4e-3, 2e-3, 1e-3, 5e-4)

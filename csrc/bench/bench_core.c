@@ -6,7 +6,8 @@
  *   bench_core [dt horizon lift_stroke tilt_stroke lift_drive tilt_drive [min_seconds [load]]]
  *     dt, horizon: s; strokes: m (at rest); drive: "hold" or "p_a,p_b" in Pa;
  *     min_seconds: repeat the prediction for at least this long (default 0.5); load: kg (200).
- *   Without arguments: paper-fig4 (1e-3 2 0.116 0.20 17.5e6,0 hold).
+ *   Without arguments: paper-fig4 at dt = 1e-3 s (the scenario from the generated header
+ *   example/crane_scenarios.h: 2 s, 0.116 0.20, 175 bar on the lift's bore side, tilt held, 200 kg).
  *
  * Prints one line of key=value pairs: the wall time of the best and the mean prediction, the
  * faster-than-real-time ratios (simulated s / wall s) and the final tip, which the pytest
@@ -21,6 +22,7 @@
 
 #include "crane.h"
 #include "crane_patu655.h"
+#include "crane_scenarios.h"
 
 #define R(x) ((crane_real)(x))
 
@@ -54,28 +56,31 @@ static int parse_drive(const char *arg, crane_drive *d)
 
 int main(int argc, char **argv)
 {
-    static const char *const paper[] = {"", "1e-3", "2", "0.116", "0.20", "17.5e6,0", "hold"};
-    const char *const *arg = argc >= 7 ? (const char *const *)argv : paper;
-    const double dt = atof(arg[1]);
-    const double horizon = atof(arg[2]);
+    static const crane_state paper_state = CRANE_SCENARIO_PAPER_FIG4_STATE;
+    static const crane_inputs paper_inputs = CRANE_SCENARIO_PAPER_FIG4_INPUTS;
+    const int given = argc >= 7;
+    const double dt = given ? atof(argv[1]) : 1e-3;
+    const double horizon = given ? atof(argv[2]) : (double)CRANE_SCENARIO_PAPER_FIG4_HORIZON;
     const double min_seconds = argc >= 8 ? atof(argv[7]) : 0.5;
     crane_params p = patu655;
-    crane_state s;
-    crane_inputs in;
+    crane_state s = paper_state;
+    crane_inputs in = paper_inputs;
     size_t n = 0, need = 0;
     long reps = 0;
     double t0, wall, best = 1e30;
     crane_status st;
 
-    if (argc >= 9)
-        p.load_mass = R(atof(argv[8]));
-    memset(&s, 0, sizeof s);
-    memset(&in, 0, sizeof in);
-    s.stroke[CRANE_LIFT] = R(atof(arg[3]));
-    s.stroke[CRANE_TILT] = R(atof(arg[4]));
-    if (!parse_drive(arg[5], &in.drive[CRANE_LIFT]) || !parse_drive(arg[6], &in.drive[CRANE_TILT])) {
-        fprintf(stderr, "bench_core: a drive is \"hold\" or \"p_a,p_b\" (Pa)\n");
-        return 2;
+    p.load_mass = argc >= 9 ? R(atof(argv[8])) : CRANE_SCENARIO_PAPER_FIG4_LOAD_MASS;
+    if (given) {
+        memset(&s, 0, sizeof s);
+        memset(&in, 0, sizeof in);
+        s.stroke[CRANE_LIFT] = R(atof(argv[3]));
+        s.stroke[CRANE_TILT] = R(atof(argv[4]));
+        if (!parse_drive(argv[5], &in.drive[CRANE_LIFT]) ||
+            !parse_drive(argv[6], &in.drive[CRANE_TILT])) {
+            fprintf(stderr, "bench_core: a drive is \"hold\" or \"p_a,p_b\" (Pa)\n");
+            return 2;
+        }
     }
     st = crane_sample_count(R(horizon), R(dt), &need);
     if (st != CRANE_OK || need > MAX_SAMPLES) {

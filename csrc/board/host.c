@@ -6,10 +6,9 @@
  */
 #include <stdio.h>
 #include "crane.h"
-#include "crane_patu655.h"
 #include "scenarios.h"
 
-static const crane_params crane = CRANE_PATU655_INIT;
+static crane_params crane;
 enum { CAPACITY = 2001 };
 static crane_sample out[CAPACITY];
 
@@ -23,6 +22,7 @@ int main(void)
     sc = board_scenarios(&n_sc);
     for (i = 0; i < n_sc; ++i) {
         n = 0;
+        board_crane(&sc[i], &crane);
         st = crane_predict(&crane, &sc[i].state0, &sc[i].inputs, sc[i].horizon, sc[i].dt, out,
                            CAPACITY, &n);
         if (st != CRANE_OK) {

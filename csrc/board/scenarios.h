@@ -12,12 +12,16 @@
 typedef struct {
     const char *name;
     crane_real horizon, dt; /* s */
+    crane_real load_mass;   /* kg: the scenario's load on the crane of crane_patu655.h */
     crane_state state0;
     crane_inputs inputs;
 } board_scenario;
 
 /* The scenarios, in the order both programs run them; *count is their number. */
 const board_scenario *board_scenarios(size_t *count);
+
+/* The crane of crane_patu655.h with the scenario's load. */
+void board_crane(const board_scenario *sc, crane_params *params);
 
 /* Longest line board_format_sample writes, NUL included. */
 enum { BOARD_LINE_MAX = 200 };

@@ -1,11 +1,9 @@
 /* SPDX-License-Identifier: MIT */
 /*
- * The paper's experiment (Figure 4) on the C core alone, with the crane compiled in from the
- * generated header crane_patu655.h (source: src/cranepredict/cranes/patu655.toml).
- *
- * Lift cylinder at 175e5 Pa bore side, 0 rod side; tilt cylinder held; 200 kg at the tip;
- * lift stroke 0.116 m, tilt stroke 0.20 m (src/cranepredict/scenarios/paper-fig4.toml), at rest;
- * 2 s at dt = 1e-3 s.
+ * The paper's experiment (Figure 4) on the C core alone, with the crane and the scenario compiled
+ * in from the generated headers crane_patu655.h (src/cranepredict/cranes/patu655.toml) and
+ * crane_scenarios.h (src/cranepredict/scenarios/paper-fig4.toml: lift cylinder at 175 bar on the
+ * bore side, tilt held, 200 kg, from rest), 2 s at dt = 1e-3 s.
  *
  *   paper          prints the final tip position (world, m) and when the lift reached its stop
  *   paper --all    also prints every sample: "t tip_x tip_y tip_z" (for the precision checks)
@@ -16,33 +14,27 @@
 #include <string.h>
 #include "crane.h"
 #include "crane_patu655.h"
+#include "crane_scenarios.h"
 
-#define HORIZON 2.0
 #define DT 1e-3
-#define N_SAMPLES 2001 /* ceil(HORIZON / DT) + 1 */
+#define N_SAMPLES 2001 /* ceil(horizon / DT) + 1 for the scenario's 2 s */
 
-static const crane_params crane = CRANE_PATU655_INIT;
+static const crane_params patu655 = CRANE_PATU655_INIT;
 static crane_sample out[N_SAMPLES];
 
 int main(int argc, char **argv)
 {
-    crane_state s0;
-    crane_inputs in;
+    crane_params crane = patu655;
+    const crane_state s0 = CRANE_SCENARIO_PAPER_FIG4_STATE;
+    const crane_inputs in = CRANE_SCENARIO_PAPER_FIG4_INPUTS;
     crane_status st;
     size_t n = 0, k;
     const int all = argc > 1 && strcmp(argv[1], "--all") == 0;
     double t_stop = -1;
 
-    memset(&s0, 0, sizeof s0);
-    s0.stroke[CRANE_LIFT] = (crane_real)0.116;
-    s0.stroke[CRANE_TILT] = (crane_real)0.20;
-    memset(&in, 0, sizeof in);
-    in.drive[CRANE_LIFT].mode = CRANE_DRIVE_PRESSURE;
-    in.drive[CRANE_LIFT].p_a = (crane_real)175e5;
-    in.drive[CRANE_LIFT].p_b = 0;
-    in.drive[CRANE_TILT].mode = CRANE_DRIVE_HOLD;
-
-    st = crane_predict(&crane, &s0, &in, (crane_real)HORIZON, (crane_real)DT, out, N_SAMPLES, &n);
+    crane.load_mass = CRANE_SCENARIO_PAPER_FIG4_LOAD_MASS;
+    st = crane_predict(&crane, &s0, &in, CRANE_SCENARIO_PAPER_FIG4_HORIZON, (crane_real)DT, out,
+                       N_SAMPLES, &n);
     if (st != CRANE_OK) {
         fprintf(stderr, "crane_predict: %s (status %d)\n", crane_status_message(st), (int)st);
         return 1;

@@ -36,8 +36,9 @@
 #include <string.h>
 #include "crane.h"
 #include "crane_patu655.h"
+#include "crane_scenarios.h"
 
-#define CRANE_STATUS_LAST CRANE_E_SAMPLE_COUNT
+#define CRANE_STATUS_LAST CRANE_E_BATCH
 #define MAX_SAMPLES 16   /* pressure samples per cylinder */
 #define MAX_CAPACITY 600 /* output samples (bounds the work per input) */
 #define MAX_POSES 4      /* crane_points poses */
@@ -161,19 +162,20 @@ static void set_int(universe *u, unsigned which, const uint8_t *v)
     }
 }
 
-/* The paper's scenario, 0.2 s at 1 ms; the samples a ramp over [-0.1, 0.2 + ...]. */
+/* The paper's scenario (generated header example/crane_scenarios.h), 0.2 s at 1 ms; the samples a
+ * ramp over [-0.1, 0.2 + ...]. */
 static void defaults(universe *u)
 {
     static const crane_params patu = CRANE_PATU655_INIT;
+    static const crane_state paper_state = CRANE_SCENARIO_PAPER_FIG4_STATE;
+    static const crane_inputs paper_inputs = CRANE_SCENARIO_PAPER_FIG4_INPUTS;
     int i, k;
 
     memset(u, 0, sizeof *u);
     u->params = patu;
-    u->state.stroke[0] = (crane_real)0.116;
-    u->state.stroke[1] = (crane_real)0.20;
-    u->inputs.drive[0].mode = CRANE_DRIVE_PRESSURE;
-    u->inputs.drive[0].p_a = (crane_real)175e5;
-    u->inputs.drive[1].mode = CRANE_DRIVE_HOLD;
+    u->params.load_mass = CRANE_SCENARIO_PAPER_FIG4_LOAD_MASS;
+    u->state = paper_state;
+    u->inputs = paper_inputs;
     u->horizon = (crane_real)0.2;
     u->dt = (crane_real)1e-3;
     u->capacity = 201;

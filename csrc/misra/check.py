@@ -10,7 +10,8 @@ tests, fuzzer, example, benchmark or board harnesses) in every preprocessor conf
   * any mandatory rule (MISRA C:2012 with Amendments 1 and 2; never deviable) and any cppcheck
     error (e.g. an uninitialised read, rule 9.1);
   * a cppcheck finding that is not a rule (e.g. a file it could not parse).
-A deviated rule with no violation left is reported, not failed (remove it from deviations.txt).
+A deviated rule with no violation is reported, not failed (the core changes in parallel; remove
+it from deviations.txt when it is gone for good).
 cppcheck 2.10's addon implements about 140 of the 175 guidelines, and only the decidable parts
 of some: a clean run is evidence, not a compliance claim (docs/embedding.md).
 """
@@ -42,6 +43,8 @@ def deviations(path):
 def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     ap.add_argument("--deviations", default=os.path.join(HERE, "deviations.txt"))
+    ap.add_argument("--table", action="store_true",
+                    help="also print the deviations as docs/embedding.md's Markdown table")
     a = ap.parse_args(argv)
     sources = sorted(glob.glob(os.path.join(CSRC, "*.c")))
     cmd = ["cppcheck", "--addon=misra", "--std=c99", "--error-exitcode=0", "-q",
@@ -77,11 +80,16 @@ def main(argv=None):
             problems.append(f"rule {rule} is mandatory: " +
                             (", ".join(by_rule[rule]) if n else "it cannot be deviated"))
         elif rule in dev:
-            status = "deviation" if n else "deviation no longer needed (remove it)"
+            status = "deviation" if n else "deviation, no instance found now"
         else:
             status = "NEW VIOLATION"
             problems.append(f"rule {rule} (not deviated): {', '.join(by_rule[rule])}")
         print(f"  {rule:<7}{category:<10}{n:>6}  {status}")
+    if a.table:
+        print("\n| rule | category | count | reason |\n|---|---|---|---|")
+        for rule in sorted(dev, key=key):
+            reason = re.sub(r"(\|\|)", r"`\\|\\|`", dev[rule][1])
+            print(f"| {rule} | {dev[rule][0]} | {len(by_rule.get(rule, []))} | {reason} |")
     for p in problems:
         print("FAIL  " + p)
     print(f"misra: {sum(len(v) for v in by_rule.values())} violations of {len(by_rule)} rules, "

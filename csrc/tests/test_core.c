@@ -13,6 +13,7 @@
 #include <time.h>
 #include "crane.h"
 #include "crane_patu655.h"
+#include "golden.h"
 
 static int n_pass, n_fail;
 
@@ -382,7 +383,7 @@ static void test_bad_small_calls(void)
     check_status(crane_sample_count(R(1), R(-1e-3), &count), CRANE_E_DT, "count: dt < 0");
     check_status(crane_sample_count(R(1), R(2), &count), CRANE_E_DT, "count: dt > horizon");
     check_status(crane_sample_count((crane_real)NAN, R(1e-3), &count), CRANE_E_NONFINITE, "count: NaN");
-    check_status(crane_sample_count(R(1e30), R(1e-10), &count), CRANE_E_HORIZON, "count: too many");
+    check_status(crane_sample_count(R(1e30), R(1e-10), &count), CRANE_E_STEPS, "count: too many");
     check_status(crane_sample_count(R(1), R(1e-3), NULL), CRANE_E_NULL, "count: NULL");
     check(count == 77, "count: nothing written on bad input");
     check(strlen(crane_status_message(CRANE_E_FOURBAR)) > 0 &&
@@ -514,7 +515,9 @@ static void test_inverse_dynamics_lagrange(void)
     check_close(D(m.i2), I2, tol(1e-10, 1e-3), "lumped I2");
     check_close(D(m.c2.x), c2[0], tol(1e-13, 1e-5), "lumped c2.x");
     for (k = 0; k < 200; ++k) {
-        const double th0 = -0.5 + 1.5 * rnd(&seed), th1 = -3.2 + 3.4 * rnd(&seed);
+        /* across the angle limits (the model's domain: crane_inverse_dynamics rejects others) */
+        const double th0 = D(m.theta_min[0]) + D(m.theta_max[0] - m.theta_min[0]) * rnd(&seed);
+        const double th1 = D(m.theta_min[1]) + D(m.theta_max[1] - m.theta_min[1]) * rnd(&seed);
         const double w0 = 2 * rnd(&seed) - 1, w1 = 2 * rnd(&seed) - 1;
         const double a0 = 4 * rnd(&seed) - 2, a1 = 4 * rnd(&seed) - 2;
         const crane_real th[2] = {R(th0), R(th1)}, w[2] = {R(w0), R(w1)}, a[2] = {R(a0), R(a1)};
@@ -605,17 +608,18 @@ static crane_sample paper_out[N_PAPER];
 
 static void test_paper_scenario(void)
 {
-    const crane_params p = patu();
-    const crane_state s0 = state(0.116, 0.20, 0, 0, 0, 0);
-    const crane_inputs in = constant_inputs(175e5, 0, CRANE_DRIVE_HOLD, 0, 0);
+    crane_params p = patu();
+    const crane_state s0 = CRANE_SCENARIO_PAPER_FIG4_STATE;
+    const crane_inputs in = CRANE_SCENARIO_PAPER_FIG4_INPUTS;
     crane_model m;
     crane_real xyz[CRANE_N_POINTS * 3];
     size_t n = 0, k, first_stop = 0;
     int reached = 0, stays = 1, held = 1, mono = 1;
 
+    p.load_mass = CRANE_SCENARIO_PAPER_FIG4_LOAD_MASS;
     crane_model_init(&m, &p, R(0));
-    check_status(crane_predict(&p, &s0, &in, R(2), R(1e-3), paper_out, N_PAPER, &n), CRANE_OK,
-                 "paper scenario runs");
+    check_status(crane_predict(&p, &s0, &in, CRANE_SCENARIO_PAPER_FIG4_HORIZON, R(1e-3), paper_out,
+                               N_PAPER, &n), CRANE_OK, "paper scenario runs");
     check(n == N_PAPER, "paper scenario: 2001 samples");
     check(D(paper_out[0].t) == 0 && D(paper_out[n - 1].t) == 2, "paper scenario: t from 0 to 2");
     for (k = 0; k < n; ++k) {
@@ -806,6 +810,100 @@ static void benchmark(void)
            1e6 * (double)(c1 - c0) / CLOCKS_PER_SEC / reps);
 }
 
+/* ---- golden vectors: the twin's trajectories of the named scenarios (tools/golden.py) ---- */
+
+enum { N_GOLDEN_MAX = 4001 };
+static crane_sample golden_out[N_GOLDEN_MAX];
+
+static double max_abs_diff(const double *want, const crane_real *got, int n, double worst)
+{
+    int i;
+    for (i = 0; i < n; ++i)
+        if (!(fabs(D(got[i]) - want[i]) <= worst))
+            worst = fabs(D(got[i]) - want[i]);
+    return worst;
+}
+
+static long first_stop(const crane_sample *out, size_t n, int joint)
+{
+    size_t k;
+    for (k = 0; k < n; ++k)
+        if (out[k].stop[joint] != 0)
+            return (long)k;
+    return -1;
+}
+
+/* Every named scenario against the twin (the spec), in whatever build this is: the double and the
+ * float build, the cross builds under qemu, the sanitizers. The tolerances are per precision
+ * (double: the C-vs-twin agreement of tests/test_c_vs_twin.py; float: single-precision round-off
+ * through 2000 RK4 steps, measured, with a margin of about 10). In float an end-stop event may land a few steps
+ * from the twin's, so flags are compared away from the twin's first stop only. */
+static void test_golden_vectors(void)
+{
+    /* measured: double 5e-15 m, 2e-15 rad, 5e-15 rad/s; float (gcc 12, x86-64) 4e-5 m, 9e-6 rad,
+     * 1e-5 rad/s, first stops on the twin's sample */
+    const double tol_len = tol(1e-9, 5e-4), tol_theta = tol(1e-9, 1e-4), tol_omega = tol(1e-7, 2e-4);
+    const double tol_t = tol(1e-12, 1e-6);
+    const long slack = is_float ? 2 : 0;
+    double worst_len = 0, worst_theta = 0, worst_omega = 0;
+    long worst_stop_shift = 0;
+    int i, flags_ok = 1, counts_ok = 1, times_ok = 1;
+
+    for (i = 0; i < GOLDEN_N_SCENARIOS; ++i) {
+        const golden_scenario *g = &golden_scenarios[i];
+        crane_params p = patu();
+        size_t n = 0, k;
+        int j;
+        char what[96];
+
+        p.load_mass = g->load_mass;
+        snprintf(what, sizeof what, "golden %s: prediction runs", g->name);
+        check_status(crane_predict(&p, &g->state, &g->inputs, g->horizon, R(GOLDEN_DT), golden_out,
+                                   N_GOLDEN_MAX, &n), CRANE_OK, what);
+        if (n != g->n_samples) {
+            printf("  (golden %s: %lu samples, the twin %lu)\n", g->name, (unsigned long)n,
+                   (unsigned long)g->n_samples);
+            counts_ok = 0;
+            continue;
+        }
+        for (k = 0; k < g->n_golden; ++k) {
+            const golden_sample *want = &g->golden[k];
+            const size_t idx = k * GOLDEN_EVERY < n - 1 ? k * GOLDEN_EVERY : n - 1;
+            const crane_sample *got = &golden_out[idx];
+            if (!(fabs(D(got->t) - want->t) <= tol_t))
+                times_ok = 0;
+            worst_len = max_abs_diff(want->stroke, got->stroke, 2, worst_len);
+            worst_len = max_abs_diff(want->tip, got->tip, 3, worst_len);
+            worst_theta = max_abs_diff(want->theta, got->theta, 2, worst_theta);
+            worst_omega = max_abs_diff(want->omega, got->omega, 2, worst_omega);
+            for (j = 0; j < 2; ++j) {
+                const long near = g->first_stop[j] < 0 ? slack + 1 : labs((long)idx - g->first_stop[j]);
+                if (got->stop[j] != want->stop[j] && near > slack) {
+                    printf("  (golden %s: stop[%d] %d at sample %lu, the twin %d)\n", g->name, j,
+                           got->stop[j], (unsigned long)idx, want->stop[j]);
+                    flags_ok = 0;
+                }
+            }
+        }
+        for (j = 0; j < 2; ++j) {
+            const long got = first_stop(golden_out, n, j), want = g->first_stop[j];
+            const long shift = (got < 0) != (want < 0) ? 1000000 : labs(got - want);
+            if (shift > worst_stop_shift)
+                worst_stop_shift = shift;
+        }
+    }
+    printf("  golden vectors (%d scenarios): max |diff| %.2g m, %.2g rad, %.2g rad/s; first stops "
+           "shifted by <= %ld samples\n", GOLDEN_N_SCENARIOS, worst_len, worst_theta, worst_omega,
+           worst_stop_shift);
+    check(counts_ok, "golden: as many samples as the twin");
+    check(times_ok, "golden: sample times are the twin's");
+    check(worst_len <= tol_len, "golden: strokes and tip within tolerance of the twin");
+    check(worst_theta <= tol_theta, "golden: angles within tolerance of the twin");
+    check(worst_omega <= tol_omega, "golden: angular velocities within tolerance of the twin");
+    check(worst_stop_shift <= slack, "golden: first end-stop samples are the twin's");
+    check(flags_ok, "golden: stop flags are the twin's");
+}
+
 int main(void)
 {
     printf("cranepredict core tests (%s)\n", is_float ? "float" : "double");
@@ -820,6 +918,7 @@ int main(void)
     test_inverse_dynamics_lagrange();
     test_energy();
     test_paper_scenario();
+    test_golden_vectors();
     test_stops_and_release();
     test_tilt_flag();
     test_samples_equal_constant();

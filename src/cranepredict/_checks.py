@@ -19,15 +19,17 @@ __all__ = ["number", "tomllib", "PRESSURE_MAX", "MAX_STEPS", "MAX_SAMPLES", "ste
 #: Pa (1000 bar): the largest pressure accepted; the C core's CRANE_PRESSURE_MAX.
 PRESSURE_MAX = 1e8
 
-#: The most RK4 steps one prediction may take (horizon / dt, rounded up). The C core runs them in
-#: about 1.5 s on a 2020s desktop core (0.15 us per step); the twin, about 100x slower, can be
-#: stopped with Ctrl-C. Above it, a call is refused before anything is allocated or run.
-MAX_STEPS = 10_000_000
+#: The most RK4 steps one prediction may take (horizon / dt, rounded up): the C core's
+#: CRANE_MAX_STEPS (2^20; crane.h says why), written here so that the twin imports without the
+#: core (tests/test_bounds.py checks the two agree). The C core runs them in about 0.2 s on a
+#: 2020s desktop core (0.15 us per step); the twin, about 100x slower, can be stopped with Ctrl-C.
+#: Above it, a call is refused before anything is allocated or run.
+MAX_STEPS = 1_048_576
 
 #: The most output samples one call may return (predict: steps + 1; predict_many: futures x kept
-#: samples per future). A sample takes 88 bytes in the C core's output, so this bounds a call's
-#: output at about 350 MB.
-MAX_SAMPLES = 4_000_000
+#: samples per future): the C core's CRANE_MAX_SAMPLES (2^23). A sample takes 88 bytes in the C
+#: core's output, so this bounds a call's output at about 740 MB.
+MAX_SAMPLES = 8_388_608
 
 
 def number(value: object, name: str) -> float:
@@ -51,8 +53,9 @@ def step_count(horizon: float, dt: float) -> int:
     MAX_STEPS when it is above the limit. horizon and dt are finite, > 0, dt <= horizon."""
     q = horizon / dt - 1e-9
     if not q <= MAX_STEPS:  # also catches horizon/dt overflowing to inf
+        steps = f"{math.ceil(q):,}" if q < 1e18 else f"{q:.3g}"
         raise ValueError(f"horizon / dt must be at most {MAX_STEPS:,} steps (cranepredict.MAX_STEPS), "
-                         f"got horizon {horizon:g} s / dt {dt:g} s = {q:.4g} steps: shorten the "
+                         f"got horizon {horizon:g} s / dt {dt:g} s = {steps} steps: shorten the "
                          "horizon or take a larger dt")
     return max(1, math.ceil(q))
 

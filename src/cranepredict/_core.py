@@ -7,6 +7,8 @@ user's fields happens in api.py before the core is called; the core checks every
 
 from __future__ import annotations
 
+import dataclasses
+import math
 import threading
 from typing import TYPE_CHECKING, Any, Sequence, Tuple
 
@@ -70,8 +72,33 @@ def _cylinder(dst: Any, cyl: Any) -> None:
     dst.friction.stribeck_velocity, dst.friction.factor = f.stribeck_velocity, f.factor
 
 
+def _too_large(obj: Any, prefix: str = "") -> str:
+    """The dotted name of the first int in a crane (dataclasses, pairs) too large for a double."""
+    for f in dataclasses.fields(obj):
+        value, name = getattr(obj, f.name), prefix + f.name
+        if dataclasses.is_dataclass(value):
+            found = _too_large(value, name + ".")
+            if found:
+                return found
+        for i, v in enumerate(value if isinstance(value, tuple) else (value,)):
+            if isinstance(v, int):
+                try:
+                    float(v)
+                except OverflowError:
+                    return f"{name}[{i}]" if isinstance(value, tuple) else name
+    return ""
+
+
 def _new_params(crane: "Crane") -> Any:
     """A new crane_params struct holding the crane's parameters."""
+    try:
+        return _fill_params(crane)
+    except OverflowError:  # a crane built directly (the file loader converts its numbers)
+        name = _too_large(crane) or "a number of the crane"
+        raise ValueError(f"{name} must be a finite number, got an int too large for a float") from None
+
+
+def _fill_params(crane: "Crane") -> Any:
     prm = ffi.new("crane_params *")
     g = crane.geometry
     prm.gravity = crane.gravity
@@ -95,7 +122,7 @@ def _new_params(crane: "Crane") -> Any:
 # (one per extension) are built once per Crane object. It is keyed by identity (the entry holds the
 # crane, so its id is not reused while cached) and the models by the extension's exact bits, never
 # by equality: -0.0 == 0.0, yet the sign of a zero in a point changes the branch of atan2 and so
-# the angles (tests/test_api.py); an equality key would hand one crane another's struct. Identity
+# the angles (tests/test_bounds.py); an equality key would hand one crane another's struct. Identity
 # is also cheaper: hashing a Crane (nested frozen dataclasses) costs microseconds per call.
 _CACHE: dict = {}
 _CACHE_MAX = 64
@@ -115,7 +142,8 @@ def _entry(crane: "Crane") -> Tuple[Any, Any, dict]:
 def _cached(crane: "Crane", extension: float) -> Tuple[Any, Any]:
     """(crane_params *, crane_model *) of a crane at an extension."""
     _, prm, models = _entry(crane)
-    key = float(extension).hex()
+    # By exact bits: only the zeros are two floats that compare equal (NaN never gets here).
+    key: Any = extension if extension != 0.0 else ("-0" if math.copysign(1.0, extension) < 0 else "+0")
     m = models.get(key)
     if m is None:
         m = ffi.new("crane_model *")
@@ -253,33 +281,45 @@ def predict_many(crane: "Crane", states: Sequence["State"], inputs: Sequence["In
     bounds = [f * i // threads for i in range(threads + 1)]
     errors: list = []  # (status, index of the failed future, or f for a shared argument)
     stop = threading.Event()
+    done = [threading.Event() for _ in range(threads)]
 
     def run(i: int) -> None:
-        failed = ffi.new("size_t *")
-        for lo in range(bounds[i], bounds[i + 1], per_call):
-            if stop.is_set():
-                return
-            hi = min(bounds[i + 1], lo + per_call)
-            status = _run_chunk(prm, hi - lo, st + lo, inp + lo, horizon, dt, sample_every,
-                                base + lo * n, n, failed)
-            if status != lib.CRANE_OK:
-                k = int(failed[0])
-                errors.append((status, lo + k if k < hi - lo else f))
-                stop.set()
-                return
+        try:
+            failed = ffi.new("size_t *")
+            for lo in range(bounds[i], bounds[i + 1], per_call):
+                if stop.is_set():
+                    return
+                hi = min(bounds[i + 1], lo + per_call)
+                status = _run_chunk(prm, hi - lo, st + lo, inp + lo, horizon, dt, sample_every,
+                                    base + lo * n, n, failed)
+                if status != lib.CRANE_OK:
+                    k = int(failed[0])
+                    errors.append((status, lo + k if k < hi - lo else f))
+                    stop.set()
+                    return
+        finally:
+            done[i].set()
 
-    workers = [threading.Thread(target=run, args=(i,)) for i in range(1, threads)]
+    # The workers write into `out` through raw pointers: this call must not return or raise before
+    # they have finished. Their own events are waited for, not Thread.join(): a join interrupted by
+    # Ctrl-C marks a running thread as stopped (bpo-45274's clean-up) and then returns at once.
+    started = []
     try:
-        for w in workers:
-            w.start()
+        for i in range(1, threads):
+            threading.Thread(target=run, args=(i,)).start()
+            started.append(i)
         run(0)
-    except BaseException:  # Ctrl-C in this thread: the other slices stop at their next chunk
+        for i in started:
+            done[i].wait()
+    except BaseException:  # Ctrl-C here (running or waiting): the others stop at their next chunk
         stop.set()
+        for i in started:
+            while not done[i].is_set():
+                try:
+                    done[i].wait()
+                except KeyboardInterrupt:  # a second Ctrl-C: the first is raised once they stop
+                    pass
         raise
-    finally:
-        for w in workers:
-            if w.ident is not None:
-                w.join()
     for status, k in sorted(errors, key=lambda e: e[1]):
         _ensure_many(status, k, f)
     return out

@@ -13,8 +13,18 @@ from ._checks import number as _number
 from .crane import Crane
 from .types import ARRAYS, Hold, Inputs, PressureSeries, State, Trajectory, TrajectoryBatch
 
-# The C core (the compiled extension) is imported where a call needs it, so that the package, its
-# types and the twin import without it (see tests/test_api.py).
+# The C core (the compiled extension) is imported on the first call that needs it, so that the
+# package, its types and the twin import without it (tests/test_package.py).
+_CORE: Any = None
+
+
+def _core_module() -> Any:
+    global _CORE
+    if _CORE is None:
+        from . import _core
+
+        _CORE = _core
+    return _CORE
 
 __all__ = ["predict", "predict_many", "DEFAULT_DT", "BACKENDS", "MAX_STEPS", "MAX_SAMPLES"]
 
@@ -100,8 +110,7 @@ def predict(crane: Crane, initial: State, inputs: Inputs, horizon: float, *,
     _check(crane, initial, inputs, horizon, dt, backend)
     points: Any
     if backend == "c":
-        from . import _core
-
+        _core = _core_module()
         arrays = _sample_arrays(_core.predict(crane, initial, inputs, float(horizon), float(dt)))
 
         def points(theta: np.ndarray) -> np.ndarray:
@@ -171,8 +180,7 @@ def predict_many(crane: Crane, initials: Sequence[State], inputs_list: Sequence[
         threads = min(2, os.cpu_count() or 1) if f >= 2 * MIN_FUTURES_PER_THREAD else 1
     if isinstance(threads, bool) or not isinstance(threads, (int, np.integer)) or threads < 1:
         raise ValueError(f"threads must be an int >= 1, got {threads!r}")
-    from . import _core
-
+    _core = _core_module()
     arrays = _sample_arrays(_core.predict_many(crane, initials, inputs_list, float(horizon),
                                                float(dt), int(sample_every), min(int(threads), max(f, 1))))
     arrays["t"] = arrays["t"][0] if f else np.zeros(0)

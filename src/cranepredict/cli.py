@@ -67,6 +67,8 @@ def _validate(args: argparse.Namespace) -> int:
     if args.plot:
         _check_plot_dir(args.plot)
     dt_ref = reference.DEFAULT_REFERENCE_DT if args.dt_ref is None else args.dt_ref
+    if not 0.0 < dt_ref <= min(sc.horizon for sc in chosen):
+        raise ValueError(f"--dt-ref must be in (0, horizon] s, got {dt_ref:g}")
     rows = [reference.compare(sc, dt_ref=dt_ref) for sc in chosen]
     if args.plot:
         _plots(rows, args.plot)
@@ -174,6 +176,9 @@ def main(argv: Optional[List[str]] = None) -> int:
     except (ValueError, TypeError) as exc:
         print(f"cranepredict: error: {exc}", file=sys.stderr)
         return 2
+    except KeyboardInterrupt:
+        print("cranepredict: interrupted", file=sys.stderr)
+        return 130
 
 
 if __name__ == "__main__":  # pragma: no cover

@@ -401,23 +401,106 @@ class TwinModel:
             float(pillar.mass) * float(pillar.com[0]) ** 2 + _tensor(pillar)[1])
         self._pose: Optional[_LinkPose] = None                      # the last four-bar pose
 
+        # --- tilt four-bar validity and assembly (spec "Tilt kinematics") ------------------
+        #: the side of P1 -> A on which angle -> stroke puts Q (+1 left, -1 right)
+        self.tilt_branch = self._fourbar_branch()
+
         # --- angle limits (spec "End stops") ----------------------------------------------
-        # lift: stroke_min -> lower angle; tilt: stroke_max -> lower angle (ds/dtheta1 < 0).
-        lift_lo = self.lift_angle(self.stroke_min[LIFT])[0]
-        lift_hi = self.lift_angle(self.stroke_max[LIFT])[0]
-        tilt_lo = self.tilt_angle(self.stroke_max[TILT])[0]
-        tilt_hi = self.tilt_angle(self.stroke_min[TILT])[0]
-        #: angle_limits[joint] = (lower, upper), for the slew and the extension their range
-        self.angle_limits: Tuple[Pair, ...] = ((lift_lo, lift_hi), (tilt_lo, tilt_hi),
-                                               self.slew_limits, self.extension_limits)
+        # The stroke limit at the lower angle limit follows the sign of ds/dtheta, which the
+        # four-bar check keeps constant over the stroke (lift: > 0 by the triangle's convention).
         #: stroke_at_stop[joint][side]: the stroke reported at a lower (-1) / upper (+1) stop
-        self.stroke_at_stop = (
-            {-1: self.stroke_min[LIFT], +1: self.stroke_max[LIFT]},
-            {-1: self.stroke_max[TILT], +1: self.stroke_min[TILT]},
-        )
-        #: stop_flag[joint][side]: the reported flag, in actuator terms (-1 at stroke_min,
+        #: stop_flag[joint][side]: the reported flag, in cylinder terms (-1 at stroke_min,
         #: +1 at stroke_max), for a joint stopped at its lower (-1) / upper (+1) angle limit
-        self.stop_flag = ({-1: -1, +1: +1}, {-1: +1, +1: -1}, {-1: -1, +1: +1}, {-1: -1, +1: +1})
+        limits, at_stop, flags = [], [], []
+        for joint in (LIFT, TILT):
+            theta_a, ds = self.joint_angle(joint, self.stroke_min[joint])
+            theta_b = self.joint_angle(joint, self.stroke_max[joint])[0]
+            if ds > 0.0:
+                limits.append((theta_a, theta_b))
+                at_stop.append({-1: self.stroke_min[joint], +1: self.stroke_max[joint]})
+                flags.append({-1: -1, +1: +1})
+            else:
+                limits.append((theta_b, theta_a))
+                at_stop.append({-1: self.stroke_max[joint], +1: self.stroke_min[joint]})
+                flags.append({-1: +1, +1: -1})
+        #: angle_limits[joint] = (lower, upper), for the slew and the extension their range
+        self.angle_limits: Tuple[Pair, ...] = (limits[0], limits[1], self.slew_limits,
+                                               self.extension_limits)
+        self.stroke_at_stop = (at_stop[0], at_stop[1])
+        # the slew and the extension: -1 at the range's start, +1 at its end
+        self.stop_flag = (flags[0], flags[1], {-1: -1, +1: +1}, {-1: -1, +1: +1})
+
+    def _fourbar_branch(self) -> float:
+        """Exact validity of the four-bar over the tilt stroke (spec "Tilt kinematics"), decided in
+        closed form; returns the assembly sign for angle -> stroke, raises ValueError if invalid.
+
+        Let phi be the direction of Q - P1 (Q = P1 + l1 (cos phi, sin phi)). As the stroke grows,
+        the cylinder length L = |Q - B2| grows and phi turns clockwise from the direction of
+        B2 - P1 through the angle psi = acos((l1^2 + d^2 - L^2) / (2 l1 d)), so the stroke range is
+        an arc [phi1, phi0] of phi. On it |Q - O2|^2 = |P1 - O2|^2 + l1^2 + 2 l1 (P1 - O2).n(phi)
+        (n the unit vector): a sinusoid in phi, extreme where n(phi) is +-(P1 - O2)/|P1 - O2|.
+        The links align (A on the line P1 Q, dtheta/ds = 0) where |P1 - O2 + (l1 +- l2) n(phi)| = ra,
+        again a sinusoid in phi with closed-form roots; between them cross(Q - P1, A - Q) has one sign.
+        """
+        l1, l2, ra = self.tilt_l1, self.tilt_l2, self.tilt_ra
+        p1, b2, o2 = self.link1_pivot, self.tilt_cylinder_base, self.tilt_pivot
+        d = _norm(_sub(b2, p1))
+        if not (l1 > 0.0 and l2 > 0.0 and ra > 0.0 and d > 0.0):
+            raise ValueError("four-bar does not close: a link of zero length")
+        lengths = [self.length_retracted[TILT] + s for s in (self.stroke_min[TILT], self.stroke_max[TILT])]
+        if not (lengths[0] > abs(l1 - d) and lengths[1] < l1 + d):
+            raise ValueError("four-bar does not close: the tilt cylinder cannot reach side link 1 "
+                             "at a stroke limit")
+        base_dir = math.atan2(b2[1] - p1[1], b2[0] - p1[0])
+        phis = [base_dir - math.acos((l1 * l1 + d * d - L * L) / (2.0 * l1 * d)) for L in lengths]
+        hi_phi, lo_phi = phis                                    # phi decreases as L grows
+        off = _sub(p1, o2)
+        c = _norm(off)
+        off_dir = math.atan2(off[1], off[0])
+
+        def inside(phi: float) -> bool:
+            """phi (any turn) strictly inside the arc (lo_phi, hi_phi), which is shorter than pi."""
+            return 0.0 < (phi - lo_phi) % _TWO_PI < hi_phi - lo_phi
+
+        def reach(phi: float) -> float:
+            return math.hypot(off[0] + l1 * math.cos(phi), off[1] + l1 * math.sin(phi))
+
+        reaches = [reach(lo_phi), reach(hi_phi)]
+        if c > 0.0 and inside(off_dir):
+            reaches.append(c + l1)
+        if c > 0.0 and inside(off_dir + math.pi):
+            reaches.append(abs(c - l1))
+        if not (min(reaches) > abs(ra - l2) and max(reaches) < ra + l2):
+            raise ValueError("four-bar does not close: side link 2 cannot reach the outer boom "
+                             "somewhere over the tilt stroke")
+        # where the side links may align: c^2 + k^2 + 2 k c cos(phi - off_dir) = ra^2
+        roots = []
+        for k in (l1 + l2, l1 - l2):
+            if k == 0.0 or c == 0.0:
+                continue
+            r = (ra * ra - c * c - k * k) / (2.0 * k * c)
+            if -1.0 <= r <= 1.0:
+                for phi in (off_dir + math.acos(r), off_dir - math.acos(r)):
+                    if inside(phi):
+                        roots.append(lo_phi + (phi - lo_phi) % _TWO_PI)
+        marks = sorted([lo_phi, hi_phi] + roots)
+        probes = marks + [(a + b) / 2.0 for a, b in zip(marks, marks[1:])]
+        signs = set()
+        for phi in probes:
+            q = (p1[0] + l1 * math.cos(phi), p1[1] + l1 * math.sin(phi))
+            a = _circle(o2, ra, q, l2, -1.0)
+            cross = _cross(_sub(q, p1), _sub(a, q))
+            signs.add(0 if cross == 0.0 else (1 if cross > 0.0 else -1))
+        if len(signs) != 1 or 0 in signs:
+            raise ValueError("four-bar passes a dead centre over the tilt stroke (the side links "
+                             "align: theta1 stops being monotonic in the stroke)")
+        branch = -1.0 if signs == {1} else 1.0
+        ends = [self.tilt_angle(s) for s in (self.stroke_min[TILT], self.stroke_max[TILT])]
+        lo, hi = -3.0 * _HALF_PI, _HALF_PI
+        if not (all(lo < th < hi and ds != 0.0 for th, ds in ends)
+                and (ends[1][0] - ends[0][0]) * ends[0][1] > 0.0):
+            raise ValueError("the tilt angle leaves (-3pi/2, pi/2) over the tilt stroke")
+        return branch
 
     def _extension_body(self, crane: Any) -> Tuple[float, Vec, float, Tensor]:
         """Body 3 = extension boom + load at the tip, lumped once per crane in the extension
@@ -484,7 +567,7 @@ class TwinModel:
         Q closes the side links about P1."""
         a = _rotate(theta, self.link2_attach)
         a = (self.tilt_pivot[0] + a[0], self.tilt_pivot[1] + a[1])
-        q = _circle(self.link1_pivot, self.tilt_l1, a, self.tilt_l2, +1.0)
+        q = _circle(self.link1_pivot, self.tilt_l1, a, self.tilt_l2, self.tilt_branch)
         return a, q
 
     def _tilt_ratio(self, q: Vec, a: Vec, length: float) -> float:
@@ -1021,8 +1104,9 @@ class _Prediction:
                 at_min = False
             else:
                 continue
-            # tilt: stroke_min is the upper angle; the others: the lower
-            side = (+1 if at_min else -1) if j == TILT else (-1 if at_min else +1)
+            # the angle side of that stroke limit (from the sign of ds/dtheta)
+            flag = -1 if at_min else +1
+            side = -1 if model.stop_flag[j][-1] == flag else +1
             x = self.plastic_impact(x, j, side)
             self.events.append((0.0, j, side))
         return x

@@ -25,11 +25,13 @@ from dataclasses import dataclass
 from importlib import resources
 from typing import Any, Dict, List, Mapping, Tuple
 
+import numpy as np
+
 from .._checks import number, tomllib
 from ..crane import Crane
 from ..types import Drive, Hold, Inputs, Pressure, PressureSeries, State
 
-__all__ = ["Scenario", "get", "names", "all_scenarios", "from_dict"]
+__all__ = ["Scenario", "get", "names", "all_scenarios", "from_dict", "random_case", "random_drive"]
 
 
 @dataclass(frozen=True)
@@ -122,3 +124,32 @@ def get(name: str) -> Scenario:
 
 def all_scenarios() -> List[Scenario]:
     return [_all()[n] for n in names()]
+
+
+# -- random scenarios (the tests' C-vs-twin comparisons, tools/dt_study.py) -------------------------
+
+def random_drive(rng: np.random.Generator, horizon: float) -> Drive:
+    """A random drive: held, constant pressures, or 2-7 pressure samples over [0, horizon]
+    (pressures in [0, 200] bar)."""
+    kind = rng.integers(0, 3)
+    if kind == 0:
+        return Hold()
+    if kind == 1:
+        return Pressure(p_a=rng.uniform(0, 200e5), p_b=rng.uniform(0, 200e5))
+    n = int(rng.integers(2, 8))
+    t = np.concatenate([[0.0], np.sort(rng.uniform(0, horizon, n - 2)), [horizon]])
+    t = np.unique(t)
+    return PressureSeries(t=t, p_a=rng.uniform(0, 200e5, t.size), p_b=rng.uniform(0, 200e5, t.size))
+
+
+def random_case(rng: np.random.Generator, crane: Crane,
+                horizon: float = 2.0) -> Tuple[Crane, State, Inputs]:
+    """(crane, initial, inputs): loads 0-500 kg, strokes across their ranges, slew, extension."""
+    c = crane.with_load(float(rng.uniform(0, 500)))
+    lc, tc, g = c.lift_cylinder, c.tilt_cylinder, c.geometry
+    initial = State(lift_stroke=float(rng.uniform(lc.stroke_min, lc.stroke_max)),
+                    tilt_stroke=float(rng.uniform(tc.stroke_min, tc.stroke_max)),
+                    slew=float(rng.uniform(-np.pi, np.pi)),
+                    extension=float(rng.uniform(g.extension_min, g.extension_max)))
+    inputs = Inputs(lift=random_drive(rng, horizon), tilt=random_drive(rng, horizon))
+    return c, initial, inputs

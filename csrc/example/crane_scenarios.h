@@ -1,0 +1,147 @@
+/* SPDX-License-Identifier: MIT */
+/*
+ * The named scenarios of cranepredict (src/cranepredict/scenarios) for the C core.
+ *
+ * GENERATED from the TOML files in src/cranepredict/scenarios by tools/golden.py -- do not edit.
+ * Regenerate:  python3 tools/golden.py   (tests/test_golden.py checks it is current)
+ *
+ * For scenario X (the file's name in capitals, '-' -> '_'):
+ *   CRANE_SCENARIO_X_LOAD_MASS   the load, kg: set crane_params.load_mass of CRANE_PATU655_INIT
+ *   CRANE_SCENARIO_X_STATE       a crane_state initializer
+ *   CRANE_SCENARIO_X_INPUTS      a crane_inputs initializer (sampled drives as compound literals)
+ *   CRANE_SCENARIO_X_HORIZON     s
+ * Every scenario uses the PATU 655 (crane_patu655.h).
+ */
+
+#ifndef CRANE_SCENARIOS_H
+#define CRANE_SCENARIOS_H
+
+#include "crane.h"
+
+#ifndef CRANE_R
+#define CRANE_R(x) ((crane_real)(x))
+#endif
+
+
+/* both-driven: Both cylinders driven: lift at 80 bar raises the boom while the tilt cylinder (rod side 30 bar) unfolds the outer boom, 200 kg. */
+#define CRANE_SCENARIO_BOTH_DRIVEN_LOAD_MASS CRANE_R(200.0)
+#define CRANE_SCENARIO_BOTH_DRIVEN_STATE { \
+    .stroke = {CRANE_R(0.15), CRANE_R(0.45)}, \
+    .stroke_rate = {CRANE_R(0.0), CRANE_R(0.0)}, \
+    .slew = CRANE_R(0.0), .extension = CRANE_R(0.0)}
+#define CRANE_SCENARIO_BOTH_DRIVEN_INPUTS {.drive = { \
+    {.mode = CRANE_DRIVE_PRESSURE, .p_a = CRANE_R(8000000.0), .p_b = CRANE_R(0.0)}, \
+    {.mode = CRANE_DRIVE_PRESSURE, .p_a = CRANE_R(0.0), .p_b = CRANE_R(3000000.0)}}}
+#define CRANE_SCENARIO_BOTH_DRIVEN_HORIZON CRANE_R(2.0)
+
+/* end-stop-lift-lower: Lift lower end stop: the rod side at 60 bar pulls the booms down until the lift cylinder is fully retracted; tilt held, 200 kg. */
+#define CRANE_SCENARIO_END_STOP_LIFT_LOWER_LOAD_MASS CRANE_R(200.0)
+#define CRANE_SCENARIO_END_STOP_LIFT_LOWER_STATE { \
+    .stroke = {CRANE_R(0.2), CRANE_R(0.3)}, \
+    .stroke_rate = {CRANE_R(0.0), CRANE_R(0.0)}, \
+    .slew = CRANE_R(0.0), .extension = CRANE_R(0.0)}
+#define CRANE_SCENARIO_END_STOP_LIFT_LOWER_INPUTS {.drive = { \
+    {.mode = CRANE_DRIVE_PRESSURE, .p_a = CRANE_R(0.0), .p_b = CRANE_R(6000000.0)}, \
+    {.mode = CRANE_DRIVE_HOLD}}}
+#define CRANE_SCENARIO_END_STOP_LIFT_LOWER_HORIZON CRANE_R(2.0)
+
+/* end-stop-tilt: Tilt end stop: 120 bar on the tilt cylinder's rod side unfolds the outer boom until the tilt cylinder is fully retracted (stroke_min); lift held, 200 kg. */
+#define CRANE_SCENARIO_END_STOP_TILT_LOAD_MASS CRANE_R(200.0)
+#define CRANE_SCENARIO_END_STOP_TILT_STATE { \
+    .stroke = {CRANE_R(0.3), CRANE_R(0.25)}, \
+    .stroke_rate = {CRANE_R(0.0), CRANE_R(0.0)}, \
+    .slew = CRANE_R(0.0), .extension = CRANE_R(0.0)}
+#define CRANE_SCENARIO_END_STOP_TILT_INPUTS {.drive = { \
+    {.mode = CRANE_DRIVE_HOLD}, \
+    {.mode = CRANE_DRIVE_PRESSURE, .p_a = CRANE_R(0.0), .p_b = CRANE_R(12000000.0)}}}
+#define CRANE_SCENARIO_END_STOP_TILT_HORIZON CRANE_R(2.0)
+
+/* load-0: Lift without load: 30 bar on the bore side, tilt held; just above the 29.68 bar that holds the booms at the start, so they rise slowly; 0 kg. */
+#define CRANE_SCENARIO_LOAD_0_LOAD_MASS CRANE_R(0.0)
+#define CRANE_SCENARIO_LOAD_0_STATE { \
+    .stroke = {CRANE_R(0.2), CRANE_R(0.3)}, \
+    .stroke_rate = {CRANE_R(0.0), CRANE_R(0.0)}, \
+    .slew = CRANE_R(0.0), .extension = CRANE_R(0.0)}
+#define CRANE_SCENARIO_LOAD_0_INPUTS {.drive = { \
+    {.mode = CRANE_DRIVE_PRESSURE, .p_a = CRANE_R(3000000.0), .p_b = CRANE_R(0.0)}, \
+    {.mode = CRANE_DRIVE_HOLD}}}
+#define CRANE_SCENARIO_LOAD_0_HORIZON CRANE_R(2.0)
+
+/* load-200: Lift with the load: 65 bar on the bore side, tilt held; just below the 65.04 bar that holds this load at the start, so the booms sink slowly; 200 kg. */
+#define CRANE_SCENARIO_LOAD_200_LOAD_MASS CRANE_R(200.0)
+#define CRANE_SCENARIO_LOAD_200_STATE { \
+    .stroke = {CRANE_R(0.2), CRANE_R(0.3)}, \
+    .stroke_rate = {CRANE_R(0.0), CRANE_R(0.0)}, \
+    .slew = CRANE_R(0.0), .extension = CRANE_R(0.0)}
+#define CRANE_SCENARIO_LOAD_200_INPUTS {.drive = { \
+    {.mode = CRANE_DRIVE_PRESSURE, .p_a = CRANE_R(6500000.0), .p_b = CRANE_R(0.0)}, \
+    {.mode = CRANE_DRIVE_HOLD}}}
+#define CRANE_SCENARIO_LOAD_200_HORIZON CRANE_R(2.0)
+
+/* load-500: Lift with the load: 118 bar on the bore side, tilt held; just below the 118.08 bar that holds this load at the start, so the booms sink slowly; 500 kg. */
+#define CRANE_SCENARIO_LOAD_500_LOAD_MASS CRANE_R(500.0)
+#define CRANE_SCENARIO_LOAD_500_STATE { \
+    .stroke = {CRANE_R(0.2), CRANE_R(0.3)}, \
+    .stroke_rate = {CRANE_R(0.0), CRANE_R(0.0)}, \
+    .slew = CRANE_R(0.0), .extension = CRANE_R(0.0)}
+#define CRANE_SCENARIO_LOAD_500_INPUTS {.drive = { \
+    {.mode = CRANE_DRIVE_PRESSURE, .p_a = CRANE_R(11800000.0), .p_b = CRANE_R(0.0)}, \
+    {.mode = CRANE_DRIVE_HOLD}}}
+#define CRANE_SCENARIO_LOAD_500_HORIZON CRANE_R(2.0)
+
+/* lower-gravity: Lowering under gravity: the lift cylinder's bore side at a low 40 bar, below the 54.33 bar that holds the booms with 200 kg at the start: they sink slowly (friction and the low pressure brake them); tilt held. */
+#define CRANE_SCENARIO_LOWER_GRAVITY_LOAD_MASS CRANE_R(200.0)
+#define CRANE_SCENARIO_LOWER_GRAVITY_STATE { \
+    .stroke = {CRANE_R(0.45), CRANE_R(0.3)}, \
+    .stroke_rate = {CRANE_R(0.0), CRANE_R(0.0)}, \
+    .slew = CRANE_R(0.0), .extension = CRANE_R(0.0)}
+#define CRANE_SCENARIO_LOWER_GRAVITY_INPUTS {.drive = { \
+    {.mode = CRANE_DRIVE_PRESSURE, .p_a = CRANE_R(4000000.0), .p_b = CRANE_R(0.0)}, \
+    {.mode = CRANE_DRIVE_HOLD}}}
+#define CRANE_SCENARIO_LOWER_GRAVITY_HORIZON CRANE_R(2.0)
+
+/* paper-fig4: The paper's Figure 4: lift cylinder at 175 bar on the bore side (137,445 N), tilt cylinder held, 200 kg, lift boom starting near horizontal; it reaches the upper end stop within 2 s. */
+#define CRANE_SCENARIO_PAPER_FIG4_LOAD_MASS CRANE_R(200.0)
+#define CRANE_SCENARIO_PAPER_FIG4_STATE { \
+    .stroke = {CRANE_R(0.116), CRANE_R(0.2)}, \
+    .stroke_rate = {CRANE_R(0.0), CRANE_R(0.0)}, \
+    .slew = CRANE_R(0.0), .extension = CRANE_R(0.0)}
+#define CRANE_SCENARIO_PAPER_FIG4_INPUTS {.drive = { \
+    {.mode = CRANE_DRIVE_PRESSURE, .p_a = CRANE_R(17500000.0), .p_b = CRANE_R(0.0)}, \
+    {.mode = CRANE_DRIVE_HOLD}}}
+#define CRANE_SCENARIO_PAPER_FIG4_HORIZON CRANE_R(2.0)
+
+/* pressure-ramps: Pressure ramps (sampled inputs): lift bore side ramps 40 -> 90 bar over 0.2-1.2 s; the tilt rod side rises 20 -> 50 bar over 0.5-1.5 s, 200 kg. */
+#define CRANE_SCENARIO_PRESSURE_RAMPS_LOAD_MASS CRANE_R(200.0)
+#define CRANE_SCENARIO_PRESSURE_RAMPS_STATE { \
+    .stroke = {CRANE_R(0.2), CRANE_R(0.4)}, \
+    .stroke_rate = {CRANE_R(0.0), CRANE_R(0.0)}, \
+    .slew = CRANE_R(0.0), .extension = CRANE_R(0.0)}
+#define CRANE_SCENARIO_PRESSURE_RAMPS_INPUTS {.drive = { \
+    {.mode = CRANE_DRIVE_PRESSURE, .t = (const crane_real[]){CRANE_R(0.0), CRANE_R(0.2), CRANE_R(1.2), CRANE_R(2.0)}, .p_a_samples = (const crane_real[]){CRANE_R(4000000.0), CRANE_R(4000000.0), CRANE_R(9000000.0), CRANE_R(9000000.0)}, .p_b_samples = (const crane_real[]){CRANE_R(0.0), CRANE_R(0.0), CRANE_R(0.0), CRANE_R(0.0)}, .n_samples = 4}, \
+    {.mode = CRANE_DRIVE_PRESSURE, .t = (const crane_real[]){CRANE_R(0.0), CRANE_R(0.5), CRANE_R(1.5), CRANE_R(2.0)}, .p_a_samples = (const crane_real[]){CRANE_R(1000000.0), CRANE_R(1000000.0), CRANE_R(1000000.0), CRANE_R(1000000.0)}, .p_b_samples = (const crane_real[]){CRANE_R(2000000.0), CRANE_R(2000000.0), CRANE_R(5000000.0), CRANE_R(5000000.0)}, .n_samples = 4}}}
+#define CRANE_SCENARIO_PRESSURE_RAMPS_HORIZON CRANE_R(2.0)
+
+/* slewed-extended: Slewed (60 deg) and extended (0.8 m) pose: lift 85 bar with the tilt at 30/40 bar (bore/rod), 300 kg; tests the world mapping and the lumped extension. */
+#define CRANE_SCENARIO_SLEWED_EXTENDED_LOAD_MASS CRANE_R(300.0)
+#define CRANE_SCENARIO_SLEWED_EXTENDED_STATE { \
+    .stroke = {CRANE_R(0.25), CRANE_R(0.35)}, \
+    .stroke_rate = {CRANE_R(0.0), CRANE_R(0.0)}, \
+    .slew = CRANE_R(1.0471975511965976), .extension = CRANE_R(0.8)}
+#define CRANE_SCENARIO_SLEWED_EXTENDED_INPUTS {.drive = { \
+    {.mode = CRANE_DRIVE_PRESSURE, .p_a = CRANE_R(8500000.0), .p_b = CRANE_R(0.0)}, \
+    {.mode = CRANE_DRIVE_PRESSURE, .p_a = CRANE_R(3000000.0), .p_b = CRANE_R(4000000.0)}}}
+#define CRANE_SCENARIO_SLEWED_EXTENDED_HORIZON CRANE_R(2.0)
+
+/* tilt-alone: Tilt cylinder driven alone: rod side 30 bar, above the 28.59 bar that holds the outer boom at the start, so it unfolds slowly against its weight; lift held, 200 kg. */
+#define CRANE_SCENARIO_TILT_ALONE_LOAD_MASS CRANE_R(200.0)
+#define CRANE_SCENARIO_TILT_ALONE_STATE { \
+    .stroke = {CRANE_R(0.3), CRANE_R(0.35)}, \
+    .stroke_rate = {CRANE_R(0.0), CRANE_R(0.0)}, \
+    .slew = CRANE_R(0.0), .extension = CRANE_R(0.0)}
+#define CRANE_SCENARIO_TILT_ALONE_INPUTS {.drive = { \
+    {.mode = CRANE_DRIVE_HOLD}, \
+    {.mode = CRANE_DRIVE_PRESSURE, .p_a = CRANE_R(0.0), .p_b = CRANE_R(3000000.0)}}}
+#define CRANE_SCENARIO_TILT_ALONE_HORIZON CRANE_R(2.0)
+
+#endif

@@ -1,0 +1,210 @@
+#!/usr/bin/env python3
+"""Golden vectors for the C tests (in the style of CMSIS-DSP's reference patterns): the named
+scenarios and the pure-Python twin's trajectories of them, written as C data.
+
+The twin is the executable specification (docs/model.md), written independently of the C core.
+The C-only builds (double, float, the cross builds under qemu, the sanitizers) have no Python, so
+they check themselves against these files. Two generated files, both committed:
+
+    csrc/example/crane_scenarios.h   every named scenario's setup (load, initial state, drives,
+                                     horizon) as C99 initializers: the one source of the paper
+                                     scenario in the example, the benchmark, the tests and the fuzzer
+    csrc/tests/golden.h              the twin's trajectory of each scenario at dt = 1 ms, one
+                                     sample every 50 ms and the last one, and the first stop samples
+
+    python3 tools/golden.py            # write both files
+    python3 tools/golden.py --check    # exit 1 if a committed file is stale (numbers to 1e-12)
+
+Needs the package installed (the twin, the scenarios); tests/test_golden.py runs --check.
+"""
+from __future__ import annotations
+
+import argparse
+import difflib
+import math
+import re
+import sys
+from pathlib import Path
+from typing import List, Tuple
+
+import numpy as np
+
+import cranepredict as cp
+from cranepredict.types import Hold, Pressure, PressureSeries
+
+ROOT = Path(__file__).resolve().parents[1]
+SCENARIOS_H = ROOT / "csrc" / "example" / "crane_scenarios.h"
+GOLDEN_H = ROOT / "csrc" / "tests" / "golden.h"
+DT = 1e-3
+EVERY = 50
+CRANE = "PATU 655"  # the crane of crane_patu655.h; every scenario must use it
+
+_HEAD = """/* SPDX-License-Identifier: MIT */
+/*
+ * {what}
+ *
+ * GENERATED from the TOML files in src/cranepredict/scenarios by tools/golden.py -- do not edit.
+ * Regenerate:  python3 tools/golden.py   (tests/test_golden.py checks it is current)
+{more} */
+"""
+
+
+def _ident(name: str) -> str:
+    return re.sub(r"[^A-Z0-9]", "_", name.upper())
+
+
+def _lit(x: float) -> str:
+    """A C double literal that round-trips exactly (repr is the shortest such string)."""
+    s = repr(float(x))
+    if "e" not in s and "." not in s and "n" not in s:
+        s += ".0"
+    return s
+
+
+def _r(x: float) -> str:
+    return f"CRANE_R({_lit(x)})"
+
+
+def _drive(d) -> str | None:
+    """The crane_drive initializer, or None for a drive type this generator does not write yet."""
+    if isinstance(d, Hold):
+        return "{.mode = CRANE_DRIVE_HOLD}"
+    if isinstance(d, Pressure):
+        return f"{{.mode = CRANE_DRIVE_PRESSURE, .p_a = {_r(d.p_a)}, .p_b = {_r(d.p_b)}}}"
+    if isinstance(d, PressureSeries):
+        def arr(a) -> str:
+            return "(const crane_real[]){" + ", ".join(_r(v) for v in a) + "}"
+        return (f"{{.mode = CRANE_DRIVE_PRESSURE, .t = {arr(d.t)}, .p_a_samples = {arr(d.p_a)}, "
+                f".p_b_samples = {arr(d.p_b)}, .n_samples = {len(d.t)}}}")
+    return None
+
+
+def written() -> List:
+    """The scenarios both files carry: those whose drives _drive can write."""
+    return [sc for sc in cp.scenarios.all_scenarios()
+            if _drive(sc.inputs.lift) is not None and _drive(sc.inputs.tilt) is not None]
+
+
+def _left_out() -> str:
+    names = sorted(set(cp.scenarios.names()) - {sc.name for sc in written()})
+    return (" * Left out (drive types this generator does not write yet): " + ", ".join(names) + "\n"
+            if names else "")
+
+
+def scenarios_header() -> str:
+    out = [_HEAD.format(
+        what="The named scenarios of cranepredict (src/cranepredict/scenarios) for the C core.",
+        more=_left_out() + """ *
+ * For scenario X (the file's name in capitals, '-' -> '_'):
+ *   CRANE_SCENARIO_X_LOAD_MASS   the load, kg: set crane_params.load_mass of CRANE_PATU655_INIT
+ *   CRANE_SCENARIO_X_STATE       a crane_state initializer
+ *   CRANE_SCENARIO_X_INPUTS      a crane_inputs initializer (sampled drives as compound literals)
+ *   CRANE_SCENARIO_X_HORIZON     s
+ * Every scenario uses the PATU 655 (crane_patu655.h).
+""")]
+    out.append("#ifndef CRANE_SCENARIOS_H\n#define CRANE_SCENARIOS_H\n\n#include \"crane.h\"\n\n"
+               "#ifndef CRANE_R\n#define CRANE_R(x) ((crane_real)(x))\n#endif\n")
+    for sc in written():
+        if sc.crane.name != CRANE:
+            raise SystemExit(f"scenario {sc.name}: crane {sc.crane.name!r}, the C tests have {CRANE!r} only")
+        x, s = _ident(sc.name), sc.initial
+        out.append(f"\n/* {sc.name}: {sc.description.replace('*/', '* /')} */")
+        out.append(f"#define CRANE_SCENARIO_{x}_LOAD_MASS {_r(sc.crane.load_mass)}")
+        out.append(f"#define CRANE_SCENARIO_{x}_STATE {{ \\\n"
+                   f"    .stroke = {{{_r(s.lift_stroke)}, {_r(s.tilt_stroke)}}}, \\\n"
+                   f"    .stroke_rate = {{{_r(s.lift_stroke_rate)}, {_r(s.tilt_stroke_rate)}}}, \\\n"
+                   f"    .slew = {_r(s.slew)}, .extension = {_r(s.extension)}}}")
+        out.append(f"#define CRANE_SCENARIO_{x}_INPUTS {{.drive = {{ \\\n"
+                   f"    {_drive(sc.inputs.lift)}, \\\n    {_drive(sc.inputs.tilt)}}}}}")
+        out.append(f"#define CRANE_SCENARIO_{x}_HORIZON {_r(sc.horizon)}")
+    out.append("\n#endif\n")
+    return "\n".join(out)
+
+
+def _first_stops(stop: np.ndarray) -> Tuple[int, int]:
+    firsts = []
+    for j in range(2):
+        idx = np.flatnonzero(stop[:, j] != 0)
+        firsts.append(int(idx[0]) if idx.size else -1)
+    return firsts[0], firsts[1]
+
+
+def golden_header() -> str:
+    out = [_HEAD.format(
+        what="Golden vectors: the pure-Python twin's trajectories of the named scenarios.",
+        more=f""" *
+ * dt = {DT:g} s; golden sample k is the prediction's sample min(k * {EVERY}, n - 1), n = n_samples.
+ * first_stop[j]: the first sample (of all n) with a stop flag on joint j, -1 if none.
+ * Values are the twin's doubles; the C test compares with a tolerance per precision.
+""")]
+    out.append("#ifndef CRANE_GOLDEN_H\n#define CRANE_GOLDEN_H\n\n#include <stddef.h>\n"
+               "#include \"crane.h\"\n#include \"crane_scenarios.h\"\n")
+    out.append(f"#define GOLDEN_DT {_lit(DT)}\n#define GOLDEN_EVERY {EVERY}\n")
+    out.append("typedef struct {\n    double t, stroke[2], theta[2], omega[2], tip[3];\n"
+               "    int stop[2];\n} golden_sample;\n")
+    out.append("typedef struct {\n    const char *name;\n    crane_real load_mass;\n    crane_state state;\n"
+               "    crane_inputs inputs;\n    crane_real horizon;\n    size_t n_samples;\n"
+               "    long first_stop[2];\n    size_t n_golden;\n    const golden_sample *golden;\n"
+               "} golden_scenario;\n")
+    table = []
+    for sc in written():
+        tr = cp.predict(sc.crane, sc.initial, sc.inputs, sc.horizon, dt=DT, backend="python")
+        n = len(tr.t)
+        keep = sorted(set(range(0, n, EVERY)) | {n - 1})
+        x, ident = _ident(sc.name), _ident(sc.name).lower()
+        rows = []
+        for k in keep:
+            vals = [tr.t[k], *tr.strokes[k], *tr.theta[k], *tr.omega[k], *tr.tip[k]]
+            if not all(math.isfinite(v) for v in vals):
+                raise SystemExit(f"scenario {sc.name}: non-finite twin sample {k}")
+            t, s0, s1, th0, th1, w0, w1, x0, x1, x2 = (_lit(v) for v in vals)
+            rows.append(f"    {{{t}, {{{s0}, {s1}}}, {{{th0}, {th1}}}, {{{w0}, {w1}}}, "
+                        f"{{{x0}, {x1}, {x2}}}, {{{int(tr.stop[k, 0])}, {int(tr.stop[k, 1])}}}}},")
+        out.append(f"static const golden_sample golden_{ident}[] = {{\n" + "\n".join(rows) + "\n};\n")
+        f0, f1 = _first_stops(np.asarray(tr.stop))
+        table.append(f"    {{\"{sc.name}\", CRANE_SCENARIO_{x}_LOAD_MASS, CRANE_SCENARIO_{x}_STATE,\n"
+                     f"     CRANE_SCENARIO_{x}_INPUTS, CRANE_SCENARIO_{x}_HORIZON, {n}, {{{f0}, {f1}}},\n"
+                     f"     {len(keep)}, golden_{ident}}},")
+    out.append("static const golden_scenario golden_scenarios[] = {\n" + "\n".join(table) + "\n};\n")
+    out.append(f"enum {{ GOLDEN_N_SCENARIOS = {len(table)} }};\n\n#endif\n")
+    return "\n".join(out)
+
+
+_NUMBER = re.compile(r"-?(?:\d+\.\d*|\.\d+|\d+)(?:[eE][-+]?\d+)?")
+
+
+def same(old: str, new: str, rel: float = 1e-12, abs_: float = 1e-12) -> bool:
+    """Equal text except numbers, which agree to rel/abs (the twin's last bits may differ across
+    platforms' libm)."""
+    if _NUMBER.sub("#", old) != _NUMBER.sub("#", new):
+        return False
+    a = [float(v) for v in _NUMBER.findall(old)]
+    b = [float(v) for v in _NUMBER.findall(new)]
+    return len(a) == len(b) and all(math.isclose(u, v, rel_tol=rel, abs_tol=abs_) for u, v in zip(a, b))
+
+
+def main(argv: List[str] | None = None) -> int:
+    ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    ap.add_argument("--check", action="store_true", help="exit 1 if a committed file is stale")
+    a = ap.parse_args(argv)
+    status = 0
+    for path, text in ((SCENARIOS_H, scenarios_header()), (GOLDEN_H, golden_header())):
+        rel = path.relative_to(ROOT)
+        if a.check:
+            old = path.read_text() if path.exists() else ""
+            if same(old, text):
+                print(f"up to date: {rel}")
+            else:
+                sys.stdout.writelines(list(difflib.unified_diff(
+                    old.splitlines(True), text.splitlines(True), f"{rel} (committed)",
+                    f"{rel} (from the twin)"))[:60])
+                print(f"STALE: {rel}; run: python3 tools/golden.py", file=sys.stderr)
+                status = 1
+        else:
+            path.write_text(text)
+            print(f"wrote {rel}")
+    return status
+
+
+if __name__ == "__main__":
+    sys.exit(main())
