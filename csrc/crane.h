@@ -327,6 +327,101 @@ crane_status crane_cylinder_force(const crane_model *model, int joint, crane_rea
 
 /* A short English description of a status code (a static string). */
 const char *crane_status_message(crane_status status);
+/* ---- Collision guard (docs/guard.md): solids, exact distances, the crane's shape, the verdict ----
+ * A solid is a half-space, an oriented box or a segment grown by a radius (capsule, sphere, and a
+ * cylinder, whose distances are those of its capsule: conservative, never larger than the true
+ * one). Distances are between surfaces, 0 when solids touch or overlap. */
+enum {
+    CRANE_E_SOLID = 40,          /* a solid (obstacle) is not valid, or a pair of two planes */
+    CRANE_E_PART = 41,           /* a crane part is not valid */
+    CRANE_E_GUARD = 42           /* a guard setting (margin, reaction, cycle, tolerances) out of range */
+};
+enum { CRANE_SOLID_PLANE = 0, CRANE_SOLID_BOX = 1, CRANE_SOLID_CAPSULE = 2, CRANE_SOLID_SPHERE = 3,
+       CRANE_SOLID_CYLINDER = 4 };
+/* The field of a solid or part at fault (crane_solid_check, crane_guard_check). */
+enum { CRANE_GUARD_FIELD_KIND = 1, CRANE_GUARD_FIELD_A = 2, CRANE_GUARD_FIELD_B = 3,
+       CRANE_GUARD_FIELD_RADIUS = 4, CRANE_GUARD_FIELD_AXES = 5, CRANE_GUARD_FIELD_HALF = 6,
+       CRANE_GUARD_FIELD_DROP = 7 };
+/* Frames a part's points are given in (docs/model.md "Frames"): the boom plane, the lift boom,
+ * the pin Q of the side links (a point given relative to Q, in lift boom axes), the outer boom, the
+ * extension boom. */
+enum { CRANE_FRAME_BASE = 0, CRANE_FRAME_LIFT = 1, CRANE_FRAME_LINK_PIN = 2, CRANE_FRAME_OUTER = 3,
+       CRANE_FRAME_EXTENSION = 4 };
+enum { CRANE_GO = 0, CRANE_WARN = 1, CRANE_STOP = 2 };
+
+typedef struct {
+    int kind;                    /* CRANE_SOLID_* */
+    crane_real a[3];             /* plane: a point of it; box, sphere: centre; capsule, cylinder: axis end */
+    crane_real b[3];             /* plane: unit normal out of the solid; capsule, cylinder: other axis end */
+    crane_real radius;           /* capsule (>= 0), sphere and cylinder (> 0), m */
+    crane_real axes[9];          /* box: rows are its unit axes (orthonormal) in the world frame */
+    crane_real half[3];          /* box: half extents along its axes, > 0, m */
+} crane_solid;
+
+typedef struct {
+    int frame;                   /* CRANE_FRAME_* */
+    crane_vec2 at;               /* m, in that frame */
+} crane_anchor;
+
+typedef struct {
+    int kind;                    /* CRANE_SOLID_CAPSULE, CRANE_SOLID_SPHERE or CRANE_SOLID_BOX */
+    crane_anchor a, b;           /* capsule: axis ends; sphere, box: a is where it hangs (b unused) */
+    crane_real radius;           /* capsule (>= 0), sphere (> 0), m */
+    crane_real drop;             /* sphere, box: centre this far below a (world vertical), m */
+    crane_real half[3];          /* box: half extents (outward in the boom plane, lateral, up), m */
+} crane_part;
+
+typedef struct {
+    crane_real margin;           /* clearance below which the guard calls it a contact, m, >= 0 */
+    crane_real reaction;         /* delay from the stop decision to the stop, s, >= 0 */
+    crane_real cycle;            /* control cycle, s, > 0: STOP if stopping cannot wait one more */
+    crane_real time_tolerance;   /* the first contact is located within this, s, > 0 */
+    crane_real clearance_tolerance; /* per-part minima may be this much too large, m, >= 0 */
+} crane_guard_config;
+
+typedef struct {
+    int signal;                  /* CRANE_GO, CRANE_WARN or CRANE_STOP */
+    int contact;                 /* 1: the clearance falls below the margin within the horizon */
+    int at_start;                /* 1: it is below the margin at t = 0 already */
+    crane_real t;                /* first contact, s: the clearance is >= margin on [0, t) */
+    int part, obstacle;          /* the pair at the first contact */
+    crane_real clearance;        /* their clearance at t, m */
+    crane_real on_part[3];       /* the closest points at t, world, m */
+    crane_real on_obstacle[3];
+    crane_real theta[2];         /* joint angles at t, rad */
+    crane_real gradient[2];      /* d clearance / d theta_j of the pair at t, m/rad */
+    crane_real approach[2];      /* gradient_j * omega_j at t, m/s: < 0 = joint j closes the gap */
+    crane_real stop_latest;      /* latest time to begin stopping, s (t - reaction; < 0: too late) */
+    size_t evaluations;          /* pair distances computed */
+} crane_guard_result;
+
+/* The checks of one solid: CRANE_E_SOLID with *field = the CRANE_GUARD_FIELD_* at fault, else 0. */
+crane_status crane_solid_check(const crane_solid *solid, int *field);
+
+/* Exact distance between two solids (any pair but two planes) and the closest points. */
+crane_status crane_solid_distance(const crane_solid *a, const crane_solid *b, crane_real *distance,
+                                  crane_real on_a[3], crane_real on_b[3]);
+
+/* Checks the parts and the obstacles; on an error *which is the index of the bad part (CRANE_E_PART)
+ * or obstacle (CRANE_E_SOLID) and *field its CRANE_GUARD_FIELD_*. */
+crane_status crane_guard_check(const crane_part *parts, size_t n_parts, const crane_solid *obstacles,
+                               size_t n_obstacles, size_t *which, int *field);
+
+/* The parts as world solids at one pose (for drawing and tests): out[n_parts]. */
+crane_status crane_part_solids(const crane_model *model, const crane_part *parts, size_t n_parts,
+                               crane_real slew, const crane_real theta[2], crane_solid *out);
+
+/* The verdict on a predicted future (samples from crane_predict_model of the same model, at the
+ * given slew): per-part minimum clearance over the samples (part_clearance[n_parts]), the first
+ * contact, between samples too (docs/guard.md, "Nothing is missed"), the stop analysis for a stop
+ * that freezes the crane after config->reaction, and the signal. work is scratch of
+ * n_parts * (n_obstacles + 5) reals (CRANE_E_CAPACITY if work_capacity is smaller). Nothing is
+ * written on an error. */
+crane_status crane_guard(const crane_model *model, const crane_part *parts, size_t n_parts,
+                         const crane_solid *obstacles, size_t n_obstacles, crane_real slew,
+                         const crane_sample *samples, size_t n_samples,
+                         const crane_guard_config *config, crane_real *part_clearance,
+                         crane_real *work, size_t work_capacity, crane_guard_result *result);
 /* CRANE_CDEF_END */
 
 #endif /* CRANE_H */

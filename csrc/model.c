@@ -4,6 +4,7 @@
  * the lumped outer boom", "End stops"), and the status messages.
  */
 #include "crane_internal.h"
+#include "guard_internal.h"
 
 /* The first rule broken so far: every check below is one call that does nothing once a rule has
  * failed, so the checks read as a list, one line per field, in the order of the crane file. */
@@ -356,5 +357,5 @@ const char *crane_status_message(crane_status status)
     case CRANE_E_SAMPLE_COUNT: return "more than CRANE_MAX_SAMPLES (8388608) samples in one call: raise sample_every or dt, shorten the horizon or split the futures";
     case CRANE_E_BATCH: return "futures x steps over CRANE_MAX_BATCH_STEPS (33554432) in one call: split the futures into several calls";
     }
-    return "unknown status";
+    return crane__guard_status_message(status);
 }

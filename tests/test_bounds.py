@@ -30,8 +30,6 @@ def nothing_runs(monkeypatch):
 
 def test_limits_are_the_c_cores():
     assert _checks.PRESSURE_MAX == lib.CRANE_PRESSURE_MAX
-    if not hasattr(lib, "CRANE_MAX_STEPS"):
-        pytest.skip("the C core has no CRANE_MAX_STEPS / CRANE_MAX_SAMPLES yet (issue 8, h8core)")
     assert cp.MAX_STEPS == lib.CRANE_MAX_STEPS
     assert cp.MAX_SAMPLES == lib.CRANE_MAX_SAMPLES
 
@@ -77,14 +75,22 @@ def test_predict_many_refuses_work_over_the_limits(crane, nothing_runs, kwargs, 
         cp.predict_many(crane, [STATE] * n, [INPUTS] * n, horizon, **kwargs)
 
 
-def test_the_limits_themselves_are_accepted(crane):
-    # The largest step count, thinned to two samples; and a batch of exactly MAX_SAMPLES samples
-    # (checked only up to the run: a stub stands in for the C call).
+def test_the_limits_themselves_are_accepted(crane, nothing_runs):
+    # The largest step count, thinned to two samples.
     horizon = cp.MAX_STEPS * 1e-3
     assert _checks.step_count(horizon, 1e-3) == cp.MAX_STEPS
     assert _checks.kept_samples(cp.MAX_STEPS, cp.MAX_STEPS) == 2
     with pytest.raises(ValueError, match="at most 1,048,576 steps"):
         _checks.step_count(horizon * (1 + 1e-12), 1e-3)
+    # A batch of exactly MAX_SAMPLES samples passes the checks (and reaches the stubbed run); one
+    # future more does not. dt = 2^-10 s so that horizon / dt is exact.
+    dt = 2.0 ** -10
+    horizon = 8191 * dt  # 8191 steps, 8192 samples: 1024 futures make 2^23
+    assert cp.MAX_SAMPLES == 1024 * 8192
+    with pytest.raises(AssertionError, match="a prediction ran"):
+        cp.predict_many(crane, [STATE] * 1024, [INPUTS] * 1024, horizon, dt=dt)
+    with pytest.raises(ValueError, match="got 1,025 futures x 8,192 samples"):
+        cp.predict_many(crane, [STATE] * 1025, [INPUTS] * 1025, horizon, dt=dt)
 
 
 def test_predict_many_stops_between_chunks_on_ctrl_c(crane, monkeypatch):

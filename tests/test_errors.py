@@ -139,3 +139,20 @@ def test_a_huge_int_in_a_crane_built_directly_names_the_field(crane, change, nam
 def test_crane_dataclasses_built_directly_with_wrong_types_name_the_field(crane, change, exc, words):
     with pytest.raises(exc, match=words):
         change(crane)
+
+
+@pytest.mark.parametrize("change, exc, words", [
+    (lambda d: d.pop("name"), ValueError, r"odd.toml: missing field\(s\) \['name'\]"),
+    (lambda d: d.pop("horizon"), ValueError, r"odd.toml: missing field\(s\) \['horizon'\]"),
+    (lambda d: d["initial"].update(lift_speed=0.1), ValueError,
+     r"odd.toml.initial: unknown field\(s\) \['lift_speed'\]; allowed: "),
+    (lambda d: d["initial"].pop("tilt_stroke"), TypeError, r"odd.toml.initial: .*tilt_stroke"),
+    (lambda d: d.update(initial=[0.1, 0.3]), TypeError, "odd.toml.initial must be a table"),
+])
+def test_a_scenario_file_error_names_the_file_and_field(change, exc, words):
+    """Was KeyError: 'name', or State.__init__() got an unexpected keyword argument."""
+    data = {"name": "x", "horizon": 1.0, "initial": dict(STATE),
+            "inputs": {"lift": {"hold": True}, "tilt": {"hold": True}}}
+    change(data)
+    with pytest.raises(exc, match=words):
+        cp.scenarios.from_dict(data, "odd.toml")

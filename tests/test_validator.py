@@ -35,7 +35,7 @@ def _replace(crane: Crane, dotted: str, value) -> Crane:
 def _numeric_leaves(obj, prefix=""):
     for f in dataclasses.fields(obj):
         v = getattr(obj, f.name)
-        if f.name in ("name", "estimates") + FOUR_JOINT_FIELDS + FOUR_JOINT_BODY_FIELDS:
+        if f.name in ("name", "estimates", "shape") + FOUR_JOINT_FIELDS + FOUR_JOINT_BODY_FIELDS:   # shape: the guard's
             continue
         if dataclasses.is_dataclass(v):
             yield from _numeric_leaves(v, prefix + f.name + ".")
@@ -116,7 +116,7 @@ def test_pillar_is_optional(crane):
     del d["pillar"]
     no_pillar = Crane.from_dict(d)
     assert no_pillar.pillar is None
-    assert "pillar" not in no_pillar.to_toml()
+    assert "\n[pillar]" not in no_pillar.to_toml()   # the body's table (a shape part may be named so)
     assert Crane.from_toml_string(no_pillar.to_toml()) == no_pillar
     assert crane.pillar is not None and _core_check(no_pillar) == (lib.CRANE_OK, 0)
 

@@ -54,10 +54,11 @@ CYLINDERS = [("CRANE_LIFT", "lift_cylinder"), ("CRANE_TILT", "tilt_cylinder")]
 CYL_FIELDS = ["bore", "rod", "length_retracted", "stroke_min", "stroke_max"]
 FRICTION = [("coulomb", "coulomb"), ("static_", "static"), ("viscous", "viscous"),
             ("stribeck_velocity", "stribeck_velocity"), ("factor", "factor")]
-# keys of the crane file that the 2-DOF C model does not use (the pillar only slews; the slew drive,
-# the extension cylinder and the bodies' in-plane tensor entries are the four-joint model's, which
-# the C core does not have yet: cranepredict.crane.FOUR_JOINT_FIELDS)
-UNUSED = {"name", "estimates", "pillar", "slew_drive", "extension_cylinder"}
+# keys of the crane file that the 2-DOF C model does not use (the pillar only slews; the shape is
+# the collision guard's, given to crane_guard by the caller; the slew drive, the extension cylinder
+# and the bodies' in-plane tensor entries are the four-joint model's, which the C core does not have
+# yet: cranepredict.crane.FOUR_JOINT_FIELDS)
+UNUSED = {"name", "estimates", "pillar", "shape", "slew_drive", "extension_cylinder"}
 UNUSED_BODY_FIELDS = {"ixx", "iyy", "ixy"}
 
 

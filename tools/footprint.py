@@ -30,11 +30,17 @@ import subprocess
 import sys
 import tempfile
 
-BUDGET = {"data+bss": 1024, "stack": 1024, "text": 16 * 1024}
+BUDGET = {"data+bss": 1024, "stack": 1024, "text": 16 * 1024, "guard text": 8 * 1024}
+# The collision guard (issue 10) is an optional module: a controller that only predicts does not
+# link it (--gc-sections). Its code has its own budget; the 16 kB of issue 5 stay the prediction's.
+GUARD_OBJECTS = {"geometry.o", "guard.o"}
 ENTRY_POINTS = ["crane_predict", "crane_predict_model", "crane_model_init", "crane_params_check",
                 "crane_points", "crane_sample_count", "crane_joint_angle", "crane_joint_stroke",
                 "crane_inverse_dynamics", "crane_cylinder_force", "crane_status_message",
-                "crane_field_rule"]
+                "crane_field_rule",
+                # the collision guard (csrc/geometry.c, csrc/guard.c)
+                "crane_solid_check", "crane_solid_distance", "crane_guard_check",
+                "crane_part_solids", "crane_guard"]
 
 PROBE = r"""
 #include "crane.h"
@@ -46,6 +52,10 @@ static crane_inputs inputs;
 static crane_model model;
 static crane_sample out[4];
 static crane_real buf[4 * CRANE_N_POINTS * 3], th[2], w[2], a[2], t[2];
+static crane_solid solids[2];
+static crane_part parts[2];
+static crane_guard_config config;
+static crane_guard_result result;
 int main(void)
 {
     size_t n;
@@ -62,6 +72,11 @@ int main(void)
     s += (int)crane_joint_stroke(&model, s, v, th);
     s += (int)crane_inverse_dynamics(&model, th, w, a, t);
     s += (int)crane_cylinder_force(&model, s, v, v, v, th);
+    s += (int)crane_solid_check(&solids[0], &s);
+    s += (int)crane_solid_distance(&solids[0], &solids[1], th, buf, buf + 3);
+    s += (int)crane_guard_check(parts, 2, solids, 2, &n, &s);
+    s += (int)crane_part_solids(&model, parts, 2, v, th, solids);
+    s += (int)crane_guard(&model, parts, 2, solids, 2, v, out, 4, &config, th, buf, 12, &result);
     return s + (int)crane_status_message((crane_status)s)[0];
 }
 """
@@ -191,6 +206,9 @@ def main(argv=None):
     for r in rows:
         print(f"  {r[0]:<16}{r[1]:>8}{r[2]:>8}{r[3]:>8}")
     print(f"  {'total':<16}{tot['text']:>8}{tot['data']:>8}{tot['bss']:>8}")
+    guard_text = sum(r[1] for r in rows if r[0] in GUARD_OBJECTS)
+    print(f"  of which the prediction {tot['text'] - guard_text} and the collision guard "
+          f"{guard_text} (geometry.o, guard.o)")
 
     # link the probe for the call graph
     with tempfile.TemporaryDirectory() as tmp:
@@ -253,8 +271,8 @@ def main(argv=None):
             ok = False
             continue
         print(f"  {e:<24}{d:>6}")
-        if e == "crane_predict":
-            stack = d
+        stack = d if stack is None else max(stack, d)   # the budget is per entry point
+        if e in ("crane_predict", "crane_guard"):
             print("    deepest path: " + " -> ".join(f"{n} ({fr})" for n, fr in path))
     mism = [(n, su[n][0], funcs[n]["frame"]) for n in su if n in funcs and
             su[n][0] != funcs[n]["frame"]]
@@ -270,12 +288,13 @@ def main(argv=None):
           f"{len(libc)} functions ({', '.join(libc)})")
 
     print("\nbudget (Cortex-M4F float build):")
-    checks = [("text", tot["text"]), ("data+bss", tot["data"] + tot["bss"]),
-              ("stack", stack if stack is not None else 10**9)]
+    checks = [("text", tot["text"] - guard_text), ("guard text", guard_text),
+              ("data+bss", tot["data"] + tot["bss"]),
+              ("stack", stack if stack is not None else 10**9)]   # deepest entry point
     for k, v in checks:
         good = v <= BUDGET[k]
         ok &= good
-        print(f"  {k:<10}{v:>8} <= {BUDGET[k]:<6} {'ok' if good else 'OVER BUDGET'}")
+        print(f"  {k:<12}{v:>8} <= {BUDGET[k]:<6} {'ok' if good else 'OVER BUDGET'}")
     print("footprint: " + ("within budget" if ok else "FAILED"))
     return 0 if ok else 1
 

@@ -11,9 +11,14 @@ from .statics import holding_pressure
 from .types import (POINT_NAMES, STROKE_RATE_MAX, Hold, Inputs, Pressure, PressureSeries, State,
                     Trajectory, TrajectoryBatch)
 from . import scenarios
+from .guard import Contact, StopAnalysis, Verdict, guard, stop_inputs
+from .shape import Part, Shape
+from .world import Obstacle, World
+from . import worlds
 
 __all__ = ["predict", "predict_many", "TrajectoryBatch", "DEFAULT_DT", "BACKENDS", "MAX_STEPS",
            "MAX_SAMPLES", "STROKE_RATE_MAX", "Crane", "Body", "Cylinder", "Friction", "Geometry",
            "State", "Pressure", "PressureSeries", "Hold", "Inputs", "Trajectory", "POINT_NAMES",
-           "scenarios", "holding_pressure"]
+           "scenarios", "holding_pressure", "guard", "Verdict", "Contact", "StopAnalysis",
+           "stop_inputs", "Shape", "Part", "World", "Obstacle", "worlds"]
 __version__ = "0.1.0"

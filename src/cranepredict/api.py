@@ -13,6 +13,8 @@ from ._checks import number as _number
 from .crane import Crane
 from .types import ARRAYS, Hold, Inputs, PressureSeries, State, Trajectory, TrajectoryBatch
 
+__all__ = ["predict", "predict_many", "DEFAULT_DT", "BACKENDS", "MAX_STEPS", "MAX_SAMPLES"]
+
 # The C core (the compiled extension) is imported on the first call that needs it, so that the
 # package, its types and the twin import without it (tests/test_package.py).
 _CORE: Any = None
@@ -26,7 +28,6 @@ def _core_module() -> Any:
         _CORE = _core
     return _CORE
 
-__all__ = ["predict", "predict_many", "DEFAULT_DT", "BACKENDS", "MAX_STEPS", "MAX_SAMPLES"]
 
 #: Default RK4 step, s. Chosen by measured accuracy (tools/dt_study.py): over the named scenarios and
 #: 20 random ones, the tip stays within 0.05 mm of a converged run; see README.

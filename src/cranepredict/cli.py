@@ -145,6 +145,170 @@ def _plots(rows, out_dir: str) -> None:
         plt.close(fig)
 
 
+# -- guard: the collision guard's verdict on a scenario (docs/guard.md) ----------------------------
+
+def _guard(args: argparse.Namespace) -> int:
+    import importlib
+    import json
+    import os
+
+    from . import scenarios, world as world_mod
+
+    g = importlib.import_module("cranepredict.guard")
+    if os.path.exists(args.world):
+        world = world_mod.World.from_toml(args.world)
+    elif args.world in world_mod.names():
+        world = world_mod.get(args.world)
+    else:
+        raise ValueError(f"--world: no such file, and not an example world ({', '.join(world_mod.names())}): "
+                         f"{args.world!r}")
+    sc = scenarios.get(args.scenario)
+    horizon = sc.horizon if args.horizon is None else args.horizon
+    v = g.guard(sc.crane, world, sc.initial, sc.inputs, horizon, reaction=args.reaction,
+                cycle=args.cycle)
+    if args.plot:
+        path = _guard_plot(v, sc, args.plot, g)
+    if args.json:
+        d = v.to_dict()
+        d["scenario"] = sc.name
+        print(json.dumps(d, indent=2))
+        return 0
+    print(f"world      {world.name}: {world.description} (margin {v.margin:g} m, "
+          f"{len(world.obstacles)} obstacles)")
+    print(f"scenario   {sc.name}: {sc.description} (horizon {horizon:g} s)")
+    print(f"signal     {v.signal}: {v.reason}")
+    print("min clearance over the horizon, per part:")
+    for name, c in v.clearance.items():
+        mark = "  <= margin" if c <= v.margin else ""
+        print(f"  {name:16s} {c:8.3f} m{mark}")
+    c = v.contact
+    if c is not None:
+        fmt = ", ".join
+        print(f"contact    t = {c.t:.4f} s: {c.part} - {c.obstacle}, clearance {c.clearance:.4f} m, "
+              f"at ({fmt(f'{x:.3f}' for x in c.on_part)}) - ({fmt(f'{x:.3f}' for x in c.on_obstacle)}) m")
+        print("levers     " + ", ".join(f"{j} {c.approach[j]:+.3f} m/s" for j in c.approach) +
+              f" (d clearance/dt from each joint; closing: {fmt(c.closing) or 'none'})")
+        print(f"stop       begin by t = {v.stop.latest:.4f} s (reaction {v.stop.reaction:g} s); "
+              f"{v.stop.note}")
+    if args.plot:
+        print(f"plot       {path}")
+    return 0
+
+
+def _hull(p: np.ndarray) -> np.ndarray:
+    """Convex hull of 2-D points (monotone chain), closed."""
+    pts = sorted(map(tuple, p))
+    if len(pts) < 3:
+        return np.array(pts + pts[:1])
+
+    def half(seq):
+        out: list = []
+        for q in seq:
+            while len(out) >= 2 and ((out[-1][0] - out[-2][0]) * (q[1] - out[-2][1]) -
+                                     (out[-1][1] - out[-2][1]) * (q[0] - out[-2][0])) <= 0:
+                out.pop()
+            out.append(q)
+        return out
+
+    lower, upper = half(pts), half(pts[::-1])
+    ring = lower[:-1] + upper[:-1]
+    return np.array(ring + ring[:1])
+
+
+def _guard_plot(v, sc, out_dir: str, g) -> str:
+    import os
+
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    os.makedirs(out_dir, exist_ok=True)
+    traj, state, crane = v.trajectory, sc.initial, sc.crane
+    views = (("side view", (0, 2), "X, m", "Z (up), m"), ("top view", (1,), "X, m", "Y, m"))
+    fig, axes = plt.subplots(1, 2, figsize=(13, 6))
+    stop_t = v.stop.latest if v.stop is not None else None
+    poses = [(0.0, traj.theta[0], "0.6", "crane at t = 0")]
+    if v.contact is not None:
+        poses.append((v.contact.t, v.contact.theta, "tab:red", f"at first contact, t = {v.contact.t:.3f} s"))
+    if stop_t is not None and stop_t >= 0:
+        th = np.array([np.interp(stop_t, traj.t, traj.theta[:, j]) for j in range(2)])
+        poses.append((stop_t, th, "tab:orange", f"last stop point, t = {stop_t:.3f} s"))
+    every = max(1, len(traj.t) // 80)
+    path = [g.part_solids(crane, state, th) for th in traj.theta[::every]]
+    for ax, (title, idx, xl, yl) in zip(axes, views):
+        j = idx[-1] if title == "side view" else 1
+
+        def xy(p):
+            return p[0], p[j]
+
+        for o in v.world.obstacles:
+            s = o.solid()
+            if s["kind"] == "plane":
+                n = np.asarray(s["b"])
+                if title == "side view" and abs(n[2]) > 0.99:
+                    ax.axhline(s["a"][2], color="saddlebrown", lw=2, label=o.name)
+                continue
+            if s["kind"] == "box":
+                R = np.array(s["axes"]).reshape(3, 3)
+                corners = np.array([np.asarray(s["a"]) + R.T @ (np.array([a, b, c]) * s["half"])
+                                    for a in (-1, 1) for b in (-1, 1) for c in (-1, 1)])
+                ring = _hull(np.column_stack([corners[:, 0], corners[:, j]]))
+                ax.fill(ring[:, 0], ring[:, 1], color="tab:brown", alpha=0.35)
+                ax.plot(ring[:, 0], ring[:, 1], color="tab:brown", lw=1)
+                ax.annotate(o.name, xy(np.asarray(s["a"])), fontsize=8, ha="center")
+            elif s["kind"] == "sphere":
+                ax.add_patch(plt.Circle(xy(s["a"]), s["radius"], color="tab:brown", alpha=0.4))
+                ax.annotate(o.name, xy(s["a"]), fontsize=8)
+            else:
+                a, b = np.asarray(s["a"]), np.asarray(s["b"])
+                if np.hypot(b[0] - a[0], b[j] - a[j]) < 1e-9:   # seen end-on: a circle
+                    ax.add_patch(plt.Circle(xy(a), max(s["radius"], 0.05), color="tab:brown", alpha=0.6))
+                    ax.add_patch(plt.Circle(xy(a), s["radius"] + v.margin, fill=False, ls=":",
+                                            color="tab:brown"))
+                else:
+                    ax.plot([a[0], b[0]], [a[j], b[j]], color="tab:brown",
+                            lw=max(1.5, 2 * s["radius"] * 20))
+                ax.annotate(o.name, xy((a + b) / 2), fontsize=8)
+        # the predicted path of each part's far end (the load: its centre)
+        for name in v.clearance:
+            end = np.array([(p[name]["b"] if p[name]["kind"] == "capsule" else p[name]["a"]) for p in path])
+            ax.plot(end[:, 0], end[:, j], lw=0.8, alpha=0.7)
+        for t, th, colour, label in poses:
+            solids = g.part_solids(crane, state, th)
+            first = True
+            for s in solids.values():
+                a = s["a"]
+                if s["kind"] == "capsule":
+                    b = s["b"]
+                    ax.plot([a[0], b[0]], [a[j], b[j]], color=colour, lw=3, solid_capstyle="round",
+                            label=label if first else None)
+                else:
+                    ax.add_patch(plt.Circle(xy(a), s["radius"] or 0.2, fill=False, color=colour, lw=2))
+                first = False
+        if v.contact is not None:
+            c = v.contact
+            ax.plot([c.on_part[0], c.on_obstacle[0]], [c.on_part[j], c.on_obstacle[j]], "k-", lw=1)
+            ax.plot(*xy(c.on_part), "kx", ms=10, mew=2, label="first contact (closest points)")
+        # frame the crane's reach, not the whole world (a power line may run 60 m)
+        reach = np.array([x for p in path for sd in p.values() for x in (sd["a"], sd["b"])])
+        lo, hi = reach.min(axis=0) - 2.0, reach.max(axis=0) + 2.0
+        ax.set_xlim(lo[0], hi[0])
+        ax.set_ylim(lo[j], hi[j])
+        ax.set_xlabel(xl)
+        ax.set_ylabel(yl)
+        ax.set_aspect("equal", adjustable="box")
+        ax.grid(True, alpha=0.4)
+        ax.set_title(title)
+    axes[0].legend(fontsize=8, loc="best")
+    fig.suptitle(f"{sc.name} in {v.world.name}: {v.signal} - {v.reason}", fontsize=9)
+    fig.tight_layout()
+    path_out = os.path.join(out_dir, f"guard-{sc.name}-{v.world.name}.png")
+    fig.savefig(path_out, dpi=90)
+    plt.close(fig)
+    return path_out
+
+
 def main(argv: Optional[List[str]] = None) -> int:
     parser = argparse.ArgumentParser(
         prog="cranepredict",
@@ -165,6 +329,19 @@ def main(argv: Optional[List[str]] = None) -> int:
     val.add_argument("--dt-ref", type=float, default=None,
                      help="reference step, s (default: cranepredict.reference.DEFAULT_REFERENCE_DT, 2.5e-4)")
     val.set_defaults(func=_validate)
+    grd = sub.add_parser("guard", help="the collision guard's verdict (GO/WARN/STOP) on a scenario's "
+                                       "future against a world's obstacles")
+    grd.add_argument("--world", required=True,
+                     help="world file (TOML), or an example world's name (wall, cab, power-line, building-edge)")
+    grd.add_argument("--scenario", default="paper-fig4", help="scenario name (default: paper-fig4)")
+    grd.add_argument("--horizon", type=float, default=None, help="s (default: the scenario's)")
+    grd.add_argument("--reaction", type=float, default=0.2,
+                     help="delay from the stop decision to the stop, s (default: 0.2)")
+    grd.add_argument("--cycle", type=float, default=0.01, help="control cycle, s (default: 0.01)")
+    grd.add_argument("--json", action="store_true", help="print the verdict as JSON")
+    grd.add_argument("--plot", metavar="DIR", default=None,
+                     help="write side and top views (needs the [plot] extra)")
+    grd.set_defaults(func=_guard)
     lst = sub.add_parser("scenarios", help="list the named scenarios")
     lst.set_defaults(func=_scenarios)
     args = parser.parse_args(argv)

@@ -17,6 +17,7 @@ from typing import Any, Mapping, Optional, Tuple, Union
 
 from ._checks import number as _number
 from ._checks import tomllib
+from .shape import Shape
 
 Vec2 = Tuple[float, float]
 
@@ -165,6 +166,8 @@ class Crane:
     #: them yet (type-checked, no rule applies).
     slew_drive: Optional[SlewDrive] = None
     extension_cylinder: Optional[ExtensionCylinder] = None
+    #: The parts for the collision guard (the crane file's ``[shape]``; docs/guard.md), if given.
+    shape: Optional[Shape] = None
 
     def __post_init__(self) -> None:
         _check_crane(self)
@@ -243,6 +246,9 @@ def _build(cls: type, data: Mapping[str, Any], prefix: str) -> Any:
                 continue
             raise ValueError(f"{name} is missing from the crane file")
         value, hint = data[f.name], hints[f.name]
+        if hint == Optional[Shape]:
+            kwargs[f.name] = None if value is None else Shape.from_dict(value)
+            continue
         if hint == Optional[Body]:
             hint = Body
         hint = _unwrap_optional(hint)
@@ -284,6 +290,10 @@ def _check_shapes(obj: Any, cls: type, prefix: str) -> None:
     hints = _hints(cls)
     for f in dataclasses.fields(cls):
         name, value, hint = prefix + f.name, getattr(obj, f.name), hints[f.name]
+        if hint == Optional[Shape]:   # checked by Shape itself (the collision guard's parts)
+            if value is not None and not isinstance(value, Shape):
+                raise TypeError(f"{name} must be a cranepredict.Shape, got {type(value).__name__}")
+            continue
         if hint == Optional[Body]:
             if value is None:
                 continue
@@ -321,7 +331,7 @@ def _field_names() -> dict:
         out = []
         for f in dataclasses.fields(cls):
             hint = _hints(cls)[f.name]
-            if f.name in ("name", "estimates", "pillar"):
+            if f.name in ("name", "estimates", "pillar", "shape"):
                 continue
             if dataclasses.is_dataclass(hint):
                 out += leaves(hint, prefix + f.name + ".")
@@ -390,8 +400,10 @@ def _check_crane(c: Crane) -> None:
 # -- writing ----------------------------------------------------------------------------------
 
 def _to_plain(obj: Any) -> Any:
+    if hasattr(obj, "to_plain"):
+        return obj.to_plain()
     if dataclasses.is_dataclass(obj):
-        # None = an optional table left out (the pillar)
+        # None = an optional table left out (the pillar, the shape)
         return {f.name: _to_plain(getattr(obj, f.name)) for f in dataclasses.fields(obj)
                 if getattr(obj, f.name) is not None}
     if isinstance(obj, tuple):

@@ -59,6 +59,19 @@ def _drive(d: Mapping[str, Any], where: str) -> Drive:
                      f"got keys {sorted(keys)}")
 
 
+def _state(d: Any, where: str) -> State:
+    if not isinstance(d, Mapping):
+        raise TypeError(f"{where} must be a table of State fields, got {type(d).__name__}")
+    unknown = sorted(set(d) - set(State.__dataclass_fields__))
+    if unknown:
+        raise ValueError(f"{where}: unknown field(s) {unknown}; allowed: "
+                         f"{sorted(State.__dataclass_fields__)}")
+    try:
+        return State(**d)
+    except TypeError as exc:  # a required stroke missing
+        raise TypeError(f"{where}: {exc}") from None
+
+
 def _crane(name: str, where: str) -> Crane:
     path = resources.files("cranepredict").joinpath(f"cranes/{name}.toml")
     if not path.is_file():
@@ -71,6 +84,9 @@ def from_dict(data: Mapping[str, Any], where: str = "scenario") -> Scenario:
     unknown = sorted(set(data) - allowed)
     if unknown:
         raise ValueError(f"{where}: unknown field(s) {unknown}; allowed: {sorted(allowed)}")
+    missing = sorted({"name", "horizon", "initial"} - set(data))
+    if missing:
+        raise ValueError(f"{where}: missing field(s) {missing}")
     crane = _crane(data.get("crane", "patu655"), where)
     if "load_mass" in data:
         crane = crane.with_load(data["load_mass"])
@@ -81,7 +97,7 @@ def from_dict(data: Mapping[str, Any], where: str = "scenario") -> Scenario:
         name=data["name"],
         description=data.get("description", ""),
         crane=crane,
-        initial=State(**data["initial"]),
+        initial=_state(data["initial"], f"{where}.initial"),
         inputs=Inputs(lift=_drive(inputs["lift"], f"{where}.inputs.lift"),
                       tilt=_drive(inputs["tilt"], f"{where}.inputs.tilt")),
         horizon=number(data["horizon"], f"{where}.horizon"),

@@ -1,0 +1,391 @@
+"""The collision guard: will the crane hit anything in the predicted future, and when must it stop?
+
+:func:`guard` predicts the future under the current command (the C core), then the C core's
+``crane_guard`` measures every part of the crane's shape (the crane file's ``[shape]``) against
+every obstacle of a :class:`~cranepredict.world.World` along it: the minimum clearance per part,
+the first contact (found between samples too), the latest time to begin stopping and the signal
+GO / WARN / STOP. See docs/guard.md.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+from typing import Any, Dict, Optional, Tuple
+
+import numpy as np
+
+from . import api
+from ._checks import number as _number
+from .crane import Crane
+from .shape import Shape
+from .types import Hold, Inputs, Pressure, PressureSeries, State, Trajectory
+from .world import World
+
+__all__ = ["guard", "Verdict", "Contact", "StopAnalysis", "stop_inputs", "part_solids",
+           "DEFAULT_REACTION", "DEFAULT_CYCLE", "SIGNALS"]
+
+#: Delay from the stop decision to the stop taking effect, s (operator or controller + valve).
+DEFAULT_REACTION = 0.2
+#: Control cycle, s: STOP when stopping cannot wait one more cycle.
+DEFAULT_CYCLE = 0.01
+DEFAULT_TIME_TOLERANCE = 1e-4        # s: the first contact is located this closely
+DEFAULT_CLEARANCE_TOLERANCE = 1e-3   # m: per-part minima may be this much too large
+#: Default spacing of the samples the guard judges, s: every round(GUARD_SPACING / dt)-th step of
+#: the prediction (which still integrates at dt). Between them the motion bound finds any contact.
+GUARD_SPACING = 0.01
+SIGNALS = ("GO", "WARN", "STOP")
+JOINTS = ("lift", "tilt")
+
+
+
+def _c() -> Any:
+    """(ffi, lib) of the compiled core, imported on first use (the twin works without it)."""
+    from ._cranepredict import ffi, lib
+
+    return ffi, lib
+
+
+def _kind(name: str) -> int:
+    return int(getattr(_c()[1], "CRANE_SOLID_" + name.upper()))
+
+
+def _kind_name(code: int) -> str:
+    return next(k for k in ("plane", "box", "capsule", "sphere", "cylinder") if _kind(k) == code)
+
+
+def _field_name(code: int) -> str:
+    """The world file's / shape's name of a CRANE_GUARD_FIELD_* code (half extents are given as size)."""
+    for name in ("kind", "a", "b", "radius", "axes", "half", "drop"):
+        if int(getattr(_c()[1], "CRANE_GUARD_FIELD_" + name.upper())) == code:
+            return "size" if name == "half" else name
+    return "?"
+
+
+_FRAMES = {"boom_plane": "BASE", "lift_boom": "LIFT", "link_pin": "LINK_PIN",
+           "outer_boom": "OUTER", "extension_boom": "EXTENSION"}
+
+
+def _frame(body: str) -> int:
+    return int(getattr(_c()[1], "CRANE_FRAME_" + _FRAMES[body]))
+
+
+# -- what "stop" means -----------------------------------------------------------------------------
+
+def _stop_drive(drive: Any) -> Any:
+    """The stop of one lever. Pressure-driven cylinders (and held ones) stop by Hold: the valve
+    closes and the stroke freezes at once, so this under-estimates the stopping distance (a real
+    crane decelerates). A valve-driven cylinder will stop by its valve to neutral here."""
+    if isinstance(drive, (Pressure, PressureSeries, Hold)):
+        return Hold()
+    raise TypeError(f"no stop is defined for a {type(drive).__name__} drive")
+
+
+def stop_inputs(inputs: Inputs) -> Inputs:
+    """The inputs that stop the crane: every lever to its stop (the one place that says so)."""
+    return Inputs(lift=_stop_drive(inputs.lift), tilt=_stop_drive(inputs.tilt))
+
+
+# -- results ---------------------------------------------------------------------------------------
+
+@dataclass(frozen=True, eq=False)
+class Contact:
+    """The first time the clearance of a part to an obstacle is at or below the margin.
+
+    t (s): the clearance is above the margin on [0, t); on_part, on_obstacle: the closest points
+    at t (world, m); theta: joint angles at t (rad); gradient: d clearance / d theta per joint
+    (m/rad); approach: its rate from each joint's motion at t (m/s, < 0 = that joint closes the gap);
+    closing: the joints (levers) that close it, to cut while the others stay allowed.
+    """
+
+    t: float
+    part: str
+    obstacle: str
+    clearance: float
+    on_part: np.ndarray
+    on_obstacle: np.ndarray
+    theta: np.ndarray
+    gradient: Dict[str, float]
+    approach: Dict[str, float]
+    closing: Tuple[str, ...]
+    at_start: bool
+
+
+@dataclass(frozen=True)
+class StopAnalysis:
+    """When stopping must begin: ``latest`` (s) is the last time at which the stop command, taking
+    effect ``reaction`` s later, keeps the clearance above the margin (< 0: already too late).
+    ``model`` says what the stop is; ``note`` what that assumes."""
+
+    latest: float
+    reaction: float
+    model: str
+    note: str
+
+
+@dataclass(frozen=True, eq=False)
+class Verdict:
+    """The guard's answer for one predicted future (see :func:`guard`)."""
+
+    signal: str
+    reason: str
+    clearance: Dict[str, float]
+    contact: Optional[Contact]
+    stop: Optional[StopAnalysis]
+    margin: float
+    horizon: float
+    world: World
+    trajectory: Trajectory = field(repr=False)
+    evaluations: int = 0
+
+    def to_dict(self) -> dict:
+        """Plain types, for JSON."""
+        c = self.contact
+        out: dict = {"signal": self.signal, "reason": self.reason, "world": self.world.name,
+                     "margin_m": self.margin, "horizon_s": self.horizon,
+                     "min_clearance_m": dict(self.clearance), "evaluations": self.evaluations,
+                     "contact": None, "stop": None}
+        if c is not None:
+            out["contact"] = {"t_s": c.t, "part": c.part, "obstacle": c.obstacle,
+                              "clearance_m": c.clearance, "at_start": c.at_start,
+                              "on_part_m": c.on_part.tolist(), "on_obstacle_m": c.on_obstacle.tolist(),
+                              "theta_rad": c.theta.tolist(), "gradient_m_per_rad": dict(c.gradient),
+                              "approach_m_per_s": dict(c.approach), "closing": list(c.closing)}
+        if self.stop is not None:
+            out["stop"] = {"latest_s": self.stop.latest, "reaction_s": self.stop.reaction,
+                           "model": self.stop.model, "note": self.stop.note}
+        return out
+
+
+# -- translation to the C structs (cached: cranes, shapes and worlds are immutable) -------------
+
+def _anchor(dst: Any, point: Any, crane: Crane) -> None:
+    g = crane.geometry
+    # each named point: the body whose frame it is given in (docs/model.md "Frames") and where
+    named = {"pillar_base": ("boom_plane", (0.0, 0.0)),
+             "lift_pivot": ("boom_plane", g.lift_pivot),
+             "lift_cylinder_base": ("boom_plane", g.lift_cylinder_base),
+             "lift_cylinder_rod": ("lift_boom", g.lift_cylinder_rod),
+             "tilt_cylinder_base": ("lift_boom", g.tilt_cylinder_base),
+             "link1_pivot": ("lift_boom", g.link1_pivot),
+             "link_pin": ("link_pin", (0.0, 0.0)),
+             "link2_attach": ("outer_boom", g.link2_attach),
+             "tilt_pivot": ("lift_boom", g.tilt_pivot),
+             "extension_mount": ("outer_boom", g.extension_mount),
+             "tip": ("extension_boom", (g.tip_distance, 0.0))}
+    if isinstance(point, str):
+        body, at = named[point]
+    else:
+        body, at = point[0], (point[1], point[2])
+    dst.frame = _frame(body)
+    dst.at.x, dst.at.y = at
+
+
+def _parts(crane: Crane, shape: Shape) -> Any:
+    ffi, _ = _c()
+    arr = ffi.new("crane_part[]", len(shape.parts))
+    for dst, p in zip(arr, shape.parts):
+        dst.kind = _kind(p.kind)
+        _anchor(dst.a, p.a, crane)
+        if p.b is not None:
+            _anchor(dst.b, p.b, crane)
+        dst.radius, dst.drop = p.radius, p.drop
+        dst.half = [0.5 * v for v in p.size]
+    return arr
+
+
+def _solids(world: World) -> Any:
+    ffi, _ = _c()
+    arr = ffi.new("crane_solid[]", max(1, len(world.obstacles)))
+    for dst, o in zip(arr, world.obstacles):
+        s = o.solid()
+        dst.kind = _kind(s["kind"])
+        dst.a = list(s["a"])
+        if "b" in s:
+            dst.b = list(s["b"])
+        dst.radius = s.get("radius", 0.0)
+        if "axes" in s:
+            dst.axes = list(s["axes"])
+            dst.half = list(s["half"])
+    return arr
+
+
+_CACHE: dict = {}
+_CACHE_MAX = 64
+
+
+def _cached(kind: str, key: Tuple[Any, ...], build: Any) -> Any:
+    """Per-object cache keyed by identity, holding the objects so their ids stay theirs."""
+    k = (kind,) + tuple(id(x) for x in key)
+    entry = _CACHE.get(k)
+    if entry is None or any(a is not b for a, b in zip(entry[0], key)):
+        if len(_CACHE) >= _CACHE_MAX:
+            _CACHE.clear()
+        entry = (key, build())
+        _CACHE[k] = entry
+    return entry[1]
+
+
+def _check_layout(parts: Any, n_parts: int, solids: Any, world: World, shape: Shape) -> None:
+    from ._core import ensure
+
+    ffi, lib = _c()
+    which, fld = ffi.new("size_t *"), ffi.new("int *")
+    status = lib.crane_guard_check(parts, n_parts, solids, len(world.obstacles), which, fld)
+    if status == lib.CRANE_E_PART:
+        raise ValueError(f"shape.{shape.parts[which[0]].name}.{_field_name(fld[0])} is not valid")
+    if status == lib.CRANE_E_SOLID:
+        o = world.obstacles[which[0]]
+        raise ValueError(f"obstacle {o.name!r} (obstacle[{which[0]}]).{_field_name(fld[0])} "
+                         f"is not valid")
+    ensure(status, "guard")
+
+
+def part_solids(crane: Crane, state: State, theta: Optional[np.ndarray] = None,
+                shape: Optional[Shape] = None) -> Dict[str, dict]:
+    """The parts as world solids at one pose (default: the state's), for drawing and checks:
+    name -> {"kind", "a", "b", "radius", "axes", "half"} (numpy arrays, m)."""
+    shape = _shape(crane, shape)
+    if theta is None:
+        from . import _core
+
+        theta = np.array([_core.joint_angle(crane, 0, state.lift_stroke, state.extension)[0],
+                          _core.joint_angle(crane, 1, state.tilt_stroke, state.extension)[0]])
+    from . import _core
+
+    ffi, lib = _c()
+    model = _core.model(crane, state.extension)
+    parts = _cached("parts", (crane, shape), lambda: _parts(crane, shape))
+    out = ffi.new("crane_solid[]", len(shape.parts))
+    _core.ensure(lib.crane_part_solids(model, parts, len(shape.parts), state.slew,
+                                       [float(theta[0]), float(theta[1])], out), "part_solids")
+    return {p.name: {"kind": _kind_name(s.kind), "a": np.array(list(s.a)), "b": np.array(list(s.b)),
+                     "radius": float(s.radius), "axes": np.array(list(s.axes)).reshape(3, 3),
+                     "half": np.array(list(s.half))}
+            for p, s in zip(shape.parts, out)}
+
+
+def _shape(crane: Crane, shape: Optional[Shape]) -> Shape:
+    if not isinstance(crane, Crane):
+        raise TypeError(f"crane must be a cranepredict.Crane, got {type(crane).__name__}")
+    shape = crane.shape if shape is None else shape
+    if shape is None:
+        raise ValueError(f"crane {crane.name!r} has no [shape] table (the guard needs the parts' "
+                         f"sizes; see docs/guard.md)")
+    if not isinstance(shape, Shape):
+        raise TypeError(f"shape must be a cranepredict.Shape, got {type(shape).__name__}")
+    return shape
+
+
+# -- the verdict -----------------------------------------------------------------------------------
+
+def guard(crane: Crane, world: World, state: State, inputs: Inputs, horizon: float, *,
+          dt: Optional[float] = None, reaction: float = DEFAULT_REACTION,
+          cycle: float = DEFAULT_CYCLE, margin: Optional[float] = None,
+          time_tolerance: float = DEFAULT_TIME_TOLERANCE,
+          clearance_tolerance: float = DEFAULT_CLEARANCE_TOLERANCE,
+          sample_every: Optional[int] = None, shape: Optional[Shape] = None) -> Verdict:
+    """Predicts the future under ``inputs`` and judges it against the world's obstacles.
+
+    Returns a :class:`Verdict`: the minimum clearance of each part over the samples (m; at most
+    ``clearance_tolerance`` above the exact minimum), the first contact (clearance <= margin; found
+    between samples too, to ``time_tolerance``), the stop analysis and the signal: GO (no contact
+    within the horizon), WARN (contact predicted, stopping can wait beyond the next control
+    ``cycle``), STOP (stopping must begin now, or the clearance is already within the margin).
+    The stop is :func:`stop_inputs`: for pressure-driven cylinders Hold, which stops instantly and
+    so under-estimates the stopping distance (``Verdict.stop.note``). ``margin`` defaults to the
+    world's. Slew and extension stay as in ``state`` (as in :func:`predict`). The prediction
+    integrates at ``dt``; the guard judges every ``sample_every``-th step (default: about every
+    GUARD_SPACING = 10 ms), the per-part minima are over those samples, and contacts are found
+    between them too (docs/guard.md, "Nothing is missed"). ``Verdict.trajectory`` holds those samples.
+    """
+    shape = _shape(crane, shape)
+    if not isinstance(world, World):
+        raise TypeError(f"world must be a cranepredict.World, got {type(world).__name__}")
+    margin = world.margin if margin is None else margin
+    checks = (("margin", margin, 0.0, True), ("reaction", reaction, 0.0, True),
+              ("cycle", cycle, 0.0, False), ("time_tolerance", time_tolerance, 0.0, False),
+              ("clearance_tolerance", clearance_tolerance, 0.0, True))
+    values = {}
+    for name, value, low, closed in checks:
+        v = _number(value, name)
+        if not (math.isfinite(v) and (v >= low if closed else v > low)):
+            raise ValueError(f"{name} must be {'>=' if closed else '>'} {low:g} and finite, got {v}")
+        values[name] = v
+    dt = api.DEFAULT_DT if dt is None else dt
+    if sample_every is None:
+        step = _number(dt, "dt")
+        sample_every = max(1, int(round(GUARD_SPACING / step))) if step > 0 else 1
+    # checks crane, state, inputs, horizon, dt and sample_every, naming the field
+    traj = api.predict_many(crane, [state], [inputs], horizon, dt=dt, sample_every=sample_every)[0]
+    stop = stop_inputs(inputs)
+    if not all(isinstance(d, Hold) for d in (stop.lift, stop.tilt)):  # pragma: no cover
+        raise NotImplementedError("the stop analysis handles stops by Hold (a frozen crane) only")
+
+    from . import _core
+
+    ffi, lib = _c()
+    model = _core.model(crane, state.extension)
+    parts = _cached("parts", (crane, shape), lambda: _parts(crane, shape))
+    solids = _cached("solids", (world,), lambda: _solids(world))
+    n_parts, n_obs = len(shape.parts), len(world.obstacles)
+    _check_layout(parts, n_parts, solids, world, shape)
+
+    samples = np.zeros(len(traj.t), dtype=_core.SAMPLE_DTYPE)
+    samples["t"], samples["theta"], samples["omega"] = traj.t, traj.theta, traj.omega
+    clearance = np.empty(n_parts)
+    work = np.empty(n_parts * (n_obs + 5))
+    cfg = ffi.new("crane_guard_config *", {
+        "margin": values["margin"], "reaction": values["reaction"], "cycle": values["cycle"],
+        "time_tolerance": values["time_tolerance"],
+        "clearance_tolerance": values["clearance_tolerance"]})
+    res = ffi.new("crane_guard_result *")
+    status = lib.crane_guard(model, parts, n_parts, solids, n_obs, state.slew,
+                             ffi.cast("crane_sample *", ffi.from_buffer(samples)), len(samples),
+                             cfg, ffi.cast("crane_real *", ffi.from_buffer(clearance)),
+                             ffi.cast("crane_real *", ffi.from_buffer(work)), work.size, res)
+    _core.ensure(status, "guard")
+    return _verdict(res, clearance, shape, world, values, float(horizon), traj)
+
+
+def _verdict(res: Any, clearance: np.ndarray, shape: Shape, world: World, v: Dict[str, float],
+             horizon: float, traj: Trajectory) -> Verdict:
+    per_part = {p.name: float(c) for p, c in zip(shape.parts, clearance)}
+    margin, reaction = v["margin"], v["reaction"]
+    signal = SIGNALS[res.signal]
+    contact = stop = None
+    if res.contact:
+        approach = {j: float(res.approach[i]) for i, j in enumerate(JOINTS)}
+        contact = Contact(
+            t=float(res.t), part=shape.parts[res.part].name,
+            obstacle=world.obstacles[res.obstacle].name, clearance=float(res.clearance),
+            on_part=np.array(list(res.on_part)), on_obstacle=np.array(list(res.on_obstacle)),
+            theta=np.array(list(res.theta)),
+            gradient={j: float(res.gradient[i]) for i, j in enumerate(JOINTS)},
+            approach=approach, closing=tuple(j for j in JOINTS if approach[j] < 0),
+            at_start=bool(res.at_start))
+        stop = StopAnalysis(
+            latest=float(res.stop_latest), reaction=reaction, model="hold",
+            note="stop = every cylinder held (valve closed): the crane freezes at once, which "
+                 "under-estimates the stopping distance of a real crane")
+        pair = f"{contact.part} and {contact.obstacle}"
+        if contact.at_start:
+            state = "in contact" if contact.clearance <= 0 else \
+                f"{contact.clearance:.3f} m apart, within the {margin:g} m margin"
+            reason = f"already at t = 0: {pair} are {state}"
+        elif signal == "STOP":
+            reason = (f"contact of {pair} predicted at t = {contact.t:.3f} s; with a {reaction:g} s "
+                      f"reaction stopping must begin by t = {stop.latest:.3f} s: now")
+        else:
+            reason = (f"contact of {pair} predicted at t = {contact.t:.3f} s; stopping can wait "
+                      f"until t = {stop.latest:.3f} s")
+        if contact.closing:
+            reason += f" (closing: {', '.join(contact.closing)})"
+    else:
+        name = min(per_part, key=per_part.get) if per_part else "-"
+        reason = (f"no contact within the {horizon:g} s horizon; smallest clearance "
+                  f"{per_part.get(name, math.inf):.3f} m ({name})")
+    return Verdict(signal=signal, reason=reason, clearance=per_part, contact=contact, stop=stop,
+                   margin=margin, horizon=horizon, world=world, trajectory=traj,
+                   evaluations=int(res.evaluations))
+
