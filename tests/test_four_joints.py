@@ -394,3 +394,47 @@ def test_twin_four_joint_energy_drift_shrinks_as_dt_to_the_fourth(crane):
         drifts.append(float(np.max(np.abs(e - e[0]))))
     order = math.log2(drifts[0] / drifts[1])
     assert 3.5 < order < 4.6, (drifts, order)
+
+
+def test_slew_runs_into_its_end_stop_and_leaves_it_when_reversed(crane):
+    """The folded crane slewed at 60 bar from near slew_max hits the stop (plastic: the slew rate
+    goes to 0, the booms' rates are untouched, M being block diagonal), stays while pushed, and
+    leaves it when the pressure turns round."""
+    sd = crane.slew_drive
+    h = cp.Hold()
+    push_then_pull = cp.PressureSeries(t=[0.0, 0.6, 0.61, 1.5], p_a=[60e5, 60e5, 0.0, 0.0],
+                                       p_b=[0.0, 0.0, 60e5, 60e5])
+    arrays, events = _run4(crane, 1.5, 2e-3, lift=0.05, tilt=0.75, slew=sd.slew_max - 0.2, extension=0.0,
+                           drives={"lift": h, "tilt": h, "extension": h, "slew": push_then_pull})
+    assert events and events[0][1] == SLEW and events[0][2] == +1
+    t = arrays["t"]
+    on_stop = arrays["slew_stop"] == +1
+    assert on_stop.any() and np.all(arrays["slew"][on_stop] == sd.slew_max)
+    assert np.all(arrays["slew_rate"][on_stop] == 0.0)
+    # released after the pressure turned round, and moving back
+    assert not on_stop[-1] and t[on_stop][-1] > 0.6 and arrays["slew_rate"][-1] < 0.0
+    assert np.all(arrays["slew"] <= sd.slew_max)
+
+
+def test_a_slew_impact_leaves_the_boom_rates_alone(crane):
+    """Block diagonal M: the plastic impact on the slew stop changes only the slew rate, so the
+    lift and tilt rates (free, moving) are continuous across it."""
+    from cranepredict import twin
+
+    zero = cp.Pressure(0.0, 0.0)
+    model = twin.TwinModel(crane, 0.0)
+    pred = twin._Prediction(model, (twin._PressureDrive(zero),) * 4)
+    th0 = model.lift_angle(0.25)[0]
+    th1 = model.tilt_angle(0.4)[0]
+    x = (th0, th1, crane.slew_drive.slew_max, 0.5, 0.3, -0.2, 0.7, 0.1)
+    y = pred.plastic_impact(x, SLEW, +1)
+    assert y[4 + SLEW] == 0.0 and y[:4] == x[:4]
+    assert y[4 + LIFT] == pytest.approx(x[4 + LIFT], abs=1e-15)
+    assert y[4 + TILT] == pytest.approx(x[4 + TILT], abs=1e-15)
+    assert y[4 + EXTENSION] == pytest.approx(x[4 + EXTENSION], abs=1e-15)
+    # an extension impact, in contrast, changes the boom rates through the coupling of M_p
+    pred2 = twin._Prediction(model, (twin._PressureDrive(zero),) * 4)
+    x2 = x[:3] + (crane.geometry.extension_max,) + x[4:]
+    z = pred2.plastic_impact(x2, EXTENSION, +1)
+    assert z[4 + EXTENSION] == 0.0 and z[4 + SLEW] == x2[4 + SLEW]
+    assert abs(z[4 + LIFT] - x2[4 + LIFT]) > 1e-3
