@@ -34,6 +34,9 @@ EVENT_BISECTIONS = 60
 RELEASE_BISECTIONS = 40
 #: Most pieces (impacts and releases) one step is cut into; the last takes the rest (spec: 8).
 MAX_PIECES = 8
+#: lambda h that a step of RK4 may take for the extension's friction at rest (spec "Four joints":
+#: 2.5 of the 2.785 at which RK4 stops being stable on the negative real axis)
+FRICTION_RK4_LIMIT = 2.5
 
 Vec = Tuple[float, float]
 Pair = Tuple[float, float]
@@ -882,6 +885,12 @@ class TwinModel:
             out[j] = a
         return out[0], out[1], out[2], out[3]
 
+    def friction_slope(self, joint: int) -> float:
+        """G_f, N s/m: the slope of the actuator's friction force at rest, k (4 F_C + 16/9 (F_S -
+        F_C)) / v_S + sigma tanh(4) (the law's steepest point)."""
+        f_c, f_s, sigma, v_s, k = self.friction[joint]
+        return k * (4.0 * f_c + 16.0 / 9.0 * (f_s - f_c)) / v_s + sigma * math.tanh(4.0)
+
     def forward_dynamics4(self, q: Sequence[float], qd: Sequence[float], tau: Sequence[float],
                           locked: Sequence[bool]) -> Quad:
         """Joint accelerations of the four joints; a locked joint has qdd = 0."""
@@ -1110,6 +1119,16 @@ class _Prediction:
             x = self.plastic_impact(x, j, side)
             self.events.append((0.0, j, side))
         return x
+
+    def extension_friction_rate(self, x: State8) -> float:
+        """lambda_e = G_f (M^-1)_ee, 1/s, over the joints that are not held: how fast the
+        extension's friction acts near rest (spec "Four joints"; the light extension boom makes it
+        the stiffest term of the mechanics). Coupled to free booms, (M^-1)_ee is up to ~4 / m3."""
+        free = [j for j in JOINTS if not self.held[j]]
+        mass = self.model._mass_matrix4(self._conf(x), free)
+        i = free.index(EXTENSION)
+        col = _solve(mass, [1.0 if k == i else 0.0 for k in range(len(free))])
+        return self.model.friction_slope(EXTENSION) * col[i]
 
     def release(self, t: float, x: State8) -> None:
         """Let go of the STOPPED joints that the release rule frees at (t, x)."""
@@ -1350,9 +1369,16 @@ def _run(crane: Any, state: Any, inputs: Any, horizon: float, dt: float
     for k in range(n):
         t = k * dt
         last = k == n - 1
-        h = horizon - t if last else dt
-        pred.release(t, x)
-        x = pred.step(t, x, h)
+        t_end = horizon if last else (k + 1) * dt
+        h = t_end - t
+        # the extension's friction is stiff near rest: substeps (spec "Four joints")
+        rate = 0.0 if pred.held[EXTENSION] else pred.extension_friction_rate(x)
+        subs = max(1, int(math.ceil(h * rate / FRICTION_RK4_LIMIT)))
+        for i in range(subs):
+            t_i = t + i * (h / subs)
+            h_i = (t_end - t_i) if i == subs - 1 else h / subs
+            pred.release(t_i, x)
+            x = pred.step(t_i, x, h_i)
         if not all(math.isfinite(v) for v in x):
             raise ValueError(f"the prediction diverged at t = {t:g} s (the state is no longer finite): "
                              "check the crane's parameters for absurd values")
