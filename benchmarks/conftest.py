@@ -64,8 +64,16 @@ def paper_fig4() -> Case:
     return Case("paper-fig4", sc.crane, sc.initial, sc.inputs, sc.horizon)
 
 
+def lever_open() -> Case:
+    """The operator's version of the paper's experiment (issue 9): the lift lever fully open from
+    rest (the crane holding itself on closed valves), the tilt valve closed, 2 s."""
+    crane = cp.scenarios.get("paper-fig4").crane
+    initial = cp.state_at_rest(crane, 0.116, 0.20)
+    return Case("lever-open", crane, initial, cp.Inputs(lift=cp.Valve(1.0), tilt=cp.Valve(0.0)), 2.0)
+
+
 CASES: Dict[str, Callable[[], Case]] = {"paper-fig4": paper_fig4, "both-cylinders": both_cylinders,
-                                        "open-chain": open_chain}
+                                        "open-chain": open_chain, "lever-open": lever_open}
 
 
 @functools.lru_cache(maxsize=None)

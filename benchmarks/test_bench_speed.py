@@ -24,7 +24,8 @@ from conftest import TOL, benchmarks_enabled, case, largest_dt, reference, tip_e
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 CSRC = os.path.join(ROOT, "csrc")
-SCENARIOS = ("paper-fig4", "both-cylinders", "open-chain")
+PRESSURE_SCENARIOS = ("paper-fig4", "both-cylinders", "open-chain")
+SCENARIOS = PRESSURE_SCENARIOS + ("lever-open",)   # lever-open: valve-driven (issue 9)
 
 
 def _dt(name: str, which: str) -> float:
@@ -84,7 +85,7 @@ def bench_core():
 
 
 @pytest.mark.parametrize("which", ["default", "largest"])
-@pytest.mark.parametrize("name", SCENARIOS)
+@pytest.mark.parametrize("name", PRESSURE_SCENARIOS)   # bench_core takes pressures or hold
 def test_bare_c(benchmark, bench_core, request, name, which):
     """The C program times crane_predict itself (best and mean over >= 0.5 s of calls, monotonic
     clock); pytest-benchmark only runs the program once. Its final tip must be predict()'s."""
@@ -137,6 +138,35 @@ def test_predict_many(benchmark, ratio, request, which, every, threads):
     benchmark.extra_info["wall_ms_per_batch"] = round(1e3 * n * c.horizon
                                                       / benchmark.extra_info["ratio"], 3)
     _record_error(benchmark, "both-cylinders", tip_error("both-cylinders", one.t, one.tip))
+
+
+def _valve_futures(n: int):
+    """n candidate lever commands (lift and tilt levers in [-1, 1]) from the crane at rest: the
+    valve-driven batch of issue 9 (1,000 futures of 2 s in < 100 ms)."""
+    c = case("lever-open")
+    rng = np.random.default_rng(9)
+    inputs = [cp.Inputs(lift=cp.Valve(float(rng.uniform(-1, 1))), tilt=cp.Valve(float(rng.uniform(-1, 1))))
+              for _ in range(n)]
+    inputs[0] = c.inputs
+    return c, [c.initial] * n, inputs
+
+
+@pytest.mark.parametrize("threads", [1, 2])
+@pytest.mark.parametrize("every", [1, 25])
+def test_predict_many_valves(benchmark, ratio, request, every, threads):
+    n = 1000 if benchmarks_enabled(request.config) else 20
+    c, initials, inputs = _valve_futures(n)
+    dt = cp.DEFAULT_DT
+    batch = ratio(lambda: cp.predict_many(c.crane, initials, inputs, c.horizon, dt=dt,
+                                          sample_every=every, threads=threads),
+                  n * c.horizon, scenario="lever-open", backend="predict_many", futures=n,
+                  dt=dt, dt_choice="default", sample_every=every, threads=threads)
+    one = cp.predict(*c.args(), dt=dt)
+    assert np.array_equal(batch[0].tip[:-1], one.tip[::every][: batch.tip.shape[1] - 1])
+    assert np.array_equal(batch[0].p_a[:-1], one.p_a[::every][: batch.p_a.shape[1] - 1])
+    benchmark.extra_info["wall_ms_per_batch"] = round(1e3 * n * c.horizon
+                                                      / benchmark.extra_info["ratio"], 3)
+    _record_error(benchmark, "lever-open", tip_error("lever-open", one.t, one.tip))
 
 
 # -- peers: MuJoCo on the equivalent open chain, scipy DOP853 on the twin's right-hand side -------

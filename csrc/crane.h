@@ -51,18 +51,30 @@ typedef enum {
     CRANE_E_STEPS = 23,         /* horizon / dt asks for more than CRANE_MAX_STEPS steps */
     CRANE_E_SAMPLE_COUNT = 24,  /* more than CRANE_MAX_SAMPLES samples in one call (horizon, dt,
                                    sample_every, n_futures) */
-    CRANE_E_BATCH = 25          /* n_futures x steps over CRANE_MAX_BATCH_STEPS in one call */
+    CRANE_E_BATCH = 25,         /* n_futures x steps over CRANE_MAX_BATCH_STEPS in one call */
+    CRANE_E_HYDRAULICS = 26,    /* a hydraulic parameter out of range (docs/model.md, Hydraulics) */
+    CRANE_E_VALVE = 27,         /* a lever outside [-1, 1], a valve drive without hydraulics (or
+                                 * in a build without CRANE_HYDRAULICS), or a chamber pressure /
+                                 * spool of the state out of range */
+    /* the collision guard (docs/guard.md) */
+    CRANE_E_SOLID = 40,         /* a solid (obstacle) is not valid, or a pair of two planes */
+    CRANE_E_PART = 41,          /* a crane part is not valid */
+    CRANE_E_GUARD = 42          /* a guard setting (margin, reaction, cycle, tolerances) out of range */
 } crane_status;
 
 enum { CRANE_LIFT = 0, CRANE_TILT = 1 };
-enum { CRANE_DRIVE_PRESSURE = 0, CRANE_DRIVE_HOLD = 1 };
+enum { CRANE_DRIVE_PRESSURE = 0, CRANE_DRIVE_HOLD = 1, CRANE_DRIVE_VALVE = 2 };
+enum { CRANE_VALVE_NONE = 0, CRANE_VALVE_ORIFICE = 1, CRANE_VALVE_COMPENSATED = 2 };
 enum { CRANE_N_POINTS = 11 };
 enum { CRANE_PRESSURE_MAX = 100000000 };   /* Pa (1000 bar): the largest pressure accepted */
+enum { CRANE_CHAMBER_PRESSURE_MIN = -100000 };  /* Pa gauge (vacuum): the lowest chamber pressure */
 
 /* Bounded work and memory: checked before anything runs or is written (CRANE_E_STEPS,
- * CRANE_E_SAMPLE_COUNT, CRANE_E_BATCH), so that no accepted call runs for more than seconds.
+ * CRANE_E_SAMPLE_COUNT, CRANE_E_BATCH), so that no accepted call runs for more than seconds
+ * (measured on the project's shared 2-core CI machine, both cylinders driven: 1.0 s for one
+ * prediction of CRANE_MAX_STEPS, 0.5 us a step; a PC core is about twice as fast).
  *   CRANE_MAX_STEPS: RK4 steps per prediction (one future), n = ceil(horizon/dt - 1e-9): 2^20,
- *     17 min of crane time at dt = 1 ms, about 0.3 s of one core of a 2020s PC (0.25 us a step).
+ *     17 min of crane time at dt = 1 ms.
  *     Why 2^20: the step times are t_k = k dt in every build (never accumulated), and in the float
  *     build horizon/dt is uncertain by about 4 eps n steps (both operands rounded to 24 bits; the
  *     step count allows for it): up to 2^20 steps that stays under a quarter step, so the last
@@ -70,9 +82,9 @@ enum { CRANE_PRESSURE_MAX = 100000000 };   /* Pa (1000 bar): the largest pressur
  *     stay strictly increasing.
  *   CRANE_MAX_SAMPLES: samples written by one call (all futures of crane_predict_many): 2^23,
  *     0.74 GB of crane_sample in double; a single prediction (n + 1 <= 2^20 + 1) never reaches it.
- *   CRANE_MAX_BATCH_STEPS: steps of one crane_predict_many call, n_futures x n: 2^25, about 8 s of
- *     one core; split larger batches into several calls (they may run on several threads). */
-enum { CRANE_MAX_STEPS = 1048576, CRANE_MAX_SAMPLES = 8388608, CRANE_MAX_BATCH_STEPS = 33554432 };
+ *   CRANE_MAX_BATCH_STEPS: steps of one crane_predict_many call, n_futures x n: 2^23, about 4 s;
+ *     split larger batches into several calls (they may run on several threads). */
+enum { CRANE_MAX_STEPS = 1048576, CRANE_MAX_SAMPLES = 8388608, CRANE_MAX_BATCH_STEPS = 8388608 };
 
 typedef struct {
     crane_real x, y;
@@ -92,6 +104,27 @@ typedef struct {
     crane_real factor;             /* k >= 0: multiplies F_C and F_S, not sigma ([S1]: 4 on the lift) */
 } crane_friction;
 
+/* A cylinder's valve and oil (docs/model.md, "Hydraulics"); SI: Pa, m^3, m^3/s, s. */
+typedef struct {
+    int valve;                       /* CRANE_VALVE_NONE (no circuit: cannot be valve-driven),
+                                      * CRANE_VALVE_ORIFICE or CRANE_VALVE_COMPENSATED */
+    crane_real supply_pressure;      /* p_S */
+    crane_real tank_pressure;        /* p_T */
+    crane_real relief_pressure;      /* port relief setting p_R */
+    crane_real nominal_flow;         /* orifice: at full opening and nominal_pressure_drop;
+                                      * compensated: the meter-in flow at full opening */
+    crane_real nominal_pressure_drop;
+    crane_real dead_band;            /* compensated: u0 in [0, 0.99]; orifice: 0 */
+    crane_real meter_out_flow;       /* compensated: meter-out orifice, flow at ... */
+    crane_real meter_out_pressure_drop;   /* ... this pressure drop */
+    crane_real spool_time_constant;  /* s; 0 = no spool lag */
+    crane_real laminar_pressure_drop;     /* d_l > 0: width of the laminar region */
+    crane_real cavitation_pressure;  /* anti-cavitation valve opens below this */
+    crane_real hose_volume_a, hose_volume_b;   /* dead volumes, m^3 */
+    crane_real oil_bulk_modulus, hose_bulk_modulus, cylinder_bulk_modulus;
+    crane_real leakage;              /* m^3/(s Pa) across the piston; 0 = none */
+} crane_hydraulics;
+
 typedef struct {
     crane_real bore;               /* piston diameter, m */
     crane_real rod;                /* rod diameter, m */
@@ -99,6 +132,7 @@ typedef struct {
     crane_real stroke_min;         /* end stops, m */
     crane_real stroke_max;
     crane_friction friction;
+    crane_hydraulics hydraulics;   /* .valve = CRANE_VALVE_NONE when the crane file has none */
 } crane_cylinder;
 
 typedef struct {
@@ -173,6 +207,24 @@ typedef enum {
     CRANE_FIELD_LIFT_CYLINDER_FRICTION_VISCOUS,
     CRANE_FIELD_LIFT_CYLINDER_FRICTION_STRIBECK_VELOCITY,
     CRANE_FIELD_LIFT_CYLINDER_FRICTION_FACTOR,
+    CRANE_FIELD_LIFT_CYLINDER_HYDRAULICS_VALVE,
+    CRANE_FIELD_LIFT_CYLINDER_HYDRAULICS_SUPPLY_PRESSURE,
+    CRANE_FIELD_LIFT_CYLINDER_HYDRAULICS_TANK_PRESSURE,
+    CRANE_FIELD_LIFT_CYLINDER_HYDRAULICS_RELIEF_PRESSURE,
+    CRANE_FIELD_LIFT_CYLINDER_HYDRAULICS_NOMINAL_FLOW,
+    CRANE_FIELD_LIFT_CYLINDER_HYDRAULICS_NOMINAL_PRESSURE_DROP,
+    CRANE_FIELD_LIFT_CYLINDER_HYDRAULICS_DEAD_BAND,
+    CRANE_FIELD_LIFT_CYLINDER_HYDRAULICS_METER_OUT_FLOW,
+    CRANE_FIELD_LIFT_CYLINDER_HYDRAULICS_METER_OUT_PRESSURE_DROP,
+    CRANE_FIELD_LIFT_CYLINDER_HYDRAULICS_SPOOL_TIME_CONSTANT,
+    CRANE_FIELD_LIFT_CYLINDER_HYDRAULICS_LAMINAR_PRESSURE_DROP,
+    CRANE_FIELD_LIFT_CYLINDER_HYDRAULICS_CAVITATION_PRESSURE,
+    CRANE_FIELD_LIFT_CYLINDER_HYDRAULICS_HOSE_VOLUME_A,
+    CRANE_FIELD_LIFT_CYLINDER_HYDRAULICS_HOSE_VOLUME_B,
+    CRANE_FIELD_LIFT_CYLINDER_HYDRAULICS_OIL_BULK_MODULUS,
+    CRANE_FIELD_LIFT_CYLINDER_HYDRAULICS_HOSE_BULK_MODULUS,
+    CRANE_FIELD_LIFT_CYLINDER_HYDRAULICS_CYLINDER_BULK_MODULUS,
+    CRANE_FIELD_LIFT_CYLINDER_HYDRAULICS_LEAKAGE,
     CRANE_FIELD_TILT_CYLINDER_BORE,
     CRANE_FIELD_TILT_CYLINDER_ROD,
     CRANE_FIELD_TILT_CYLINDER_LENGTH_RETRACTED,
@@ -183,6 +235,24 @@ typedef enum {
     CRANE_FIELD_TILT_CYLINDER_FRICTION_VISCOUS,
     CRANE_FIELD_TILT_CYLINDER_FRICTION_STRIBECK_VELOCITY,
     CRANE_FIELD_TILT_CYLINDER_FRICTION_FACTOR,
+    CRANE_FIELD_TILT_CYLINDER_HYDRAULICS_VALVE,
+    CRANE_FIELD_TILT_CYLINDER_HYDRAULICS_SUPPLY_PRESSURE,
+    CRANE_FIELD_TILT_CYLINDER_HYDRAULICS_TANK_PRESSURE,
+    CRANE_FIELD_TILT_CYLINDER_HYDRAULICS_RELIEF_PRESSURE,
+    CRANE_FIELD_TILT_CYLINDER_HYDRAULICS_NOMINAL_FLOW,
+    CRANE_FIELD_TILT_CYLINDER_HYDRAULICS_NOMINAL_PRESSURE_DROP,
+    CRANE_FIELD_TILT_CYLINDER_HYDRAULICS_DEAD_BAND,
+    CRANE_FIELD_TILT_CYLINDER_HYDRAULICS_METER_OUT_FLOW,
+    CRANE_FIELD_TILT_CYLINDER_HYDRAULICS_METER_OUT_PRESSURE_DROP,
+    CRANE_FIELD_TILT_CYLINDER_HYDRAULICS_SPOOL_TIME_CONSTANT,
+    CRANE_FIELD_TILT_CYLINDER_HYDRAULICS_LAMINAR_PRESSURE_DROP,
+    CRANE_FIELD_TILT_CYLINDER_HYDRAULICS_CAVITATION_PRESSURE,
+    CRANE_FIELD_TILT_CYLINDER_HYDRAULICS_HOSE_VOLUME_A,
+    CRANE_FIELD_TILT_CYLINDER_HYDRAULICS_HOSE_VOLUME_B,
+    CRANE_FIELD_TILT_CYLINDER_HYDRAULICS_OIL_BULK_MODULUS,
+    CRANE_FIELD_TILT_CYLINDER_HYDRAULICS_HOSE_BULK_MODULUS,
+    CRANE_FIELD_TILT_CYLINDER_HYDRAULICS_CYLINDER_BULK_MODULUS,
+    CRANE_FIELD_TILT_CYLINDER_HYDRAULICS_LEAKAGE,
     CRANE_FIELD_COUNT
 } crane_field;
 
@@ -191,6 +261,9 @@ typedef struct {
     crane_real stroke_rate[2];   /* m/s; 0 = at rest; must be 0 for a held cylinder */
     crane_real slew;             /* rad, about the vertical axis; constant during a prediction */
     crane_real extension;        /* m; constant during a prediction */
+    /* A valve-driven cylinder's chamber pressures (Pa gauge, in [CRANE_CHAMBER_PRESSURE_MIN,
+     * CRANE_PRESSURE_MAX]) and spool position (in [-1, 1]; read only with a spool lag). */
+    crane_real p_a[2], p_b[2], spool[2];
 } crane_state;
 
 typedef struct {
@@ -200,7 +273,9 @@ typedef struct {
     const crane_real *t;         /* n_samples sample times, s, strictly increasing */
     const crane_real *p_a_samples;
     const crane_real *p_b_samples;
-    size_t n_samples;            /* 0: constant pressures */
+    size_t n_samples;            /* 0: constant pressures (or lever) */
+    crane_real u;                /* CRANE_DRIVE_VALVE: the lever in [-1, 1] (n_samples == 0) */
+    const crane_real *u_samples; /* CRANE_DRIVE_VALVE: the lever at the times t */
 } crane_drive;
 
 typedef struct {
@@ -214,31 +289,64 @@ typedef struct {
     crane_real omega[2];         /* rad/s */
     crane_real tip[3];           /* world, m */
     int stop[2];                 /* -1 at stroke_min, +1 at stroke_max, 0 otherwise (cylinder terms) */
+    crane_real p_a[2], p_b[2];   /* Pa: valve: the chamber pressures; pressure drive: the given
+                                  * ones at t; held: 0 */
+    crane_real flow_a[2];        /* m^3/s: the valve's flow into the bore side (0 unless valve) */
+    crane_real flow_b[2];        /* m^3/s: the valve's flow out of the rod side (0 unless valve) */
+    crane_real spool[2];         /* the spool position (0 unless valve-driven) */
 } crane_sample;
 
-/* Derived constants of one crane at one extension: filled by crane_model_init, read-only after.
- * Fields are internal; the struct is public only so that the caller can own it. It keeps only
- * the parameters that predictions and the queries read (not a copy of crane_params). */
+/* Derived constants of one crane at one extension e (docs/model.md's symbols): filled by
+ * crane_model_init, read-only after. The struct is public so that a C caller can own it (on the
+ * stack, in static memory); its fields are the core's, not an interface: the Python binding
+ * declares it opaque (only its size is known there), so its layout may change. It keeps only the
+ * parameters that predictions and the queries read (not a copy of crane_params).
+ * Copied from crane_params (p): */
 typedef struct {
-    crane_real gravity;
-    crane_vec2 lift_pivot, lift_cylinder_base, lift_cylinder_rod, tilt_cylinder_base;
-    crane_vec2 link1_pivot, tilt_pivot, link2_attach, extension_mount;
-    crane_real length_retracted[2], stroke_min[2], stroke_max[2];
-    crane_friction friction[2];
-    crane_real extension;
-    crane_real lift_db, lift_dr, lift_beta, lift_eps;
-    crane_real tilt_l1, tilt_l2, tilt_ra, tilt_alpha_a;
-    crane_real tilt_branch;                /* +1 or -1: Q's side of P1 -> A (angle -> stroke) */
-    crane_real area_a[2], area_b[2];
-    crane_real m1, m2, i1, i2;
-    crane_vec2 c1, c2;
-    crane_real theta_min[2], theta_max[2];
-    crane_real lift_cos_off, lift_sin_off; /* cos, sin of (lift_eps - lift_beta) */
-    crane_real j1, j2, m2_o2sq;            /* i1 + m1 |c1|^2, i2 + m2 |c2|^2, m2 |O2|^2 */
-    crane_vec2 tip;                        /* load point in the outer boom frame */
-    int links;                             /* 1 if a side link has mass or inertia */
+    crane_real gravity;                    /* g = p.gravity */
+    crane_vec2 lift_pivot;                 /* O1 = p.lift_pivot */
+    crane_vec2 lift_cylinder_base;         /* B1 = p.lift_cylinder_base */
+    crane_vec2 lift_cylinder_rod;          /* E1 = p.lift_cylinder_rod */
+    crane_vec2 tilt_cylinder_base;         /* B2 = p.tilt_cylinder_base */
+    crane_vec2 link1_pivot;                /* P1 = p.link1_pivot */
+    crane_vec2 tilt_pivot;                 /* O2 = p.tilt_pivot */
+    crane_vec2 link2_attach;               /* p.link2_attach (A in the outer boom frame) */
+    crane_vec2 extension_mount;            /* p.extension_mount */
+    crane_real length_retracted[2], stroke_min[2], stroke_max[2]; /* p.cylinder[i] */
+    crane_friction friction[2];            /* p.cylinder[i].friction */
+    crane_real extension;                  /* e, the argument of crane_model_init */
+    /* Lift triangle: */
+    crane_real lift_db;                    /* db = |B1 - O1| */
+    crane_real lift_dr;                    /* dr = |E1| */
+    crane_real lift_beta;                  /* beta = atan2(B1.y - O1.y, B1.x - O1.x) */
+    crane_real lift_eps;                   /* eps = atan2(E1.y, E1.x) */
+    /* Tilt four-bar: */
+    crane_real tilt_l1;                    /* l1 = |p.link_pin| */
+    crane_real tilt_l2;                    /* l2 = |p.link2_end| */
+    crane_real tilt_ra;                    /* ra = |p.link2_attach| */
+    crane_real tilt_alpha_a;               /* alpha_a = atan2(link2_attach.y, link2_attach.x) */
+    crane_real tilt_branch;                /* -sign(cross(Q - P1, A - Q)), constant over the
+                                              stroke: the side of P1 -> A on which angle ->
+                                              stroke finds Q (+1 left, the PATU's) */
+    /* Cylinders: */
+    crane_real area_a[2];                  /* pi bore^2 / 4 (bore side) */
+    crane_real area_b[2];                  /* pi (bore^2 - rod^2) / 4 (rod side) */
+    /* Bodies (body 2 lumped at e: docs/model.md, "Bodies and the lumped outer boom"): */
+    crane_real m1, m2;                     /* m1 = lift_boom.mass; m2 = m_ob + m_ext + m_load */
+    crane_real i1, i2;                     /* I1 = lift_boom.izz; I2 about c2 (parallel axes) */
+    crane_vec2 c1, c2;                     /* c1 = lift_boom.com; c2 = (m_ob c_ob + m_ext x_ext +
+                                              m_load x_tip) / m2, outer boom frame */
+    crane_real theta_min[2], theta_max[2]; /* angle limits: theta at the two stroke limits,
+                                              ordered (docs/model.md, "End stops") */
+    crane_real lift_cos_off, lift_sin_off; /* cos, sin of (eps - beta) */
+    crane_real j1, j2, m2_o2sq;            /* I1 + m1 |c1|^2, I2 + m2 |c2|^2, m2 |O2|^2 */
+    crane_vec2 tip;                        /* x_tip = extension_mount + (e + tip_distance, 0) */
+    int links;                             /* 1 if a side link has mass or inertia, else 0 */
     crane_real link_m[2], link_i[2];       /* side links 1, 2: mass, Izz */
-    crane_real link_ca[2], link_cb[2];     /* com = ca v + cb perp(v), v = link_pin, link2_end */
+    crane_real link_ca[2], link_cb[2];     /* com = ca v + cb perp(v) with v = link_pin (link 1),
+                                              link2_end (link 2): ca = com.v / |v|^2,
+                                              cb = cross(v, com) / |v|^2 */
+    const crane_hydraulics *hyd[2];        /* the params' circuits (NULL: none), not copied */
 } crane_model;
 
 /* The crane's rules, the one validator of a crane (the Python layer and tools/crane2header.py call
@@ -255,6 +363,8 @@ const char *crane_field_rule(crane_field field);
 
 /* crane_params_check, then the extension against [extension_min, extension_max], then derives
  * the model constants. On an error *model is left untouched. */
+/* A model of a crane with hydraulics refers to params->cylinder[i].hydraulics (so that a model
+ * on a small stack stays small): keep params alive and unchanged while the model is used. */
 crane_status crane_model_init(crane_model *model, const crane_params *params, crane_real extension);
 
 /* Number of samples a prediction writes: ceil(horizon/dt - 1e-9) + 1. */
@@ -331,11 +441,6 @@ const char *crane_status_message(crane_status status);
  * A solid is a half-space, an oriented box or a segment grown by a radius (capsule, sphere, and a
  * cylinder, whose distances are those of its capsule: conservative, never larger than the true
  * one). Distances are between surfaces, 0 when solids touch or overlap. */
-enum {
-    CRANE_E_SOLID = 40,          /* a solid (obstacle) is not valid, or a pair of two planes */
-    CRANE_E_PART = 41,           /* a crane part is not valid */
-    CRANE_E_GUARD = 42           /* a guard setting (margin, reaction, cycle, tolerances) out of range */
-};
 enum { CRANE_SOLID_PLANE = 0, CRANE_SOLID_BOX = 1, CRANE_SOLID_CAPSULE = 2, CRANE_SOLID_SPHERE = 3,
        CRANE_SOLID_CYLINDER = 4 };
 /* The field of a solid or part at fault (crane_solid_check, crane_guard_check). */
@@ -348,6 +453,9 @@ enum { CRANE_GUARD_FIELD_KIND = 1, CRANE_GUARD_FIELD_A = 2, CRANE_GUARD_FIELD_B 
 enum { CRANE_FRAME_BASE = 0, CRANE_FRAME_LIFT = 1, CRANE_FRAME_LINK_PIN = 2, CRANE_FRAME_OUTER = 3,
        CRANE_FRAME_EXTENSION = 4 };
 enum { CRANE_GO = 0, CRANE_WARN = 1, CRANE_STOP = 2 };
+/* The largest coordinate or size a solid or part may have, m: a site, not the globe (squares of
+ * lengths stay far from overflow in float). */
+enum { CRANE_GUARD_LENGTH_MAX = 1000000 };
 
 typedef struct {
     int kind;                    /* CRANE_SOLID_* */
@@ -375,7 +483,8 @@ typedef struct {
     crane_real margin;           /* clearance below which the guard calls it a contact, m, >= 0 */
     crane_real reaction;         /* delay from the stop decision to the stop, s, >= 0 */
     crane_real cycle;            /* control cycle, s, > 0: STOP if stopping cannot wait one more */
-    crane_real time_tolerance;   /* the first contact is located within this, s, > 0 */
+    crane_real time_tolerance;   /* the first contact is located within this, s, > 0 (at least
+                                    1e-4 of the samples' spacing is used) */
     crane_real clearance_tolerance; /* per-part minima may be this much too large, m, >= 0 */
 } crane_guard_config;
 

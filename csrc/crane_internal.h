@@ -32,6 +32,7 @@ static inline crane_real crane__acos(crane_real x) { return acosf(x); }
 static inline crane_real crane__atan2(crane_real y, crane_real x) { return atan2f(y, x); }
 static inline crane_real crane__tanh(crane_real x) { return tanhf(x); }
 static inline crane_real crane__fabs(crane_real x) { return fabsf(x); }
+static inline crane_real crane__ceil(crane_real x) { return ceilf(x); }
 #else
 static inline crane_real crane__sqrt(crane_real x) { return sqrt(x); }
 static inline crane_real crane__sin(crane_real x) { return sin(x); }
@@ -41,6 +42,7 @@ static inline crane_real crane__acos(crane_real x) { return acos(x); }
 static inline crane_real crane__atan2(crane_real y, crane_real x) { return atan2(y, x); }
 static inline crane_real crane__tanh(crane_real x) { return tanh(x); }
 static inline crane_real crane__fabs(crane_real x) { return fabs(x); }
+static inline crane_real crane__ceil(crane_real x) { return ceil(x); }
 #endif
 
 /* isfinite is a type-generic macro; wrapping it keeps the call sites typed. */
@@ -146,6 +148,26 @@ void crane__mass_matrix(const crane_model *m, crane_real c1, crane_real s1,
 crane_real crane__friction(const crane_friction *f, crane_real v);
 crane_real crane__cylinder_force(const crane_model *m, int joint, crane_real p_a, crane_real p_b,
                                  crane_real v);
+
+/* ---- hydraulics.c (docs/model.md, "Hydraulics") ---- */
+
+/* Valve-driven cylinders are compiled in unless CRANE_HYDRAULICS is defined to 0: a build
+ * without them refuses valve drives (CRANE_E_VALVE) and keeps the stack of the pressure-driven
+ * core (docs/embedding.md: the budgeted Cortex-M4F build). */
+#ifndef CRANE_HYDRAULICS
+#define CRANE_HYDRAULICS 1
+#endif
+
+/* The valve's flows at spool y: q_a into the bore side, q_b out of the rod side. */
+void crane__valve_flows(const crane_hydraulics *h, crane_real y, crane_real p_a, crane_real p_b,
+                        crane_real *q_a, crane_real *q_b);
+/* Valve-driven cylinder i at the lever command `lever`, stroke, stroke rate v, pressures p
+ * (p_a, p_b) and spool y: rate = (dp_a/dt, dp_b/dt, dy/dt). */
+void crane__chamber_rates(const crane_model *m, int i, crane_real lever, crane_real stroke,
+                          crane_real v, const crane_real p[2], crane_real y, crane_real rate[3]);
+/* The substep count of a step of size h from the strokes of the valve-driven joints (valve[i]). */
+long crane__substeps(const crane_model *m, const crane_real stroke[2], const int valve[2],
+                     crane_real h);
 
 /* ---- model.c ---- */
 

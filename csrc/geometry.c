@@ -28,7 +28,7 @@ typedef struct {
     crane_real best, s, t;
 } seg_pair;
 
-static void seg_try(seg_pair *c, crane_real s, crane_real t)
+static CRANE__NOINLINE void seg_try(seg_pair *c, crane_real s, crane_real t)
 {
     const crane__v3 g = crane__v3_sub(lerp3(c->p0, c->d1, s), lerp3(c->q0, c->d2, t));
     const crane_real g2 = crane__v3_dot(g, g);
@@ -334,7 +334,7 @@ int crane__solid_distance(const crane_solid *a, const crane_solid *b, crane_real
 
 static int finite3(const crane_real *v)
 {
-    return crane__finite(v[0]) && crane__finite(v[1]) && crane__finite(v[2]);
+    return crane__length_ok(v[0]) && crane__length_ok(v[1]) && crane__length_ok(v[2]);
 }
 
 /* Tolerance of the unit-length and orthogonality checks (float rounding of a caller's matrix). */
@@ -360,7 +360,7 @@ int crane__solid_field(const crane_solid *s)
     }
     if (s->kind == CRANE_SOLID_BOX) {
         for (i = 0; i < 3; ++i)
-            if (!(crane__finite(s->half[i]) && s->half[i] > 0))
+            if (!(crane__length_ok(s->half[i]) && s->half[i] > 0))
                 return CRANE_GUARD_FIELD_HALF;
         for (i = 0; i < 9; ++i)
             if (!crane__finite(s->axes[i]))
@@ -377,7 +377,7 @@ int crane__solid_field(const crane_solid *s)
     }
     if (s->kind != CRANE_SOLID_SPHERE && !finite3(s->b))
         return CRANE_GUARD_FIELD_B;
-    if (!(crane__finite(s->radius) && s->radius >= 0) ||
+    if (!(crane__length_ok(s->radius) && s->radius >= 0) ||
         (s->kind != CRANE_SOLID_CAPSULE && !(s->radius > 0)))
         return CRANE_GUARD_FIELD_RADIUS;
     if (s->kind == CRANE_SOLID_CYLINDER) {
@@ -395,7 +395,7 @@ crane_status crane_solid_check(const crane_solid *s, int *field)
         return CRANE_E_NULL;
     f = crane__solid_field(s);
     *field = f;
-    return f ? (crane_status)CRANE_E_SOLID : CRANE_OK;
+    return f ? CRANE_E_SOLID : CRANE_OK;
 }
 
 crane_status crane_solid_distance(const crane_solid *a, const crane_solid *b, crane_real *distance,
@@ -407,9 +407,9 @@ crane_status crane_solid_distance(const crane_solid *a, const crane_solid *b, cr
     if (!a || !b || !distance || !pa || !pb)
         return CRANE_E_NULL;
     if (crane__solid_field(a) || crane__solid_field(b))
-        return (crane_status)CRANE_E_SOLID;
+        return CRANE_E_SOLID;
     if (!crane__solid_distance(a, b, &d, &qa, &qb))
-        return (crane_status)CRANE_E_SOLID;
+        return CRANE_E_SOLID;
     *distance = d;
     crane__v3_store(pa, qa);
     crane__v3_store(pb, qb);

@@ -79,7 +79,7 @@ static void part_solid(const crane_model *m, const crane_part *pt, const pose *p
 /* How far a point of an anchor can move per unit change of (theta0, theta1, phi), phi being the
  * angle of side link 1 (Q turns about P1 at radius l1). Chords are no longer than arcs, and
  * |R(a') v' - R(a) v| <= |a' - a| max|v| + |v' - v|, so a point moves at most
- * k[0] |d theta0| + k[1] |d theta1| + k[2] |d phi| while the angles move monotonically. */
+ * k[0] d0 + k[1] d1 + k[2] dphi, each d the largest excursion of that angle (motion_bound). */
 static void anchor_rates(const crane_model *m, crane_anchor an, crane_real k[3])
 {
     const crane_real r = crane__norm(an.at);
@@ -128,12 +128,87 @@ static crane_real link_turn(const crane_model *m, const pose *a, const pose *b)
     return crane__fabs(crane__atan2(crane__cross(u, v), crane__dot(u, v)));
 }
 
-static crane_real motion_bound(const crane_real k[3], const crane_model *m, const pose *a,
-                               const pose *b)
+/* theta_j(u) over one step, u = (t - s0.t) / (s1.t - s0.t) in [0, 1]: the cubic Hermite
+ * interpolant of the samples' angles and rates, c[0] + c[1] u + c[2] u^2 + c[3] u^3. It matches
+ * the model's motion to O(h^4) (docs/guard.md, "Nothing is missed"). */
+static void hermite(const crane_sample *s0, const crane_sample *s1, int j, crane_real c[4])
 {
-    crane_real d = k[0] * crane__fabs(b->th[0] - a->th[0]) + k[1] * crane__fabs(b->th[1] - a->th[1]);
-    if (k[2] > 0)
-        d += k[2] * link_turn(m, a, b);
+    const crane_real h = s1->t - s0->t, d = s1->theta[j] - s0->theta[j];
+    const crane_real m0 = h * s0->omega[j], m1 = h * s1->omega[j];
+    c[0] = s0->theta[j];
+    c[1] = m0;
+    c[2] = 3 * d - 2 * m0 - m1;
+    c[3] = -2 * d + m0 + m1;
+}
+
+static crane_real cubic_at(const crane_real c[4], crane_real u)
+{
+    return c[0] + u * (c[1] + u * (c[2] + u * c[3]));
+}
+
+static void widen(crane_real v, crane_real *lo, crane_real *hi)
+{
+    if (v < *lo)
+        *lo = v;
+    if (v > *hi)
+        *hi = v;
+}
+
+/* The range [lo, hi] of theta_j over [ua, ub]: its values at the ends and at the cubic's
+ * stationary points between them (roots of c1 + 2 c2 u + 3 c3 u^2). */
+static void angle_range(const crane_sample *s0, const crane_sample *s1, int j, crane_real ua,
+                        crane_real ub, crane_real *lo, crane_real *hi)
+{
+    crane_real c[4], qa, qb, qc;
+    hermite(s0, s1, j, c);
+    *lo = *hi = cubic_at(c, ua);
+    widen(cubic_at(c, ub), lo, hi);
+    qa = 3 * c[3];
+    qb = 2 * c[2];
+    qc = c[1];
+    if (qa != 0) {
+        const crane_real disc = qb * qb - 4 * qa * qc;
+        if (disc >= 0) {
+            const crane_real sq = crane__sqrt(disc);
+            const crane_real r0 = (-qb - sq) / (2 * qa), r1 = (-qb + sq) / (2 * qa);
+            if (r0 > ua && r0 < ub)
+                widen(cubic_at(c, r0), lo, hi);
+            if (r1 > ua && r1 < ub)
+                widen(cubic_at(c, r1), lo, hi);
+        }
+    } else if (qb != 0) {
+        const crane_real r = -qc / qb;
+        if (r > ua && r < ub)
+            widen(cubic_at(c, r), lo, hi);
+    }
+}
+
+static crane_real larger(crane_real a, crane_real b)
+{
+    return a > b ? a : b;
+}
+
+/* How far any point of a part (rates k, anchor_rates) can get, at any u in [ua, ub] of the step
+ * s0 -> s1, from where it is at ua (pose *a): each joint's largest excursion from its angle at
+ * ua, and side link 1's, which is monotone in theta1 (one sign of ds/dtheta1 over the stroke, the
+ * crane check), so its extremes are at theta1's. */
+static CRANE__NOINLINE crane_real motion_bound(const crane_real k[3], const crane_model *m,
+                                               const crane_sample *s0, const crane_sample *s1,
+                                               crane_real ua, crane_real ub, const pose *a)
+{
+    crane_real lo, hi, d;
+    angle_range(s0, s1, 0, ua, ub, &lo, &hi);
+    d = k[0] * larger(hi - a->th[0], a->th[0] - lo);
+    angle_range(s0, s1, 1, ua, ub, &lo, &hi);
+    d += k[1] * larger(hi - a->th[1], a->th[1] - lo);
+    if (k[2] > 0) {
+        pose e;
+        crane_real turn;
+        pose_at(m, a->th[0], lo, &e);
+        turn = link_turn(m, a, &e);
+        pose_at(m, a->th[0], hi, &e);
+        d += k[2] * larger(turn, link_turn(m, a, &e));
+    }
     return d;
 }
 
@@ -165,51 +240,55 @@ static crane_real pair_distance(scene *sc, size_t i, size_t j, const pose *p, cr
     return clearance(sc, j, pa, pb);
 }
 
+/* The pose at u of the step s0 -> s1 (Hermite angles). */
 static void pose_between(const crane_model *m, const crane_sample *s0, const crane_sample *s1,
-                         crane_real t, pose *p)
+                         crane_real u, pose *p)
 {
-    const crane_real u = (t - s0->t) / (s1->t - s0->t);
-    pose_at(m, s0->theta[0] + u * (s1->theta[0] - s0->theta[0]),
-            s0->theta[1] + u * (s1->theta[1] - s0->theta[1]), p);
+    crane_real c0[4], c1[4];
+    hermite(s0, s1, 0, c0);
+    hermite(s0, s1, 1, c1);
+    pose_at(m, cubic_at(c0, u), cubic_at(c1, u), p);
 }
 
 /* Conservative advancement of one pair over one step, from the sample s0 (pose *p0) to s1: from a
  * time with clearance d > margin, jump ahead as far as the motion bound lets the clearance drop by
  * less than d - margin (halving the jump until it does), evaluate there, repeat. Returns 1 with
- * *t_hit if the clearance is <= margin at *t_hit, or cannot be shown to stay above it beyond
- * *t_hit (the jump shrank below the time tolerance); 0 if it stays above over the whole step,
- * with *d_end the clearance at s1. */
-static CRANE__NOINLINE int advance(scene *sc, size_t i, size_t j, const crane_real k[3], const crane_sample *s0,
-                   const crane_sample *s1, const pose *p0, crane_real margin, crane_real tol,
-                   crane_real *t_hit, crane_real *d_end)
+ * *u_hit (the fraction of the step) if the clearance is <= margin there, or cannot be shown to
+ * stay above it beyond (the jump shrank below tol, a fraction of the step); 0 if it stays above
+ * over the whole step, with *d_end the clearance at s1. */
+static CRANE__NOINLINE int advance(scene *sc, size_t i, size_t j, const crane_real k[3],
+                                   const crane_sample *s0, const crane_sample *s1, const pose *p0,
+                                   crane_real margin, crane_real tol, crane_real *u_hit,
+                                   crane_real *d_end)
 {
     pose a = *p0, b;
-    crane_real ta = s0->t;
+    crane_real ua = 0;
     crane_real d = pair_distance(sc, i, j, &a, NULL, NULL);
 
     for (;;) {
-        crane_real tb = s1->t;
+        crane_real ub = 1;
         if (d <= margin) {
-            *t_hit = ta;
+            *u_hit = ua;
             return 1;
         }
-        for (;;) {
-            pose_between(sc->m, s0, s1, tb, &b);
-            if (motion_bound(k, sc->m, &a, &b) <= d - margin)
-                break;
-            if (tb - ta <= tol) {
-                *t_hit = ta;
+        while (motion_bound(k, sc->m, s0, s1, ua, ub, &a) > d - margin) {
+            if (ub - ua <= tol) {
+                *u_hit = ua;
                 return 1;
             }
-            tb = ta + (tb - ta) / 2;
+            ub = ua + (ub - ua) / 2;
         }
-        if (tb >= s1->t) {
+        if (!(ub > ua)) { /* no progress left in this precision: cannot exclude the contact */
+            *u_hit = ua;
+            return 1;
+        }
+        if (ub >= 1) {
             pose_at(sc->m, s1->theta[0], s1->theta[1], &b);
             *d_end = pair_distance(sc, i, j, &b, NULL, NULL);
             return 0;
         }
-        ta = tb;
-        a = b;
+        ua = ub;
+        pose_between(sc->m, s0, s1, ua, &a);
         d = pair_distance(sc, i, j, &a, NULL, NULL);
     }
 }
@@ -221,14 +300,14 @@ static crane_status check_config(const crane_guard_config *c)
         return CRANE_E_NONFINITE;
     if (c->margin < 0 || c->reaction < 0 || !(c->cycle > 0) || !(c->time_tolerance > 0) ||
         c->clearance_tolerance < 0)
-        return (crane_status)CRANE_E_GUARD;
+        return CRANE_E_GUARD;
     return CRANE_OK;
 }
 
 static int anchor_ok(crane_anchor an)
 {
     return an.frame >= CRANE_FRAME_BASE && an.frame <= CRANE_FRAME_EXTENSION &&
-           crane__finite_vec(an.at);
+           crane__length_ok(an.at.x) && crane__length_ok(an.at.y);
 }
 
 static int part_field(const crane_part *p)
@@ -241,16 +320,16 @@ static int part_field(const crane_part *p)
     if (p->kind == CRANE_SOLID_CAPSULE) {
         if (!anchor_ok(p->b))
             return CRANE_GUARD_FIELD_B;
-        if (!(crane__finite(p->radius) && p->radius >= 0))
+        if (!(crane__length_ok(p->radius) && p->radius >= 0))
             return CRANE_GUARD_FIELD_RADIUS;
         return 0;
     }
-    if (!crane__finite(p->drop))
+    if (!crane__length_ok(p->drop))
         return CRANE_GUARD_FIELD_DROP;
     if (p->kind == CRANE_SOLID_SPHERE)
-        return crane__finite(p->radius) && p->radius > 0 ? 0 : CRANE_GUARD_FIELD_RADIUS;
+        return crane__length_ok(p->radius) && p->radius > 0 ? 0 : CRANE_GUARD_FIELD_RADIUS;
     for (i = 0; i < 3; ++i)
-        if (!(crane__finite(p->half[i]) && p->half[i] > 0))
+        if (!(crane__length_ok(p->half[i]) && p->half[i] > 0))
             return CRANE_GUARD_FIELD_HALF;
     return 0;
 }
@@ -266,7 +345,7 @@ crane_status crane_guard_check(const crane_part *parts, size_t n_parts, const cr
         if (f) {
             *which = i;
             *field = f;
-            return (crane_status)CRANE_E_PART;
+            return CRANE_E_PART;
         }
     }
     for (i = 0; i < n_obstacles; ++i) {
@@ -274,7 +353,7 @@ crane_status crane_guard_check(const crane_part *parts, size_t n_parts, const cr
         if (f) {
             *which = i;
             *field = f;
-            return (crane_status)CRANE_E_SOLID;
+            return CRANE_E_SOLID;
         }
     }
     return CRANE_OK;
@@ -355,17 +434,48 @@ static CRANE__NOINLINE void record_contact(scene *sc, crane_guard_result *r, siz
     crane__v3_store(r->on_obstacle, pb);
 }
 
-/* A contact of pair (i, j) at t_hit inside the step s0 -> s1: its pose, points and joint rates. */
+/* The time tolerance as a fraction of a step, at least 1e-4: each jump of the advancement is
+ * longer than half of it, so one pair takes at most 20,000 jumps over one step. */
+static crane_real u_tolerance(crane_real time_tolerance, crane_real h)
+{
+    const crane_real u = time_tolerance / h, u_min = (crane_real)1e-4;
+    return u > u_min ? u : u_min;
+}
+
+/* d theta_j / dt at the fraction u of the step (the Hermite angle's derivative). */
+static CRANE__NOINLINE crane_real rate_at(const crane_sample *s0, const crane_sample *s1, int j,
+                                          crane_real u)
+{
+    crane_real c[4];
+    hermite(s0, s1, j, c);
+    return (c[1] + u * (2 * c[2] + u * 3 * c[3])) / (s1->t - s0->t);
+}
+
+/* A contact of pair (i, j) at the fraction u of the step s0 -> s1: its time, pose, points and the
+ * joint rates there (the Hermite angles' derivative). */
 static CRANE__NOINLINE void note_contact(scene *sc, crane_guard_result *r, size_t i, size_t j,
                                          const crane_sample *s0, const crane_sample *s1,
-                                         crane_real t_hit, crane_real omega[2])
+                                         crane_real u, crane_real omega[2])
 {
     pose p;
-    const crane_real u = (t_hit - s0->t) / (s1->t - s0->t);
-    pose_between(sc->m, s0, s1, t_hit, &p);
-    record_contact(sc, r, i, j, t_hit, &p);
-    omega[0] = s0->omega[0] + u * (s1->omega[0] - s0->omega[0]);
-    omega[1] = s0->omega[1] + u * (s1->omega[1] - s0->omega[1]);
+    pose_between(sc->m, s0, s1, u, &p);
+    record_contact(sc, r, i, j, s0->t + u * (s1->t - s0->t), &p);
+    omega[0] = rate_at(s0, s1, 0, u);
+    omega[1] = rate_at(s0, s1, 1, u);
+}
+
+/* The largest excursion over the step s0 -> s1 (pose *p0 at s0) of theta0, theta1 and side link
+ * 1's angle, from their values at s0: what motion_bound weighs with a part's rates. */
+static CRANE__NOINLINE void step_excursions(const crane_model *m, const crane_sample *s0,
+                                            const crane_sample *s1, const pose *p0,
+                                            crane_real ex[3])
+{
+    const crane_real unit[3] = {1, 0, 0};
+    const crane_real tilt[3] = {0, 1, 0};
+    const crane_real link[3] = {0, 0, 1};
+    ex[0] = motion_bound(unit, m, s0, s1, 0, 1, p0);
+    ex[1] = motion_bound(tilt, m, s0, s1, 0, 1, p0);
+    ex[2] = motion_bound(link, m, s0, s1, 0, 1, p0);
 }
 
 crane_status crane_guard(const crane_model *model, const crane_part *parts, size_t n_parts,
@@ -456,19 +566,17 @@ crane_status crane_guard(const crane_model *model, const crane_part *parts, size
 
     for (k = 1; k < n_samples; ++k) {
         const crane_sample *s0 = &samples[k - 1], *s1 = &samples[k];
-        crane_real dth0, dth1, dphi;
+        crane_real ex[3];
         int found = 0;
         prev = cur;
         pose_at(model, s1->theta[0], s1->theta[1], &cur);
-        dth0 = crane__fabs(cur.th[0] - prev.th[0]);
-        dth1 = crane__fabs(cur.th[1] - prev.th[1]);
-        dphi = link_turn(model, &prev, &cur);
+        step_excursions(model, s0, s1, &prev, ex);
         for (i = 0; i < n_parts; ++i) {
             crane_real *pp = &per[5 * i];
             const crane_real floor_min = part_clearance[i] - config->clearance_tolerance;
             crane_real least, min_key = (crane_real)INFINITY;
             int posed = 0; /* ps: the part at this sample, posed when first needed */
-            pp[3] += pp[0] * dth0 + pp[1] * dth1 + pp[2] * dphi;
+            pp[3] += pp[0] * ex[0] + pp[1] * ex[1] + pp[2] * ex[2];
             least = pp[4] - pp[3];
             if ((!searching || least > margin) && least >= floor_min)
                 continue;
@@ -477,11 +585,11 @@ crane_status crane_guard(const crane_model *model, const crane_part *parts, size
                 const crane_real lb = *kj - pp[3];
                 crane_real d;
                 if (searching && lb <= margin) {
-                    crane_real t_hit;
-                    if (advance(&sc, i, j, pp, s0, s1, &prev, margin, config->time_tolerance,
-                                &t_hit, &d)) {
-                        if (!found || t_hit < result->t) {
-                            note_contact(&sc, result, i, j, s0, s1, t_hit, hit_omega);
+                    crane_real u_hit;
+                    if (advance(&sc, i, j, pp, s0, s1, &prev, margin,
+                                u_tolerance(config->time_tolerance, s1->t - s0->t), &u_hit, &d)) {
+                        if (!found || s0->t + u_hit * (s1->t - s0->t) < result->t) {
+                            note_contact(&sc, result, i, j, s0, s1, u_hit, hit_omega);
                             if (result->clearance < part_clearance[i])
                                 part_clearance[i] = result->clearance;
                             found = 1;

@@ -37,6 +37,12 @@ static inline crane__v3 crane__v3_scale(crane_real s, crane__v3 a) { return cran
 static inline crane_real crane__v3_dot(crane__v3 a, crane__v3 b) { return a.x * b.x + a.y * b.y + a.z * b.z; }
 static inline crane_real crane__v3_norm(crane__v3 a) { return crane__sqrt(crane__v3_dot(a, a)); }
 
+/* A coordinate or size the guard accepts: finite and within CRANE_GUARD_LENGTH_MAX. */
+static inline int crane__length_ok(crane_real x)
+{
+    return crane__finite(x) && crane__fabs(x) <= (crane_real)CRANE_GUARD_LENGTH_MAX;
+}
+
 /* Closest points of two solids (crane_solid_distance without the argument checks): the distance
  * between their surfaces, 0 if they touch or overlap; *pa on a, *pb on b. Returns 0 for a pair of
  * kinds it does not handle (two planes). */

@@ -7,8 +7,13 @@
 
 enum { BISECTIONS = 60, RELEASE_BISECTIONS = 40 };
 
+/* theta, omega; with valve-driven cylinders also (p_a, p_b) of each joint and the spools (the
+ * entries of joints that are not valve-driven stay 0). */
 typedef struct {
     crane_real th[2], w[2];
+#if CRANE_HYDRAULICS
+    crane_real p[4], y[2];
+#endif
 } xstate;
 
 /* Per-prediction working data, on the caller's stack. */
@@ -20,6 +25,10 @@ typedef struct {
     signed char mode[2];        /* CRANE__FREE, _HELD, _STOP_LO, _STOP_HI */
     signed char lo_flag[2];     /* stop flag at the lower angle limit: -1 stroke_min, +1 stroke_max
                                  * (the upper angle limit has the other one) */
+#if CRANE_HYDRAULICS
+    unsigned char valve[2];     /* joint i is valve-driven */
+    unsigned char hyd;          /* some joint is: the state carries pressures */
+#endif
     /* The last step ended with the release rule run at its end (the next step's start time and
      * state) releasing nothing: the release at the next step's start would repeat it exactly. */
     unsigned char release_clear;
@@ -36,6 +45,19 @@ typedef struct {
     crane_real tk_th;
     crane__tilt_kin tk;
 } ctx_t;
+
+/* Joint i is valve-driven (never in a build without CRANE_HYDRAULICS, whose validation refuses
+ * valve drives; the fields are left out there to keep the stack of docs/embedding.md). */
+static inline int is_valve(const ctx_t *c, int i)
+{
+#if CRANE_HYDRAULICS
+    return c->valve[i];
+#else
+    (void)c;
+    (void)i;
+    return 0;
+#endif
+}
 
 /* The stroke at joint i's stop flag (-1: stroke_min, +1: stroke_max). */
 static crane_real flag_stroke(const ctx_t *c, int i, int flag)
@@ -83,11 +105,53 @@ static void pressures(ctx_t *c, int i, crane_real t, crane_real *p_a, crane_real
     *p_b = d->p_b_samples[j] + s * (d->p_b_samples[j + 1] - d->p_b_samples[j]);
 }
 
+#if CRANE_HYDRAULICS
+/* The lever of a valve-driven joint at time t: linear interpolation with the pressures' cursor. */
+static crane_real lever(ctx_t *c, int i, crane_real t)
+{
+    const crane_drive *d = &c->in->drive[i];
+    size_t j, n = d->n_samples;
+    crane_real s;
+
+    if (n == 0)
+        return d->u;
+    j = c->cursor[i];
+    while (j + 2 < n && t > d->t[j + 1])
+        ++j;
+    while (j > 0 && t < d->t[j])
+        --j;
+    c->cursor[i] = j;
+    s = (t - d->t[j]) / (d->t[j + 1] - d->t[j]);
+    return d->u_samples[j] + s * (d->u_samples[j + 1] - d->u_samples[j]);
+}
+
+/* The stroke of a locked (stopped) valve-driven joint: its stop's. */
+static crane_real stop_stroke(const ctx_t *c, int i)
+{
+    return flag_stroke(c, i, c->mode[i] == CRANE__STOP_LO ? c->lo_flag[i] : -c->lo_flag[i]);
+}
+
+/* The chamber and spool rates of valve-driven joint i into dh (dp_a at 2i, dp_b at 2i+1, dy at
+ * 4+i), at its stroke and stroke rate. */
+static void valve_rates(ctx_t *c, crane_real t, const xstate *x, int i, crane_real stroke,
+                        crane_real v, crane_real dh[6])
+{
+    crane_real r[3];
+
+    crane__chamber_rates(c->m, i, lever(c, i, t), stroke, v, &x->p[2 * i], x->y[i], r);
+    dh[2 * i] = r[0];
+    dh[2 * i + 1] = r[1];
+    dh[4 + i] = r[2];
+}
+
+#endif
+
 /* Mass matrix M (M00, M01, M11) and the net joint torques b = tau - h at (t, theta, omega);
  * cylinder torques only for the joints in act[] (a locked joint's own torque is not needed to
- * move the crane, only to decide whether it leaves its stop). */
+ * move the crane, only to decide whether it leaves its stop). With dh, also the valve-driven
+ * joints' chamber and spool rates. */
 static void forces(ctx_t *c, crane_real t, const xstate *x, const int act[2], crane_real M[3],
-                   crane_real b[2])
+                   crane_real b[2], crane_real *dh)
 {
     const crane_model *m = c->m;
     static const crane_real zero[2] = {0, 0};
@@ -121,17 +185,38 @@ static void forces(ctx_t *c, crane_real t, const xstate *x, const int act[2], cr
     crane__mass_matrix(m, c1, s1, m->links ? tk : NULL, M);
 
     for (i = 0; i < 2; ++i) {
-        crane_real ds, p_a, p_b;
+        crane_real ds, p_a, p_b, stroke = 0;
         b[i] = -h[i];
-        if (!act[i])
+        if (!act[i]) {
+#if CRANE_HYDRAULICS
+            if (dh && c->valve[i])
+                valve_rates(c, t, x, i, stop_stroke(c, i), 0, dh);
+#endif
             continue;
-        if (i == CRANE_TILT)
+        }
+        if (i == CRANE_TILT) {
             ds = tk->ds;
-        else if (cached && c->kin_has_lift)
+            stroke = tk->stroke;
+        } else if (is_valve(c, i)) {
+            crane__lift_from_angle(m, c0, s0, &stroke, &ds);
+        } else if (cached && c->kin_has_lift) {
             ds = c->kin_ds_lift;
-        else
+        } else {
             crane__lift_from_angle(m, c0, s0, NULL, &ds);
-        pressures(c, i, t, &p_a, &p_b);
+        }
+#if CRANE_HYDRAULICS
+        if (c->valve[i]) {
+            p_a = x->p[2 * i];
+            p_b = x->p[2 * i + 1];
+            if (dh)
+                valve_rates(c, t, x, i, stroke, ds * x->w[i], dh);
+        } else
+#endif
+        {
+            (void)stroke;
+            (void)dh;
+            pressures(c, i, t, &p_a, &p_b);
+        }
         b[i] += crane__cylinder_force(m, i, p_a, p_b, ds * x->w[i]) * ds;
     }
 }
@@ -154,17 +239,27 @@ static void solve(const crane_real M[3], const crane_real b[2], const int lk[2],
     }
 }
 
-/* Joint accelerations at (t, theta, omega); locked joints (held or stopped) get alpha = 0. */
-static void accel(ctx_t *c, crane_real t, const xstate *x, const int lk[2], crane_real alpha[2])
+/* Joint accelerations at (t, theta, omega); locked joints (held or stopped) get alpha = 0. With
+ * dh (valve-driven joints), also the chamber and spool rates. */
+static void accel(ctx_t *c, crane_real t, const xstate *x, const int lk[2], crane_real alpha[2],
+                  crane_real *dh)
 {
     const int act[2] = {!lk[0], !lk[1]};
     crane_real M[3], b[2];
 
     if (lk[0] && lk[1]) {
         alpha[0] = alpha[1] = 0;
+#if CRANE_HYDRAULICS
+        if (dh) {
+            int i;
+            for (i = 0; i < 2; ++i)
+                if (c->valve[i])
+                    valve_rates(c, t, x, i, stop_stroke(c, i), 0, dh);
+        }
+#endif
         return;
     }
-    forces(c, t, x, act, M, b);
+    forces(c, t, x, act, M, b, dh);
     solve(M, b, lk, alpha);
 }
 
@@ -174,14 +269,26 @@ static void lock_mask(const ctx_t *c, int lk[2])
     lk[1] = c->mode[1] != CRANE__FREE;
 }
 
-/* x + h * (dtheta, domega) */
-static xstate axpy(const xstate *x, crane_real h, const crane_real dth[2], const crane_real dw[2])
+/* x + h * (dtheta, domega) (and the pressures and spools + h * dh, with valves) */
+static xstate axpy(const xstate *x, crane_real h, const crane_real dth[2], const crane_real dw[2],
+                   const crane_real *dh)
 {
     xstate y;
     y.th[0] = x->th[0] + h * dth[0];
     y.th[1] = x->th[1] + h * dth[1];
     y.w[0] = x->w[0] + h * dw[0];
     y.w[1] = x->w[1] + h * dw[1];
+#if CRANE_HYDRAULICS
+    {
+        int k;
+        for (k = 0; k < 4; ++k)
+            y.p[k] = dh ? x->p[k] + h * dh[k] : x->p[k];
+        for (k = 0; k < 2; ++k)
+            y.y[k] = dh ? x->y[k] + h * dh[4 + k] : x->y[k];
+    }
+#else
+    (void)dh;
+#endif
     return y;
 }
 
@@ -192,12 +299,33 @@ static void rk4(ctx_t *c, crane_real t, const xstate *x, crane_real h, xstate *y
 {
     const crane_real h2 = h / 2, h6 = h / 6;
     crane_real a[2], sw[2], sa[2];
+#if CRANE_HYDRAULICS
+    /* the rates of joints that are not valve-driven stay 0: their entries of the state too */
+    crane_real dh[6] = {0, 0, 0, 0, 0, 0}, sh[6];
+    crane_real *const pdh = c->hyd ? dh : NULL;
+#else
+    crane_real *const pdh = NULL;
+#endif
     xstate xs = *x;
     int lk[2], k, i;
 
     lock_mask(c, lk);
     for (k = 0; k < 4; ++k) {
-        accel(c, k == 0 ? t : k == 3 ? t + h : t + h2, &xs, lk, a);
+        accel(c, k == 0 ? t : k == 3 ? t + h : t + h2, &xs, lk, a, pdh);
+#if CRANE_HYDRAULICS
+        if (pdh) {
+            for (i = 0; i < 6; ++i) {
+                if (k == 0)
+                    sh[i] = dh[i];
+                else if (k < 3)
+                    sh[i] = sh[i] + 2 * dh[i];
+                else if (i < 4)
+                    y->p[i] = x->p[i] + h6 * (sh[i] + dh[i]);
+                else
+                    y->y[i - 4] = x->y[i - 4] + h6 * (sh[i] + dh[i]);
+            }
+        }
+#endif
         for (i = 0; i < 2; ++i) {
             if (k == 0) {
                 sw[i] = xs.w[i];
@@ -212,8 +340,16 @@ static void rk4(ctx_t *c, crane_real t, const xstate *x, crane_real h, xstate *y
             }
         }
         if (k < 3)
-            xs = axpy(x, k == 2 ? h : h2, xs.w, a);
+            xs = axpy(x, k == 2 ? h : h2, xs.w, a, pdh);
     }
+#if CRANE_HYDRAULICS
+    if (!pdh) {
+        for (i = 0; i < 4; ++i)
+            y->p[i] = x->p[i];
+        y->y[0] = x->y[0];
+        y->y[1] = x->y[1];
+    }
+#endif
 }
 
 /* Time in (0, h] at which the cubic Hermite interpolant of theta on the step first reaches the
@@ -281,7 +417,7 @@ static int release_set(ctx_t *c, crane_real t, const xstate *x)
         held[i] = c->mode[i] == CRANE__HELD;
         act[i] = !held[i];
     }
-    forces(c, t, x, act, M, b);
+    forces(c, t, x, act, M, b, NULL);
     for (cand = 0; cand < 4; ++cand) {
         int lk[2], ok = 1;
         crane_real alpha[2];
@@ -470,6 +606,22 @@ static void put_sample(ctx_t *c, crane_real t, const xstate *x, crane_real cpsi,
         o->stroke[i] = s;
         o->theta[i] = x->th[i];
         o->omega[i] = x->w[i];
+        o->flow_a[i] = o->flow_b[i] = o->spool[i] = 0;
+#if CRANE_HYDRAULICS
+        if (c->valve[i]) {
+            const crane_hydraulics *h = m->hyd[i];
+            const crane_real y = h->spool_time_constant > 0 ? x->y[i] : lever(c, i, t);
+            o->p_a[i] = x->p[2 * i];
+            o->p_b[i] = x->p[2 * i + 1];
+            crane__valve_flows(h, y, o->p_a[i], o->p_b[i], &o->flow_a[i], &o->flow_b[i]);
+            o->spool[i] = y;
+        } else
+#endif
+        if (c->mode[i] == CRANE__HELD) {
+            o->p_a[i] = o->p_b[i] = 0;
+        } else {
+            pressures(c, i, t, &o->p_a[i], &o->p_b[i]);
+        }
         /* Stop flags are in cylinder terms (docs/model.md): the tilt's lower angle stop is +1. */
         o->stop[i] = c->mode[i] == CRANE__STOP_LO   ? c->lo_flag[i]
                      : c->mode[i] == CRANE__STOP_HI ? -c->lo_flag[i]
@@ -480,12 +632,46 @@ static void put_sample(ctx_t *c, crane_real t, const xstate *x, crane_real cpsi,
     o->tip[2] = tip.y;
 }
 
-/* theta and omega are all finite. */
+/* theta and omega (and the pressures and spools) are all finite. */
 static int finite_state(const xstate *x)
 {
+#if CRANE_HYDRAULICS
+    int k;
+    for (k = 0; k < 4; ++k)
+        if (!crane__finite(x->p[k]))
+            return 0;
+    if (!crane__finite(x->y[0]) || !crane__finite(x->y[1]))
+        return 0;
+#endif
     return crane__finite(x->th[0]) && crane__finite(x->th[1]) && crane__finite(x->w[0]) &&
            crane__finite(x->w[1]);
 }
+
+#if CRANE_HYDRAULICS
+/* The strokes of the valve-driven joints at the state x (a stopped joint's is its stop's), for
+ * the substep count. */
+static void valve_strokes(ctx_t *c, const xstate *x, crane_real stroke[2])
+{
+    crane_real s1, c1;
+    int i;
+
+    for (i = 0; i < 2; ++i) {
+        stroke[i] = 0;
+        if (!c->valve[i])
+            continue;
+        if (c->mode[i] != CRANE__FREE) {
+            stroke[i] = stop_stroke(c, i);
+        } else if (i == CRANE_LIFT) {
+            crane_real c0, s0;
+            crane__sincos(x->th[0], &s0, &c0);
+            crane__lift_from_angle(c->m, c0, s0, &stroke[i], NULL);
+        } else {
+            crane__sincos(x->th[1], &s1, &c1);
+            stroke[i] = tilt_kin(c, x->th[1], c1, s1)->stroke;
+        }
+    }
+}
+#endif
 
 crane_status crane__integrate(const crane_model *m, const crane_state *s0, const crane_inputs *in,
                               crane_real horizon, crane_real dt, long n_steps, long sample_every,
@@ -506,6 +692,16 @@ crane_status crane__integrate(const crane_model *m, const crane_state *s0, const
     c.kin_has_lift = 0;
     c.tk_valid = 0;
     c.release_clear = 0;
+#if CRANE_HYDRAULICS
+    c.hyd = 0;
+    for (i = 0; i < 2; ++i) {
+        c.valve[i] = (unsigned char)(in->drive[i].mode == CRANE_DRIVE_VALVE);
+        c.hyd = (unsigned char)(c.hyd || c.valve[i]);
+        x.p[2 * i] = c.valve[i] ? s0->p_a[i] : 0;
+        x.p[2 * i + 1] = c.valve[i] ? s0->p_b[i] : 0;
+        x.y[i] = c.valve[i] ? s0->spool[i] : 0;
+    }
+#endif
     for (i = 0; i < 2; ++i) {
         crane_real ds;
         c.cursor[i] = 0;
@@ -550,10 +746,37 @@ crane_status crane__integrate(const crane_model *m, const crane_state *s0, const
         const int last = k == n_steps - 1;
         const crane_real h = last ? horizon - t : dt;
 
+        const crane_real t_end = last ? horizon : (crane_real)(k + 1) * dt;
+#if CRANE_HYDRAULICS
+        long j, n_sub = 1;
+        crane_real sub = h;
+
+        /* docs/model.md "Hydraulics": with valve-driven joints, n equal substeps, each a full
+         * step of the scheme (one call site of step, so that it stays inlined: the stack). */
+        if (c.hyd && h > 0) {
+            crane_real stroke[2];
+            valve_strokes(&c, &x, stroke);
+            {
+                const int valve[2] = {c.valve[0], c.valve[1]};
+                n_sub = crane__substeps(m, stroke, valve, h);
+            }
+            sub = h / (crane_real)n_sub;
+        }
+        for (j = 0; j < n_sub; ++j) {
+            const int final = j == n_sub - 1;
+            const crane_real t_sub = j == 0 ? t : t + (crane_real)j * sub;
+            if (!c.release_clear)
+                release(&c, t_sub, &x);
+            if (h > 0)
+                step(&c, t_sub, &x, final ? (j == 0 ? h : t_end - t_sub) : sub,
+                     final ? t_end : t_sub + sub);
+        }
+#else
         if (!c.release_clear)
             release(&c, t, &x);
         if (h > 0)
-            step(&c, t, &x, h, last ? horizon : (crane_real)(k + 1) * dt);
+            step(&c, t, &x, h, t_end);
+#endif
         if (!finite_state(&x)) {
             *n_written = next;
             return CRANE_E_DIVERGED;

@@ -249,7 +249,7 @@ crane_field crane__fourbar_check(crane_model *m)
                                       CRANE_FIELD_TILT_CYLINDER_STROKE_MAX};
     crane_real psi[2], e[2], pts[6], theta[2], ds[2], sign = 0, psi_c, e_lo, e_hi;
     crane_vec2 u;
-    int k, j, n = 0;
+    int k, j, n;
 
     if (!(l1 > 0))
         return CRANE_FIELD_GEOMETRY_LINK_PIN;
@@ -284,7 +284,8 @@ crane_field crane__fourbar_check(crane_model *m)
     if (!(e_lo > crane__fabs(ra - l2) && e_hi < ra + l2))
         return CRANE_FIELD_GEOMETRY_LINK2_END;
     /* The angles where D may vanish, in increasing order with the ends. */
-    pts[n++] = psi[0];
+    pts[0] = psi[0];
+    n = 1;
     for (k = 0; k < 2 && c > 0; ++k) {
         const crane_real kk = k == 0 ? l1 + l2 : l1 - l2;
         const crane_real r = (ra * ra - c * c - kk * kk) / (2 * kk * c);
@@ -303,7 +304,8 @@ crane_field crane__fourbar_check(crane_model *m)
             ++n;
         }
     }
-    pts[n++] = psi[1];
+    pts[n] = psi[1];
+    ++n;
     for (k = 0; k < n; ++k) {
         /* at each point and half-way to the next */
         for (j = 0; j < (k + 1 < n ? 2 : 1); ++j) {

@@ -49,6 +49,58 @@ static crane_field cylinder_field(int i, crane_field lift)
                                          (int)CRANE_FIELD_LIFT_CYLINDER_BORE));
 }
 
+/* A cylinder's circuit (docs/model.md, "Hydraulics"), if it has one (valve != NONE). */
+static void hydraulics_rules(verdict *v, int i, const crane_hydraulics *h)
+{
+    const crane_real pmax = (crane_real)CRANE_PRESSURE_MAX;
+    const int comp = h->valve == CRANE_VALVE_COMPENSATED;
+    const crane_status bad = CRANE_E_HYDRAULICS;
+
+    if (h->valve == CRANE_VALVE_NONE)
+        return;
+    rule(v, cylinder_field(i, CRANE_FIELD_LIFT_CYLINDER_HYDRAULICS_VALVE), 0,
+         h->valve == CRANE_VALVE_ORIFICE || comp, bad);
+    rule(v, cylinder_field(i, CRANE_FIELD_LIFT_CYLINDER_HYDRAULICS_TANK_PRESSURE), h->tank_pressure,
+         h->tank_pressure >= 0 && h->tank_pressure <= pmax, bad);
+    rule(v, cylinder_field(i, CRANE_FIELD_LIFT_CYLINDER_HYDRAULICS_SUPPLY_PRESSURE),
+         h->supply_pressure, h->supply_pressure > h->tank_pressure && h->supply_pressure <= pmax, bad);
+    rule(v, cylinder_field(i, CRANE_FIELD_LIFT_CYLINDER_HYDRAULICS_RELIEF_PRESSURE),
+         h->relief_pressure, h->relief_pressure >= h->supply_pressure && h->relief_pressure <= pmax,
+         bad);
+    rule(v, cylinder_field(i, CRANE_FIELD_LIFT_CYLINDER_HYDRAULICS_NOMINAL_FLOW), h->nominal_flow,
+         h->nominal_flow > 0, bad);
+    rule(v, cylinder_field(i, CRANE_FIELD_LIFT_CYLINDER_HYDRAULICS_NOMINAL_PRESSURE_DROP),
+         h->nominal_pressure_drop, h->nominal_pressure_drop > 0, bad);
+    rule(v, cylinder_field(i, CRANE_FIELD_LIFT_CYLINDER_HYDRAULICS_DEAD_BAND), h->dead_band,
+         comp ? h->dead_band >= 0 && h->dead_band <= (crane_real)0.99 : h->dead_band == 0, bad);
+    rule(v, cylinder_field(i, CRANE_FIELD_LIFT_CYLINDER_HYDRAULICS_METER_OUT_FLOW),
+         h->meter_out_flow, comp ? h->meter_out_flow > 0 : h->meter_out_flow >= 0, bad);
+    rule(v, cylinder_field(i, CRANE_FIELD_LIFT_CYLINDER_HYDRAULICS_METER_OUT_PRESSURE_DROP),
+         h->meter_out_pressure_drop,
+         comp ? h->meter_out_pressure_drop > 0 : h->meter_out_pressure_drop >= 0, bad);
+    rule(v, cylinder_field(i, CRANE_FIELD_LIFT_CYLINDER_HYDRAULICS_SPOOL_TIME_CONSTANT),
+         h->spool_time_constant, h->spool_time_constant >= 0 && h->spool_time_constant <= 10, bad);
+    rule(v, cylinder_field(i, CRANE_FIELD_LIFT_CYLINDER_HYDRAULICS_LAMINAR_PRESSURE_DROP),
+         h->laminar_pressure_drop, h->laminar_pressure_drop > 0, bad);
+    rule(v, cylinder_field(i, CRANE_FIELD_LIFT_CYLINDER_HYDRAULICS_CAVITATION_PRESSURE),
+         h->cavitation_pressure,
+         h->cavitation_pressure >= (crane_real)CRANE_CHAMBER_PRESSURE_MIN &&
+             h->cavitation_pressure <= h->tank_pressure,
+         bad);
+    rule(v, cylinder_field(i, CRANE_FIELD_LIFT_CYLINDER_HYDRAULICS_HOSE_VOLUME_A), h->hose_volume_a,
+         h->hose_volume_a > 0, bad);
+    rule(v, cylinder_field(i, CRANE_FIELD_LIFT_CYLINDER_HYDRAULICS_HOSE_VOLUME_B), h->hose_volume_b,
+         h->hose_volume_b > 0, bad);
+    rule(v, cylinder_field(i, CRANE_FIELD_LIFT_CYLINDER_HYDRAULICS_OIL_BULK_MODULUS),
+         h->oil_bulk_modulus, h->oil_bulk_modulus > 0, bad);
+    rule(v, cylinder_field(i, CRANE_FIELD_LIFT_CYLINDER_HYDRAULICS_HOSE_BULK_MODULUS),
+         h->hose_bulk_modulus, h->hose_bulk_modulus > 0, bad);
+    rule(v, cylinder_field(i, CRANE_FIELD_LIFT_CYLINDER_HYDRAULICS_CYLINDER_BULK_MODULUS),
+         h->cylinder_bulk_modulus, h->cylinder_bulk_modulus > 0, bad);
+    rule(v, cylinder_field(i, CRANE_FIELD_LIFT_CYLINDER_HYDRAULICS_LEAKAGE), h->leakage,
+         h->leakage >= 0 && h->leakage <= (crane_real)1e-6, bad);
+}
+
 static void cylinder_rules(verdict *v, int i, const crane_cylinder *c)
 {
     const crane_friction *f = &c->friction;
@@ -74,6 +126,7 @@ static void cylinder_rules(verdict *v, int i, const crane_cylinder *c)
          f->stribeck_velocity, f->stribeck_velocity > 0, CRANE_E_FRICTION);
     rule(v, cylinder_field(i, CRANE_FIELD_LIFT_CYLINDER_FRICTION_FACTOR), f->factor,
          f->factor >= 0, CRANE_E_FRICTION);
+    hydraulics_rules(v, i, &c->hydraulics);
 }
 
 crane_status crane__check_params(const crane_params *p, crane_field *field)
@@ -113,7 +166,14 @@ const char *crane_field_rule(crane_field field)
 {
     /* The cylinder block's rules, in the order of its fields (bore .. friction.factor). */
     static const char *const cylinder[CRANE_FIELD_TILT_CYLINDER_BORE - CRANE_FIELD_LIFT_CYLINDER_BORE] = {
-        "> rod", "> 0", "> 0", ">= 0", "> stroke_min", ">= 0", ">= coulomb", ">= 0", "> 0", ">= 0"};
+        "> rod", "> 0", "> 0", ">= 0", "> stroke_min", ">= 0", ">= coulomb", ">= 0", "> 0", ">= 0",
+        /* hydraulics: valve .. leakage (the struct's order) */
+        "orifice or compensated", "> tank_pressure and <= 1e8", ">= 0 and <= 1e8",
+        ">= supply_pressure and <= 1e8", "> 0", "> 0",
+        "0 for an orifice valve, in [0, 0.99] for a compensated one",
+        "> 0 for a compensated valve, >= 0 otherwise", "> 0 for a compensated valve, >= 0 otherwise",
+        "in [0, 10]", "> 0", ">= -1e5 and <= tank_pressure", "> 0", "> 0", "> 0", "> 0", "> 0",
+        "in [0, 1e-6]"};
     const int n_cyl = (int)CRANE_FIELD_TILT_CYLINDER_BORE - (int)CRANE_FIELD_LIFT_CYLINDER_BORE;
     const int k = (int)field - (int)CRANE_FIELD_LIFT_CYLINDER_BORE;
 
@@ -203,6 +263,9 @@ crane_status crane__model_derive(crane_model *m, const crane_params *params, cra
         m->stroke_min[i] = p->cylinder[i].stroke_min;
         m->stroke_max[i] = p->cylinder[i].stroke_max;
         m->friction[i] = p->cylinder[i].friction;
+        m->hyd[i] = p->cylinder[i].hydraulics.valve != CRANE_VALVE_NONE
+                        ? &p->cylinder[i].hydraulics
+                        : NULL;
     }
     m->extension = extension;
 
@@ -353,9 +416,14 @@ const char *crane_status_message(crane_status status)
     case CRANE_E_DIVERGED: return "the prediction diverged (the state stopped being finite): the parameters are not physical";
     case CRANE_E_FIELD: return "a crane parameter is outside its range";
     case CRANE_E_OVERFLOW: return "an argument is too large: a result would not be finite or a size would overflow";
-    case CRANE_E_STEPS: return "horizon / dt asks for more than CRANE_MAX_STEPS (1048576) steps: raise dt or shorten the horizon";
+    case CRANE_E_STEPS: return "horizon / dt asks for more than CRANE_MAX_STEPS (1048576) steps (with valve-driven cylinders: their worst-case substeps included): raise dt or shorten the horizon";
     case CRANE_E_SAMPLE_COUNT: return "more than CRANE_MAX_SAMPLES (8388608) samples in one call: raise sample_every or dt, shorten the horizon or split the futures";
-    case CRANE_E_BATCH: return "futures x steps over CRANE_MAX_BATCH_STEPS (33554432) in one call: split the futures into several calls";
+    case CRANE_E_BATCH: return "futures x steps over CRANE_MAX_BATCH_STEPS (8388608) in one call: split the futures into several calls";
+    case CRANE_E_HYDRAULICS: return "a hydraulic parameter is out of range (docs/model.md, Hydraulics)";
+    case CRANE_E_VALVE: return "a valve drive is invalid: lever outside [-1, 1], no hydraulics for the cylinder, or a chamber pressure/spool of the state out of range";
+    case CRANE_E_SOLID:
+    case CRANE_E_PART:
+    case CRANE_E_GUARD: return crane__guard_status_message(status);
     }
     return crane__guard_status_message(status);
 }

@@ -53,6 +53,50 @@ static int pressure_ok(crane_real p)
     return p >= 0 && p <= (crane_real)CRANE_PRESSURE_MAX;
 }
 
+static int lever_ok(crane_real u) { return u >= -1 && u <= 1; }
+
+static int chamber_ok(crane_real p)
+{
+    return p >= (crane_real)CRANE_CHAMBER_PRESSURE_MIN && p <= (crane_real)CRANE_PRESSURE_MAX;
+}
+
+/* A valve drive of joint i (docs/model.md, "Hydraulics", "Bad input"): the cylinder has a circuit,
+ * the lever (or its samples) is in [-1, 1] and covers the horizon, the state's chamber pressures
+ * and spool are in range. */
+static crane_status check_valve(const crane_model *model, int i, const crane_state *s,
+                                const crane_drive *d, crane_real horizon)
+{
+    size_t k;
+
+    if (!CRANE_HYDRAULICS || !model->hyd[i])
+        return CRANE_E_VALVE;
+    if (!crane__finite(s->p_a[i]) || !crane__finite(s->p_b[i]) || !crane__finite(s->spool[i]))
+        return CRANE_E_NONFINITE;
+    if (!chamber_ok(s->p_a[i]) || !chamber_ok(s->p_b[i]) || !lever_ok(s->spool[i]))
+        return CRANE_E_VALVE;
+    if (d->n_samples == 0) {
+        if (!crane__finite(d->u))
+            return CRANE_E_NONFINITE;
+        return lever_ok(d->u) ? CRANE_OK : CRANE_E_VALVE;
+    }
+    if (!d->t || !d->u_samples)
+        return CRANE_E_NULL;
+    for (k = 0; k < d->n_samples; ++k)
+        if (!crane__finite(d->t[k]) || !crane__finite(d->u_samples[k]))
+            return CRANE_E_NONFINITE;
+    for (k = 0; k < d->n_samples; ++k)
+        if (!lever_ok(d->u_samples[k]))
+            return CRANE_E_VALVE;
+    if (d->n_samples < 2)
+        return CRANE_E_SAMPLES;
+    for (k = 1; k < d->n_samples; ++k)
+        if (!(d->t[k] > d->t[k - 1]))
+            return CRANE_E_SAMPLES;
+    if (!(d->t[0] <= 0) || !(d->t[d->n_samples - 1] >= horizon))
+        return CRANE_E_SAMPLES;
+    return CRANE_OK;
+}
+
 static crane_status check_drive(const crane_drive *d, crane_real stroke_rate, crane_real horizon)
 {
     size_t k;
@@ -102,12 +146,44 @@ static crane_status check_future(const crane_model *model, const crane_state *st
             return CRANE_E_STROKE;
     }
     for (i = 0; i < 2; ++i) {
-        st = check_drive(&inputs->drive[i], state0->stroke_rate[i], horizon);
+        st = inputs->drive[i].mode == CRANE_DRIVE_VALVE
+                 ? check_valve(model, i, state0, &inputs->drive[i], horizon)
+                 : check_drive(&inputs->drive[i], state0->stroke_rate[i], horizon);
         if (st != CRANE_OK)
             return st;
     }
     return CRANE_OK;
 }
+
+#if CRANE_HYDRAULICS
+/* Bounded work with valve-driven cylinders (docs/model.md, "Hydraulics", "Bad input"): every step
+ * may be cut into substeps, at most as many as at the stroke ends (where the chambers are
+ * smallest; the last step may be up to 1.25 dt long), and those count against CRANE_MAX_STEPS
+ * (CRANE_E_STEPS) and, with total (the batch's RK4 steps so far, updated), against
+ * CRANE_MAX_BATCH_STEPS (CRANE_E_BATCH). Integer arithmetic without overflow on a 32-bit long. */
+static crane_status check_work(const crane_model *m, const crane_inputs *in, crane_real dt,
+                               long n_steps, long *total)
+{
+    const int valve[2] = {in->drive[0].mode == CRANE_DRIVE_VALVE,
+                          in->drive[1].mode == CRANE_DRIVE_VALVE};
+    long n_max = 1;
+
+    if (valve[0] || valve[1]) {
+        const crane_real h = dt * (crane_real)1.25;
+        const long a = crane__substeps(m, m->stroke_min, valve, h);
+        const long b = crane__substeps(m, m->stroke_max, valve, h);
+        n_max = a > b ? a : b;
+    }
+    if (n_max > (long)CRANE_MAX_STEPS / n_steps)
+        return CRANE_E_STEPS;
+    if (total) {
+        if (n_steps * n_max > (long)CRANE_MAX_BATCH_STEPS - *total)
+            return CRANE_E_BATCH;
+        *total += n_steps * n_max;
+    }
+    return CRANE_OK;
+}
+#endif
 
 /* crane_predict_model after its NULL checks. Both entry points call it, so that crane_predict
  * does not add crane_predict_model's frame to its stack. */
@@ -130,6 +206,11 @@ static CRANE__ALWAYS_INLINE crane_status predict(const crane_model *model,
     st = check_future(model, state0, inputs, horizon);
     if (st != CRANE_OK)
         return st;
+#if CRANE_HYDRAULICS
+    st = check_work(model, inputs, dt, n_steps, NULL);
+    if (st != CRANE_OK)
+        return st;
+#endif
     if ((size_t)n_steps + 1 > capacity)
         return CRANE_E_CAPACITY;
 
@@ -188,6 +269,9 @@ crane_status crane_predict_many(const crane_params *params, size_t n_futures,
     crane_status st;
     size_t k, count;
     long n_steps;
+#if CRANE_HYDRAULICS
+    long total = 0;   /* RK4 steps of the futures validated so far, their substeps included */
+#endif
 
     if (!failed)
         return CRANE_E_NULL;
@@ -214,13 +298,21 @@ crane_status crane_predict_many(const crane_params *params, size_t n_futures,
     for (k = 0; k < n_futures; ++k) {
         const crane_state *s = &states[k];
         if (k == 0 || !(s->extension == states[k - 1].extension)) {
-            st = crane_model_init(&model, params, s->extension);
+            /* straight into this frame's model: crane_model_init's own copy would add its size
+             * to this entry point's stack (the budget of docs/embedding.md) */
+            st = crane__model_derive(&model, params, s->extension, &field);
             if (st != CRANE_OK) {
                 *failed = k;
                 return st;
             }
         }
         st = check_future(&model, s, &inputs[k], horizon);
+#if CRANE_HYDRAULICS
+        /* the substeps of valve-driven futures count against the bounds too (CRANE_E_BATCH
+         * here names the future that takes the batch over) */
+        if (st == CRANE_OK)
+            st = check_work(&model, &inputs[k], dt, n_steps, &total);
+#endif
         if (st != CRANE_OK) {
             *failed = k;
             return st;
@@ -228,7 +320,7 @@ crane_status crane_predict_many(const crane_params *params, size_t n_futures,
     }
     for (k = 0; k < n_futures; ++k) {
         if (k == 0 || !(states[k].extension == states[k - 1].extension))
-            (void)crane_model_init(&model, params, states[k].extension);
+            (void)crane__model_derive(&model, params, states[k].extension, &field);
         st = crane__integrate(&model, &states[k], &inputs[k], horizon, dt, n_steps,
                               (long)sample_every, out + k * stride, &count);
         if (st != CRANE_OK) {

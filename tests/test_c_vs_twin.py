@@ -49,3 +49,64 @@ def test_odd_horizon_and_initial_velocity_agree(crane):
     inputs = cp.Inputs(lift=cp.Pressure(120e5, 0), tilt=cp.Pressure(0, 30e5))
     tip, strokes, _ = _compare(crane, initial, inputs, 0.7777, dt=2e-3)
     assert tip < TOL
+
+
+def _random_valve_case(rng, crane, horizon=2.0):
+    """A valve-driven case: levers constant or sampled (also slammed), the other cylinder often
+    pressure-driven or held, strokes over the whole range (stops included), loads 0-500 kg."""
+    c = crane.with_load(float(rng.uniform(0, 500)))
+    lc, tc = c.lift_cylinder, c.tilt_cylinder
+    strokes = [float(rng.choice([rng.uniform(cyl.stroke_min, cyl.stroke_max), cyl.stroke_min,
+                                 cyl.stroke_max], p=[0.8, 0.1, 0.1])) for cyl in (lc, tc)]
+    extension = float(rng.uniform(0, 1))
+    try:
+        rest = cp.state_at_rest(c, *strokes, extension=extension,
+                                lift_rod_pressure=float(rng.uniform(1e5, 40e5)),
+                                tilt_rod_pressure=float(rng.uniform(1e5, 40e5)))
+    except ValueError:   # that rod pressure cannot hold this pose: the tank pressure can
+        rest = cp.state_at_rest(c, *strokes, extension=extension)
+    drives = []
+    for _ in range(2):
+        kind = rng.integers(0, 5)
+        if kind <= 1:
+            drives.append(cp.Valve(float(rng.uniform(-1, 1))))
+        elif kind == 2:
+            n = int(rng.integers(2, 7))
+            t = np.unique(np.concatenate([[0.0], np.sort(rng.uniform(0, horizon, n - 2)), [horizon]]))
+            drives.append(cp.ValveSeries(t=t, u=rng.choice([-1.0, 0.0, 1.0, rng.uniform(-1, 1)], t.size)))
+        elif kind == 3:
+            drives.append(cp.Pressure(rng.uniform(0, 150e5), rng.uniform(0, 50e5)))
+        else:
+            drives.append(cp.Hold())
+    if not any(isinstance(d, (cp.Valve, cp.ValveSeries)) for d in drives):
+        drives[0] = cp.Valve(float(rng.uniform(-1, 1)))
+    spools = {}
+    for name, d in zip(("lift", "tilt"), drives):
+        if isinstance(d, (cp.Valve, cp.ValveSeries)):
+            spools[f"{name}_spool"] = float(rng.uniform(-1, 1))
+    import dataclasses
+    return c, dataclasses.replace(rest, **spools), cp.Inputs(lift=drives[0], tilt=drives[1])
+
+
+def test_twenty_random_valve_driven_cases_agree():
+    """Tip to 1e-9 m and chamber pressures to 1e-3 Pa (the issue's targets; measured 7e-15 m
+    and 3e-7 Pa. With the earlier tanh friction law, smoothing over 1 mm/s, a release from a stop
+    located by bisection put 5e-3 Pa between them in one case.)"""
+    crane = cp.Crane.patu655()
+    rng = np.random.default_rng(909)
+    worst_tip = worst_p = 0.0
+    stops = 0
+    for _ in range(20):
+        c, initial, inputs = _random_valve_case(rng, crane)
+        a = cp.predict(c, initial, inputs, 2.0, backend="c")
+        b = cp.predict(c, initial, inputs, 2.0, backend="python")
+        np.testing.assert_array_equal(a.stop, b.stop)
+        stops += int(a.stop.any())
+        worst_tip = max(worst_tip, float(np.max(np.abs(a.tip - b.tip))))
+        worst_p = max(worst_p, float(max(np.max(np.abs(a.p_a - b.p_a)), np.max(np.abs(a.p_b - b.p_b)))))
+        np.testing.assert_allclose(a.flow_a, b.flow_a, rtol=0, atol=1e-12)
+        np.testing.assert_allclose(a.spool, b.spool, rtol=0, atol=1e-12)
+    print(f"C vs twin, 20 valve-driven cases: tip {worst_tip:.2e} m, pressures {worst_p:.2e} Pa, "
+          f"{stops} with end stops")
+    assert worst_tip < TOL and worst_p < 1e-3
+    assert stops >= 4

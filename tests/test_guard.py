@@ -102,18 +102,16 @@ def coal_clearances(crane, state, theta, world) -> np.ndarray:
     return np.array([[max(0.0, theirs(p, o)) for o in obs] for p in parts.values()])
 
 
-def brute_first_contact(crane, state, inputs, world, horizon, dt, sub=8):
-    """Dense sampling: sub points per step, joint angles linear between samples (the guard's path)."""
+def brute_first_contact(crane, state, inputs, world, horizon, dt):
+    """Every sample of a prediction at dt (the model's own motion, no interpolation): the first
+    whose coal clearance is at or below the margin, the prediction, and (t, min clearance) so far."""
     traj = cp.predict(crane, state, inputs, horizon, dt=dt)
     prefix = []
-    for k in range(len(traj.t) - 1):
-        for u in np.arange(sub) / sub:
-            th = traj.theta[k] + u * (traj.theta[k + 1] - traj.theta[k])
-            t = traj.t[k] + u * (traj.t[k + 1] - traj.t[k])
-            m = coal_clearances(crane, state, th, world).min()
-            prefix.append((t, m))
-            if m <= world.margin:
-                return t, traj, prefix
+    for t, th in zip(traj.t, traj.theta):
+        m = coal_clearances(crane, state, th, world).min()
+        prefix.append((t, m))
+        if m <= world.margin:
+            return t, traj, prefix
     return None, traj, prefix
 
 
@@ -173,28 +171,31 @@ CASES = [("power-line", "paper-fig4"), ("building-edge", "end-stop-lift-lower")]
 
 @pytest.mark.parametrize("world_name, scenario", CASES)
 def test_first_contact_matches_dense_brute_force(crane, world_name, scenario):
-    """The guard's first contact is never later than the first of 8 dense points per step whose
-    coal clearance is at or below the margin, and at most one dense spacing (+ the time tolerance)
-    earlier; the reported points realise the reported clearance."""
+    """The guard judges every 8th sample of a prediction at 1.25 ms (its samples 10 ms apart);
+    brute force checks every sample with coal. The guard's first contact is never later than the
+    first sample at or below the margin and at most one sample (+ the time tolerance) earlier; the
+    reported points realise the reported clearance."""
     sc = cp.scenarios.get(scenario)
     world = cp.worlds.get(world_name)
-    dt, sub = 0.01, 8
-    t_bf, _, _ = brute_first_contact(sc.crane, sc.initial, sc.inputs, world, 1.5, dt, sub)
-    v = cp.guard(sc.crane, world, sc.initial, sc.inputs, 1.5, dt=dt)
+    dt, every = 0.00125, 8
+    t_bf, _, _ = brute_first_contact(sc.crane, sc.initial, sc.inputs, world, 1.0, dt)
+    v = cp.guard(sc.crane, world, sc.initial, sc.inputs, 1.0, dt=dt, sample_every=every)
     assert t_bf is not None and v.contact is not None
     assert v.contact.t <= t_bf + 1e-12
-    assert t_bf - v.contact.t <= dt / sub + 1e-4
+    assert t_bf - v.contact.t <= dt + 1e-4
     assert np.linalg.norm(v.contact.on_part - v.contact.on_obstacle) == pytest.approx(v.contact.clearance, abs=1e-9)
     assert v.contact.clearance <= world.margin + 0.01
 
 
 def test_random_worlds_first_contact_and_minimum_clearance(crane):
-    """Random boxes, spheres and capsules near the paper scenario's path: contact never late and at
-    most a dense spacing early; without contact, every part's minimum is within the clearance
-    tolerance above the brute-force minimum over the samples."""
+    """Random boxes, spheres and wires near a scenario's path; the guard judges every 4th sample of
+    a 2.5 ms prediction, brute force every sample. Contact never late and at most a sample early;
+    without contact, every part's minimum is within the clearance tolerance above the brute-force
+    minimum over the guard's samples."""
     sc = cp.scenarios.get("both-driven")
     rng = np.random.default_rng(3)
-    traj = cp.predict(sc.crane, sc.initial, sc.inputs, 1.0, dt=0.01)
+    dt, every = 0.0025, 4
+    traj = cp.predict(sc.crane, sc.initial, sc.inputs, 1.0, dt=dt)
     contacts = 0
     for trial in range(6):
         obstacles = []
@@ -210,75 +211,78 @@ def test_random_worlds_first_contact_and_minimum_clearance(crane):
                 o.update(a=(p - [0, 2, 0]).tolist(), b=(p + [0, 2, 0]).tolist(), radius=0.02)
             obstacles.append(o)
         world = _world(0.2, *obstacles)
-        v = cp.guard(sc.crane, world, sc.initial, sc.inputs, 1.0, dt=0.01)
-        t_bf, tr, _ = brute_first_contact(sc.crane, sc.initial, sc.inputs, world, 1.0, 0.01, sub=4)
+        v = cp.guard(sc.crane, world, sc.initial, sc.inputs, 1.0, dt=dt, sample_every=every)
+        t_bf, tr, _ = brute_first_contact(sc.crane, sc.initial, sc.inputs, world, 1.0, dt)
         if t_bf is None:
             assert v.contact is None
             mins = np.min([coal_clearances(sc.crane, sc.initial, th, world).min(axis=1)
-                           for th in tr.theta], axis=0)
+                           for th in tr.theta[::every]], axis=0)
             got = np.array(list(v.clearance.values()))
             assert np.all(got >= mins - 1e-9) and np.all(got <= mins + 1e-3 + 1e-9)
         else:
             contacts += 1
             assert v.contact is not None
-            assert v.contact.t <= t_bf + 1e-12 and t_bf - v.contact.t <= 0.01 / 4 + 1e-4
+            assert v.contact.t <= t_bf + 1e-12 and t_bf - v.contact.t <= dt + 1e-4
     assert 0 < contacts < 6
 
 
 def test_latest_stop_matches_a_sweep_of_the_stop_time(crane):
-    """Sweep the stop time t_s over every sample: run the command to t_s + reaction, then predict
-    on from there under stop_inputs (from rest: Hold freezes) and check the clearance along both
-    parts. The latest t_s that keeps every clearance above the margin matches the guard's."""
+    """Sweep the stop time t_s over the samples (2.5 ms): run the command to t_s + reaction, then
+    predict on from there under stop_inputs (from rest: Hold freezes) and check the clearance
+    along both parts with coal. The latest t_s that keeps every clearance above the margin matches
+    the guard's (which judges every 4th sample) to a sample and the time tolerance."""
     sc = cp.scenarios.get("paper-fig4")
     world = cp.worlds.get("power-line")
-    dt, reaction = 0.01, 0.2
-    v = cp.guard(sc.crane, world, sc.initial, sc.inputs, 1.5, dt=dt, reaction=reaction)
-    _, traj, prefix = brute_first_contact(sc.crane, sc.initial, sc.inputs, world, 1.5, dt, sub=8)
-    times = np.array([p[0] for p in prefix])
+    dt, every, reaction = 0.0025, 4, 0.2
+    v = cp.guard(sc.crane, world, sc.initial, sc.inputs, 1.2, dt=dt, sample_every=every,
+                 reaction=reaction)
+    _, traj, prefix = brute_first_contact(sc.crane, sc.initial, sc.inputs, world, 1.2, dt)
     run_min = np.minimum.accumulate([p[1] for p in prefix])
     stop = cp.stop_inputs(sc.inputs)
     latest = None
     for k, ts in enumerate(traj.t):
-        T = ts + reaction
-        j = int(round(T / dt))
-        if j >= len(traj.t):
+        j = k + int(round(reaction / dt))          # the sample where the stop takes effect
+        if j >= len(run_min):
             break
-        before = run_min[np.searchsorted(times, T, side="right") - 1]
         frozen = cp.State(lift_stroke=traj.strokes[j, 0], tilt_stroke=traj.strokes[j, 1],
                           slew=sc.initial.slew, extension=sc.initial.extension)
         after = cp.predict(sc.crane, frozen, stop, 0.5, dt=0.05)
         assert np.ptp(after.theta, axis=0).max() == 0.0      # the stop freezes the crane
-        if before > world.margin and coal_clearances(sc.crane, frozen, after.theta[0], world).min() > world.margin:
+        if run_min[j] > world.margin and \
+                coal_clearances(sc.crane, frozen, after.theta[0], world).min() > world.margin:
             latest = ts
         else:
             break
     assert latest is not None and v.stop is not None
-    assert abs(v.stop.latest - latest) <= dt + 1e-4
+    # the sweep finds the last grid time before the true one; the guard lies between them
+    assert -1e-12 <= v.stop.latest - latest <= dt + 1e-4
     assert v.stop.model == "hold" and "under-estimates" in v.stop.note
 
 
 def test_nothing_is_missed_between_samples(crane):
-    """A thin wire across the path of the extension boom's end, placed where the boom passes only
-    between two samples (50 ms steps): every sample is clear of it by more than the margin, yet the
-    guard finds the contact inside the step, as the motion bound demands."""
-    sc = cp.scenarios.get("paper-fig4")
-    dt = 0.05
-    traj = cp.predict(sc.crane, sc.initial, sc.inputs, 1.0, dt=dt)
-    k = int(np.argmax(np.linalg.norm(np.diff(traj.tip, axis=0), axis=1)))   # the fastest step
-    th_mid = (traj.theta[k] + traj.theta[k + 1]) / 2
-    tip_mid = twin.points(crane, 0.0, 0.0, th_mid.reshape(1, 2))[0][-1]
-    wire = {"name": "wire", "kind": "capsule", "a": (tip_mid - [0, 5, 0]).tolist(),
-            "b": (tip_mid + [0, 5, 0]).tolist(), "radius": 0.0}
-    world = _world(0.02, wire)
-    shape = cp.Shape(parts=(crane.shape.parts[3],))   # the extension boom
+    """A thin wire across the path of the extension boom's end, where the boom passes only between
+    two of the guard's samples (every 50th of a 1 ms prediction: 50 ms apart): every guard sample
+    is clear of it by more than 0.1 m, yet the guard finds the contact inside that step, as the
+    motion bound demands."""
     from test_guard_geometry import theirs
 
-    wire_solid = _obstacle_dict(world.obstacles[0])
-    clear = [theirs(independent_solids(crane, sc.initial, th)["extension_boom"], wire_solid)
-             for th in traj.theta]
-    assert min(clear) > 0.1, "the wire must be clear at every sample for this test to mean anything"
-    v = cp.guard(crane, world, sc.initial, sc.inputs, 1.0, dt=dt, shape=shape)
-    assert v.contact is not None and traj.t[k] < v.contact.t < traj.t[k + 1]
+    sc = cp.scenarios.get("paper-fig4")
+    dt, every = 0.001, 50
+    traj = cp.predict(sc.crane, sc.initial, sc.inputs, 1.0, dt=dt)
+    coarse = np.arange(0, len(traj.t), every)
+    k = int(np.argmax(np.linalg.norm(np.diff(traj.tip[coarse], axis=0), axis=1)))   # fastest step
+    mid = coarse[k] + every // 2
+    shape = cp.Shape(parts=(crane.shape.parts[3],))   # the extension boom
+    end = independent_solids(crane, sc.initial, traj.theta[mid])["extension_boom"]["b"]
+    world = _world(0.02, {"name": "wire", "kind": "capsule", "a": (end - [0, 5, 0]).tolist(),
+                          "b": (end + [0, 5, 0]).tolist(), "radius": 0.0})
+    wire = _obstacle_dict(world.obstacles[0])
+    clear = [theirs(independent_solids(crane, sc.initial, traj.theta[i])["extension_boom"], wire)
+             for i in coarse]
+    assert min(clear) > 0.1, "the wire must be clear at every guard sample for this test to mean anything"
+    v = cp.guard(crane, world, sc.initial, sc.inputs, 1.0, dt=dt, sample_every=every, shape=shape)
+    assert v.contact is not None and traj.t[coarse[k]] < v.contact.t < traj.t[coarse[k + 1]]
+    assert abs(v.contact.t - traj.t[mid]) < 0.01   # the boom's end reaches the wire at mid-step
 
 
 # -- signals and the lever --------------------------------------------------------------------------
@@ -361,7 +365,7 @@ def test_malformed_world_files_name_the_obstacle_and_field(text, words):
 def test_bad_shapes_and_settings_are_named(crane):
     d = crane.to_dict()
     d["shape"]["load"]["radius"] = 0.0
-    with pytest.raises(ValueError, match=r"shape\.load\.radius must be > 0"):
+    with pytest.raises(ValueError, match=r"shape\.load\.radius must be in \(0, 1e\+06\] m"):
         cp.Crane.from_dict(d)
     d = crane.to_dict()
     d["shape"]["outer_boom"]["a"] = ["jib", 0.0, 0.0]
@@ -430,3 +434,17 @@ def test_c_guard_buffer_too_small_and_bad_obstacle_write_nothing(crane):
     # the Python layer names the obstacle and field for what reaches the core
     with pytest.raises(ValueError, match=r"obstacle 'cab' \(obstacle\[1\]\)\.size is not valid"):
         g._check_layout(g._parts(crane, crane.shape), len(crane.shape.parts), solids, world, crane.shape)
+
+
+def test_lengths_beyond_a_site_are_named(crane):
+    """Coordinates and sizes are limited to +-1e6 m (the C core's CRANE_GUARD_LENGTH_MAX), so that
+    squared lengths cannot overflow: a world file beyond that names the obstacle and field, and
+    the core rejects such a solid itself."""
+    with pytest.raises(ValueError, match=r"obstacle 'far' \(obstacle\[0\]\)\.centre\[0\] must be within"):
+        cp.World.from_toml_string("margin = 0.1\n[[obstacle]]\nname = 'far'\nkind = 'sphere'\n"
+                                  "centre = [1e7, 0, 0]\nradius = 1")
+    from test_guard_geometry import _solid
+
+    field = ffi.new("int *")
+    far = _solid({"kind": "sphere", "a": np.array([2e6, 0.0, 0.0]), "r": 1.0})
+    assert lib.crane_solid_check(far, field) == lib.CRANE_E_SOLID and field[0] == lib.CRANE_GUARD_FIELD_A

@@ -215,3 +215,26 @@ def test_bad_solids_are_named() -> None:
     d = ffi.new("crane_real *")
     assert lib.crane_solid_distance(plane, plane, d, ffi.new("crane_real[3]"),
                                     ffi.new("crane_real[3]")) == lib.CRANE_E_SOLID
+
+
+def test_distance_is_symmetric_and_its_points_lie_on_the_solids() -> None:
+    """d(a, b) = d(b, a); whenever the solids are apart, each closest point lies on its solid's
+    surface (its distance to the solid's core equals the radius) in both orders (the pair itself
+    need not be unique: parallel faces and segments have many)."""
+    rng = np.random.default_rng(11)
+    kinds = PART_KINDS + OBSTACLE_KINDS
+    for _ in range(3000):
+        a = _random(kinds[rng.integers(len(kinds))], rng)
+        b = _random(kinds[rng.integers(len(kinds))], rng)
+        if a["kind"] == b["kind"] == "plane":
+            continue
+        d, pa, pb = ours(a, b)
+        e, qb, qa = ours(b, a)
+        assert e == pytest.approx(d, abs=1e-12)
+        if d > 1e-9:
+            for s, p in ((a, pa), (b, pb), (a, qa), (b, qb)):
+                point = {"kind": "sphere", "a": p, "r": 1e-300}
+                core = dict(s, r=0.0) if "r" in s else s
+                if core["kind"] in ("sphere", "cylinder"):
+                    core = dict(core, kind="capsule", b=core.get("b", core["a"]))
+                assert ours(point, core)[0] == pytest.approx(s.get("r", 0.0), abs=1e-9)

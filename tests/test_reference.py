@@ -15,7 +15,9 @@ import cranepredict as cp  # noqa: E402
 from cranepredict import reference as ref  # noqa: E402
 
 MAX_MM, RMS_MM = ref.TARGET_MAX_MM, ref.TARGET_RMS_MM
-NAMES = cp.scenarios.names()
+# The reference model gets the hydraulics in issue 9 (its own branch): until then the valve-driven
+# scenarios are compared C core vs twin only (tests/test_c_vs_twin.py).
+NAMES = [n for n in cp.scenarios.names() if "valve" not in cp.scenarios.get(n).tags]
 
 # Scenarios known to miss the targets (strict xfail: they turn red when they start to pass). Empty
 # since the fast model carries the side links' mass (before that, 9 of 11 missed by 0.1-2 m).

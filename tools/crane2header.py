@@ -54,6 +54,16 @@ CYLINDERS = [("CRANE_LIFT", "lift_cylinder"), ("CRANE_TILT", "tilt_cylinder")]
 CYL_FIELDS = ["bore", "rod", "length_retracted", "stroke_min", "stroke_max"]
 FRICTION = [("coulomb", "coulomb"), ("static_", "static"), ("viscous", "viscous"),
             ("stribeck_velocity", "stribeck_velocity"), ("factor", "factor")]
+# a cylinder's [hydraulics] table (docs/model.md, "Hydraulics"); valve is a string -> enum
+HYDRAULICS = ["supply_pressure", "tank_pressure", "relief_pressure", "nominal_flow",
+              "nominal_pressure_drop", "dead_band", "meter_out_flow", "meter_out_pressure_drop",
+              "spool_time_constant", "laminar_pressure_drop", "cavitation_pressure",
+              "hose_volume_a", "hose_volume_b", "oil_bulk_modulus", "hose_bulk_modulus",
+              "cylinder_bulk_modulus", "leakage"]
+# optional fields of the hydraulics table and their default (crane.py's Hydraulics)
+HYDRAULICS_DEFAULTS = {"dead_band": 0.0, "meter_out_flow": 0.0, "meter_out_pressure_drop": 0.0,
+                       "spool_time_constant": 0.0, "leakage": 0.0}
+VALVES = {"orifice": "CRANE_VALVE_ORIFICE", "compensated": "CRANE_VALVE_COMPENSATED"}
 # keys of the crane file that the 2-DOF C model does not use (the pillar only slews; the shape is
 # the collision guard's, given to crane_guard by the caller; the slew drive, the extension cylinder
 # and the bodies' in-plane tensor entries are the four-joint model's, which the C core does not have
@@ -143,6 +153,20 @@ def generate(toml_path, name):
             sca(f"cylinder[{idx}].{fld}", f"{key}.{fld}")
         for fld, tkey in FRICTION:
             sca(f"cylinder[{idx}].friction.{fld}", f"{key}.friction.{tkey}")
+        hyd = data.get(key, {}).get("hydraulics")
+        if hyd is None:
+            L.append(f"    .cylinder[{idx}].hydraulics = {{.valve = CRANE_VALVE_NONE}}, \\")
+            continue
+        valve = lookup(data, f"{key}.hydraulics.valve", used)
+        if valve not in VALVES:
+            raise SystemExit(f"crane file: {key}.hydraulics.valve must be one of {sorted(VALVES)}")
+        L.append(f"    .cylinder[{idx}].hydraulics.valve = {VALVES[valve]}, \\")
+        for fld in HYDRAULICS:
+            if fld not in hyd and fld in HYDRAULICS_DEFAULTS:
+                L.append(f"    .cylinder[{idx}].hydraulics.{fld} = "
+                         f"{lit(HYDRAULICS_DEFAULTS[fld])}, \\")
+            else:
+                sca(f"cylinder[{idx}].hydraulics.{fld}", f"{key}.hydraulics.{fld}")
 
     unknown = [k for k in leaves(data) if k not in used and k.split(".")[0] not in UNUSED
                and k.split(".")[-1] not in UNUSED_BODY_FIELDS]

@@ -60,6 +60,24 @@
     .cylinder[CRANE_LIFT].friction.viscous = CRANE_R(330.0), \
     .cylinder[CRANE_LIFT].friction.stribeck_velocity = CRANE_R(0.005), \
     .cylinder[CRANE_LIFT].friction.factor = CRANE_R(4.0), \
+    .cylinder[CRANE_LIFT].hydraulics.valve = CRANE_VALVE_ORIFICE, \
+    .cylinder[CRANE_LIFT].hydraulics.supply_pressure = CRANE_R(8000000.0), \
+    .cylinder[CRANE_LIFT].hydraulics.tank_pressure = CRANE_R(100000.0), \
+    .cylinder[CRANE_LIFT].hydraulics.relief_pressure = CRANE_R(15000000.0), \
+    .cylinder[CRANE_LIFT].hydraulics.nominal_flow = CRANE_R(0.0004), \
+    .cylinder[CRANE_LIFT].hydraulics.nominal_pressure_drop = CRANE_R(3500000.0), \
+    .cylinder[CRANE_LIFT].hydraulics.dead_band = CRANE_R(0.0), \
+    .cylinder[CRANE_LIFT].hydraulics.meter_out_flow = CRANE_R(0.0), \
+    .cylinder[CRANE_LIFT].hydraulics.meter_out_pressure_drop = CRANE_R(0.0), \
+    .cylinder[CRANE_LIFT].hydraulics.spool_time_constant = CRANE_R(0.03), \
+    .cylinder[CRANE_LIFT].hydraulics.laminar_pressure_drop = CRANE_R(200000.0), \
+    .cylinder[CRANE_LIFT].hydraulics.cavitation_pressure = CRANE_R(-90000.0), \
+    .cylinder[CRANE_LIFT].hydraulics.hose_volume_a = CRANE_R(0.00019002), \
+    .cylinder[CRANE_LIFT].hydraulics.hose_volume_b = CRANE_R(0.00019002), \
+    .cylinder[CRANE_LIFT].hydraulics.oil_bulk_modulus = CRANE_R(1650000000.0), \
+    .cylinder[CRANE_LIFT].hydraulics.hose_bulk_modulus = CRANE_R(700000000.0), \
+    .cylinder[CRANE_LIFT].hydraulics.cylinder_bulk_modulus = CRANE_R(210000000000.0), \
+    .cylinder[CRANE_LIFT].hydraulics.leakage = CRANE_R(0.0), \
     .cylinder[CRANE_TILT].bore = CRANE_R(0.1), \
     .cylinder[CRANE_TILT].rod = CRANE_R(0.056), \
     .cylinder[CRANE_TILT].length_retracted = CRANE_R(1.05), \
@@ -70,6 +88,24 @@
     .cylinder[CRANE_TILT].friction.viscous = CRANE_R(330.0), \
     .cylinder[CRANE_TILT].friction.stribeck_velocity = CRANE_R(0.005), \
     .cylinder[CRANE_TILT].friction.factor = CRANE_R(1.0), \
+    .cylinder[CRANE_TILT].hydraulics.valve = CRANE_VALVE_ORIFICE, \
+    .cylinder[CRANE_TILT].hydraulics.supply_pressure = CRANE_R(8000000.0), \
+    .cylinder[CRANE_TILT].hydraulics.tank_pressure = CRANE_R(100000.0), \
+    .cylinder[CRANE_TILT].hydraulics.relief_pressure = CRANE_R(15000000.0), \
+    .cylinder[CRANE_TILT].hydraulics.nominal_flow = CRANE_R(0.0009), \
+    .cylinder[CRANE_TILT].hydraulics.nominal_pressure_drop = CRANE_R(3500000.0), \
+    .cylinder[CRANE_TILT].hydraulics.dead_band = CRANE_R(0.0), \
+    .cylinder[CRANE_TILT].hydraulics.meter_out_flow = CRANE_R(0.0), \
+    .cylinder[CRANE_TILT].hydraulics.meter_out_pressure_drop = CRANE_R(0.0), \
+    .cylinder[CRANE_TILT].hydraulics.spool_time_constant = CRANE_R(0.03), \
+    .cylinder[CRANE_TILT].hydraulics.laminar_pressure_drop = CRANE_R(200000.0), \
+    .cylinder[CRANE_TILT].hydraulics.cavitation_pressure = CRANE_R(-90000.0), \
+    .cylinder[CRANE_TILT].hydraulics.hose_volume_a = CRANE_R(0.00019002), \
+    .cylinder[CRANE_TILT].hydraulics.hose_volume_b = CRANE_R(0.00019002), \
+    .cylinder[CRANE_TILT].hydraulics.oil_bulk_modulus = CRANE_R(1650000000.0), \
+    .cylinder[CRANE_TILT].hydraulics.hose_bulk_modulus = CRANE_R(700000000.0), \
+    .cylinder[CRANE_TILT].hydraulics.cylinder_bulk_modulus = CRANE_R(210000000000.0), \
+    .cylinder[CRANE_TILT].hydraulics.leakage = CRANE_R(0.0), \
 }
 
 #endif

@@ -16,6 +16,12 @@
  *   - crane_predict_model with a model from crane_model_init gives crane_predict's status and
  *     the same bytes; crane_sample_count_every agrees with crane_sample_count at 1 and never
  *     asks for more samples than it;
+ *   - crane_predict_many over two futures (the state and inputs twice) writes nothing on an error
+ *     (but CRANE_E_DIVERGED), sets *failed in [0, 2], and on success gives each future
+ *     crane_predict's samples at the kept steps, bit for bit; it runs only when the step count is
+ *     small (MAX_CAPACITY), else a short stride stops it before any work;
+ *   - crane_params_check names a field exactly when it fails, agrees with crane_model_init at
+ *     extension_min, and every field has a rule;
  *   - the inputs (const) are not modified.
  * Crashes, out-of-bounds accesses and undefined behaviour are caught by the sanitizers.
  *
@@ -38,7 +44,7 @@
 #include "crane_patu655.h"
 #include "crane_scenarios.h"
 
-#define CRANE_STATUS_LAST CRANE_E_BATCH
+#define CRANE_STATUS_LAST CRANE_E_VALVE
 #define MAX_SAMPLES 16   /* pressure samples per cylinder */
 #define MAX_CAPACITY 600 /* output samples (bounds the work per input) */
 #define MAX_POSES 4      /* crane_points poses */
@@ -139,6 +145,8 @@ static size_t real_fields(universe *u, crane_real **f)
     f[n++] = &u->omega[0]; f[n++] = &u->omega[1]; f[n++] = &u->alpha[0]; f[n++] = &u->alpha[1];
     f[n++] = &u->stroke_arg; f[n++] = &u->theta_arg; f[n++] = &u->rate_arg;
     f[n++] = &u->p_a_arg; f[n++] = &u->p_b_arg;
+    /* appended, so that the corpus's patch records keep their meaning */
+    BODY(p->side_link1); BODY(p->side_link2);
 #undef V2
 #undef BODY
     return n;
@@ -231,6 +239,7 @@ static void decode(universe *u, const uint8_t *data, size_t size)
             u->inputs.drive[n].t = NULL;
             u->inputs.drive[n].p_a_samples = NULL;
             u->inputs.drive[n].p_b_samples = NULL;
+            u->inputs.drive[n].u_samples = NULL;
         }
         u->capacity %= (MAX_CAPACITY + 1);
         u->n_poses %= (MAX_POSES + 1);
@@ -296,6 +305,79 @@ static void check_samples(const universe *u, const crane_params *params, crane_s
     }
 }
 
+/* crane_predict_many over two futures (state and inputs twice), against crane_predict's output
+ * (status st_one, n_one samples in one[]; count = crane_sample_count(), 0 if it failed). */
+static void run_many(const universe *u, const crane_params *params, const crane_state *state,
+                     const crane_inputs *inputs, crane_status st_one, const crane_sample *one,
+                     size_t n_one, size_t count)
+{
+    enum { F = 2 };
+    crane_state states[F];
+    crane_inputs ins[F];
+    crane_sample *out, *ref;
+    size_t every = 0, stride, total, failed = 0xdeadbeef, k, j;
+    crane_status st, se;
+
+    for (k = 0; k < F; ++k) {
+        states[k] = *state;
+        ins[k] = *inputs;
+    }
+    se = crane_sample_count_every(u->horizon, u->dt, u->sample_every, &every);
+    /* bounded work: a real run only for a short prediction; else a stride of 1 sample, which
+     * every call refuses (CRANE_E_CAPACITY or an earlier error) before running anything */
+    stride = se == CRANE_OK && count > 0 && count <= MAX_CAPACITY ? every : 1;
+    total = F * stride;
+    out = (crane_sample *)malloc(total * sizeof *out);
+    ref = (crane_sample *)malloc(total * sizeof *out);
+    if (!out || !ref)
+        abort();
+    memset(out, 0x5a, total * sizeof *out);
+    memcpy(ref, out, total * sizeof *out);
+    st = crane_predict_many(params, F, states, ins, u->horizon, u->dt, u->sample_every, out, stride,
+                            &failed);
+    check_status(st, "crane_predict_many status");
+    if (failed > F)
+        fail("crane_predict_many: *failed out of range");
+    if (st == CRANE_OK && failed != F)
+        fail("crane_predict_many: *failed not n_futures on success");
+    if (st != CRANE_OK && st != CRANE_E_DIVERGED && memcmp(out, ref, total * sizeof *out))
+        fail("crane_predict_many wrote outputs on an error");
+    if (st == CRANE_OK && stride == 1)
+        fail("crane_predict_many ran with a stride below its sample count");
+    if (st == CRANE_OK && st_one == CRANE_OK) {
+        /* each future: crane_predict's samples at t = 0, every sample_every-th step and the last */
+        for (k = 0; k < F; ++k)
+            for (j = 0; j < every; ++j) {
+                const size_t step = j + 1 == every ? n_one - 1 : j * u->sample_every;
+                if (step >= n_one || memcmp(&out[k * stride + j], &one[step], sizeof *one))
+                    fail("crane_predict_many differs from crane_predict");
+            }
+    }
+    if (st == CRANE_OK && st_one != CRANE_OK && st_one != CRANE_E_CAPACITY)
+        fail("crane_predict_many accepted what crane_predict refused");
+    free(out);
+    free(ref);
+}
+
+/* crane_params_check: a field exactly on an error, its rule, and crane_model_init's verdict. */
+static void run_check(const universe *u)
+{
+    const crane_params params = u->params;
+    crane_field field = (crane_field)77;
+    crane_model model;
+    const crane_status st = crane_params_check(&params, &field);
+
+    check_status(st, "crane_params_check status");
+    if ((int)field < 0 || (int)field >= (int)CRANE_FIELD_COUNT)
+        fail("crane_params_check: field out of range");
+    if ((st == CRANE_OK) != (field == CRANE_FIELD_NONE))
+        fail("crane_params_check: a field without an error or an error without a field");
+    if (st != CRANE_OK && !crane_field_rule(field))
+        fail("crane_params_check: no rule for the field");
+    if (crane_model_init(&model, &params, params.extension_min) != st)
+        fail("crane_params_check differs from crane_model_init at extension_min");
+}
+
 static void run_predict(const universe *u)
 {
     crane_params params = u->params;
@@ -317,6 +399,8 @@ static void run_predict(const universe *u)
         inputs.drive[i].t = ts[i];
         inputs.drive[i].p_a_samples = pas[i];
         inputs.drive[i].p_b_samples = pbs[i];
+        /* a valve drive's lever samples (mostly outside [-1, 1]: CRANE_E_VALVE; the pointer is ours) */
+        inputs.drive[i].u_samples = pas[i];
     }
     /* exactly cap samples (one byte if cap is 0), canary-filled */
     out = (crane_sample *)malloc(cap ? cap * sizeof *out : 1);
@@ -359,6 +443,8 @@ static void run_predict(const universe *u)
         }
         free(out2);
     }
+
+    run_many(u, &params, &state, &inputs, st, out, n_written, stc == CRANE_OK ? count : 0);
 
     /* crane_sample_count_every */
     {
@@ -458,6 +544,7 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
         fail("no status message for an unknown code");
     run_predict(u);
     run_model(u);
+    run_check(u);
     free(u);
     return 0;
 }

@@ -5,11 +5,11 @@ with ``backend="python"``) -> :class:`Trajectory` (numpy arrays) -> checks and p
 """
 
 from ._checks import MAX_SAMPLES, MAX_STEPS
-from .api import BACKENDS, DEFAULT_DT, predict, predict_many
-from .crane import Body, Crane, Cylinder, Friction, Geometry
+from .api import BACKENDS, DEFAULT_DT, predict, predict_many, state_at_rest
+from .crane import Body, Crane, Cylinder, Friction, Geometry, Hydraulics
 from .statics import holding_pressure
 from .types import (POINT_NAMES, STROKE_RATE_MAX, Hold, Inputs, Pressure, PressureSeries, State,
-                    Trajectory, TrajectoryBatch)
+                    Trajectory, TrajectoryBatch, Valve, ValveSeries)
 from . import scenarios
 from .guard import Contact, StopAnalysis, Verdict, guard, stop_inputs
 from .shape import Part, Shape
@@ -18,6 +18,7 @@ from . import worlds
 
 __all__ = ["predict", "predict_many", "TrajectoryBatch", "DEFAULT_DT", "BACKENDS", "MAX_STEPS",
            "MAX_SAMPLES", "STROKE_RATE_MAX", "Crane", "Body", "Cylinder", "Friction", "Geometry",
+           "Hydraulics", "Valve", "ValveSeries", "state_at_rest",
            "State", "Pressure", "PressureSeries", "Hold", "Inputs", "Trajectory", "POINT_NAMES",
            "scenarios", "holding_pressure", "guard", "Verdict", "Contact", "StopAnalysis",
            "stop_inputs", "Shape", "Part", "World", "Obstacle", "worlds"]

@@ -1,7 +1,8 @@
 """cffi build script (API mode): compiles csrc/ into ``cranepredict._cranepredict``.
 
 The cdef is read from the public header between CRANE_CDEF_BEGIN and CRANE_CDEF_END, so the
-declarations are written once. The Python extension always uses the double build.
+declarations are written once; crane_model's body is replaced by "...;" (opaque: size only).
+The Python extension always uses the double build.
 """
 
 from __future__ import annotations
@@ -22,7 +23,13 @@ def header_cdef(path: str = os.path.join(CSRC, "crane.h")) -> str:
     m = re.search(r"/\* CRANE_CDEF_BEGIN \*/(.*)/\* CRANE_CDEF_END \*/", text, re.S)
     if m is None:
         raise RuntimeError(f"{path}: CRANE_CDEF_BEGIN/END markers not found")
-    return "typedef double crane_real;\n" + m.group(1)
+    # crane_model is opaque to the binding: cffi takes its size from the real header at compile
+    # time, and Python never reads its fields (crane.h: they are the core's, not an interface).
+    cdef, n = re.subn(r"typedef struct \{[^{}]*\} crane_model;", "typedef struct { ...; } crane_model;",
+                      m.group(1))
+    if n != 1:
+        raise RuntimeError(f"{path}: the crane_model typedef was not found in the CDEF section")
+    return "typedef double crane_real;\n" + cdef
 
 
 def core_sources() -> list:

@@ -70,6 +70,22 @@ def _cylinder(dst: Any, cyl: Any) -> None:
     f = cyl.friction
     dst.friction.coulomb, dst.friction.static_, dst.friction.viscous = f.coulomb, f.static, f.viscous
     dst.friction.stribeck_velocity, dst.friction.factor = f.stribeck_velocity, f.factor
+    h = cyl.hydraulics
+    hd = dst.hydraulics
+    if h is None:
+        hd.valve = lib.CRANE_VALVE_NONE
+        return
+    hd.valve = lib.CRANE_VALVE_COMPENSATED if h.valve == "compensated" else lib.CRANE_VALVE_ORIFICE
+    for name in _HYDRAULIC_FIELDS:
+        setattr(hd, name, getattr(h, name))
+
+
+# crane_hydraulics fields besides valve: the same names as the crane file's
+_HYDRAULIC_FIELDS = ("supply_pressure", "tank_pressure", "relief_pressure", "nominal_flow",
+                     "nominal_pressure_drop", "dead_band", "meter_out_flow",
+                     "meter_out_pressure_drop", "spool_time_constant", "laminar_pressure_drop",
+                     "cavitation_pressure", "hose_volume_a", "hose_volume_b", "oil_bulk_modulus",
+                     "hose_bulk_modulus", "cylinder_bulk_modulus", "leakage")
 
 
 def _too_large(obj: Any, prefix: str = "") -> str:
@@ -173,7 +189,8 @@ def check_crane(crane: "Crane") -> None:
 def _sample_dtype() -> np.dtype:
     real = np.float64
     fields = [("t", real, ()), ("stroke", real, (2,)), ("theta", real, (2,)), ("omega", real, (2,)),
-              ("tip", real, (3,)), ("stop", np.intc, (2,))]
+              ("tip", real, (3,)), ("stop", np.intc, (2,)), ("p_a", real, (2,)), ("p_b", real, (2,)),
+              ("flow_a", real, (2,)), ("flow_b", real, (2,)), ("spool", real, (2,))]
     return np.dtype({
         "names": [f[0] for f in fields],
         "formats": [(f[1], f[2]) if f[2] else f[1] for f in fields],
@@ -188,6 +205,18 @@ SAMPLE_DTYPE = _sample_dtype()
 def _drive(dst: Any, drive: Any, keep: list) -> None:
     if drive.held:
         dst.mode = lib.CRANE_DRIVE_HOLD
+        return
+    if hasattr(drive, "u"):
+        dst.mode = lib.CRANE_DRIVE_VALVE
+        if drive.t is None:
+            dst.u = drive.u
+            dst.n_samples = 0
+            return
+        arrays = [ffi.from_buffer("crane_real[]", np.ascontiguousarray(a, dtype=np.float64))
+                  for a in (drive.t, drive.u)]
+        keep.extend(arrays)
+        dst.t, dst.u_samples = arrays
+        dst.n_samples = len(drive.t)
         return
     dst.mode = lib.CRANE_DRIVE_PRESSURE
     if drive.t is None:
@@ -211,6 +240,10 @@ def _state(dst: Any, state: "State") -> None:
     dst.stroke = (state.lift_stroke, state.tilt_stroke)
     dst.stroke_rate = (state.lift_stroke_rate, state.tilt_stroke_rate)
     dst.slew, dst.extension = state.slew, state.extension
+    # chamber pressures: only a valve-driven cylinder reads them (api.py demands them there)
+    dst.p_a = (state.lift_p_a or 0.0, state.tilt_p_a or 0.0)
+    dst.p_b = (state.lift_p_b or 0.0, state.tilt_p_b or 0.0)
+    dst.spool = (state.lift_spool, state.tilt_spool)
 
 
 def _inputs(dst: Any, inputs: "Inputs", keep: list) -> None:

@@ -11,9 +11,11 @@ import numpy as np
 from ._checks import MAX_SAMPLES, MAX_STEPS, kept_samples, step_count
 from ._checks import number as _number
 from .crane import Crane
-from .types import ARRAYS, Hold, Inputs, PressureSeries, State, Trajectory, TrajectoryBatch
+from .types import (ARRAYS, Hold, Inputs, PressureSeries, State, Trajectory, TrajectoryBatch,
+                    Valve, ValveSeries)
 
-__all__ = ["predict", "predict_many", "DEFAULT_DT", "BACKENDS", "MAX_STEPS", "MAX_SAMPLES"]
+__all__ = ["predict", "predict_many", "state_at_rest", "DEFAULT_DT", "BACKENDS", "MAX_STEPS",
+           "MAX_SAMPLES"]
 
 # The C core (the compiled extension) is imported on the first call that needs it, so that the
 # package, its types and the twin import without it (tests/test_package.py).
@@ -90,6 +92,18 @@ def _check_future(crane: Crane, initial: State, inputs: Inputs, horizon: float) 
         if isinstance(drive, PressureSeries) and not drive.covers(horizon):
             raise ValueError(f"Inputs.{joint}: PressureSeries.t must cover [0, horizon] = [0, {horizon}] s, "
                              f"got [{drive.t[0]}, {drive.t[-1]}]")
+        if isinstance(drive, (Valve, ValveSeries)):
+            if cyl.hydraulics is None:
+                raise ValueError(f"Inputs.{joint}: a valve drive needs {joint}_cylinder.hydraulics "
+                                 "in the crane file")
+            if isinstance(drive, ValveSeries) and not drive.covers(horizon):
+                raise ValueError(f"Inputs.{joint}: ValveSeries.t must cover [0, horizon] = "
+                                 f"[0, {horizon}] s, got [{drive.t[0]}, {drive.t[-1]}]")
+            for side in ("p_a", "p_b"):
+                if getattr(initial, f"{joint}_{side}") is None:
+                    raise ValueError(f"State.{joint}_{side} is required for a valve-driven {joint} "
+                                     "cylinder: pass the measured chamber pressures or start from "
+                                     "cranepredict.state_at_rest(...)")
     g = crane.geometry
     if not g.extension_min <= initial.extension <= g.extension_max:
         raise ValueError(f"State.extension must be in [{g.extension_min}, {g.extension_max}] m "
@@ -127,6 +141,59 @@ def predict(crane: Crane, initial: State, inputs: Inputs, horizon: float, *,
         a.setflags(write=False)
     return Trajectory(**arrays, slew=initial.slew, extension=initial.extension, backend=backend,
                       _points=points)
+
+
+def state_at_rest(crane: Crane, lift_stroke: float, tilt_stroke: float, *, slew: float = 0.0,
+                  extension: float = 0.0, lift_rod_pressure: Optional[float] = None,
+                  tilt_rod_pressure: Optional[float] = None) -> State:
+    """The crane at rest at the given strokes, holding itself on closed valves (docs/model.md,
+    "Static state at rest"): each cylinder that has ``hydraulics`` gets the chamber pressures whose
+    force balances gravity (friction taken as 0), the spool closed.
+
+    The chamber that does not carry the load is at the tank pressure (the rod side when the
+    cylinder pushes, the bore side when it pulls), unless ``<joint>_rod_pressure`` (Pa) is given:
+    then the rod side has that pressure and the bore side balances the load. Raises ValueError
+    naming the field if the strokes are out of range or the balance needs a pressure outside
+    [CHAMBER_PRESSURE_MIN, PRESSURE_MAX].
+    """
+    from .types import CHAMBER_PRESSURE_MIN, PRESSURE_MAX
+
+    if not isinstance(crane, Crane):
+        raise TypeError(f"crane must be a cranepredict.Crane, got {type(crane).__name__}")
+    base = State(lift_stroke=lift_stroke, tilt_stroke=tilt_stroke, slew=slew, extension=extension)
+    _check_future(crane, base, Inputs(lift=Hold(), tilt=Hold()), 1.0)
+    theta = []
+    ratio = []
+    for j, s in enumerate((base.lift_stroke, base.tilt_stroke)):
+        th, ds = _core_module().joint_angle(crane, j, s, base.extension)
+        theta.append(th)
+        ratio.append(ds)
+    h = _core_module().inverse_dynamics(crane, base.extension, theta, (0.0, 0.0), (0.0, 0.0))
+    fields = {}
+    for j, (joint, cyl, rod) in enumerate((("lift", crane.lift_cylinder, lift_rod_pressure),
+                                           ("tilt", crane.tilt_cylinder, tilt_rod_pressure))):
+        hyd = cyl.hydraulics
+        if hyd is None:
+            continue
+        force = h[j] / ratio[j]          # N, the cylinder force that holds the booms
+        if rod is not None:
+            p_b = _number(rod, f"{joint}_rod_pressure")
+            p_a = (force + p_b * cyl.area_b) / cyl.area_a
+        elif force >= 0.0:
+            p_b = hyd.tank_pressure
+            p_a = (force + p_b * cyl.area_b) / cyl.area_a
+        else:
+            p_a = hyd.tank_pressure
+            p_b = (p_a * cyl.area_a - force) / cyl.area_b
+        for side, p in (("p_a", p_a), ("p_b", p_b)):
+            if not CHAMBER_PRESSURE_MIN <= p <= PRESSURE_MAX:
+                raise ValueError(f"state_at_rest: holding the crane needs {joint} {side} = {p:g} Pa, "
+                                 f"outside [{CHAMBER_PRESSURE_MIN:g}, {PRESSURE_MAX:g}] Pa "
+                                 f"(check {joint}_rod_pressure)")
+        fields[f"{joint}_p_a"] = p_a
+        fields[f"{joint}_p_b"] = p_b
+    return State(lift_stroke=base.lift_stroke, tilt_stroke=base.tilt_stroke, slew=base.slew,
+                 extension=base.extension, **fields)
 
 
 def _sequence(value: Any, name: str, kind: type) -> list:

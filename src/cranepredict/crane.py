@@ -21,8 +21,11 @@ from .shape import Shape
 
 Vec2 = Tuple[float, float]
 
-__all__ = ["Body", "Friction", "Cylinder", "SlewDrive", "ExtensionCylinder", "Geometry", "Crane",
-           "FOUR_JOINT_FIELDS"]
+__all__ = ["Body", "Friction", "Hydraulics", "Cylinder", "SlewDrive", "ExtensionCylinder", "Geometry",
+           "Crane", "FOUR_JOINT_FIELDS", "VALVES"]
+
+#: The valve types of a cylinder's hydraulics (docs/model.md, "Hydraulics").
+VALVES = ("orifice", "compensated")
 
 #: Crane file fields of the four-joint model (docs/model.md, "Four joints"), which no model uses
 #: yet: loaded and type-checked, no rule of the core applies (top-level tables, and the fields of
@@ -60,6 +63,37 @@ class Friction:
 
 
 @dataclass(frozen=True)
+class Hydraulics:
+    """A cylinder's valve and oil (docs/model.md, "Hydraulics"): Pa, m^3, m^3/s, s, m^3/(s Pa).
+
+    ``valve`` is "orifice" (critical centre, [S1]/[S2]: Q = y K g(dp) per edge with
+    K = nominal_flow/sqrt(nominal_pressure_drop)) or "compensated" (load-sensing PVG32 of [S3]:
+    meter-in flow source y nominal_flow beyond the dead band, meter-out orifice of
+    meter_out_flow at meter_out_pressure_drop). ``spool_time_constant`` 0 means no spool lag,
+    ``leakage`` 0 none.
+    """
+
+    valve: str
+    supply_pressure: float
+    tank_pressure: float
+    relief_pressure: float
+    nominal_flow: float
+    nominal_pressure_drop: float
+    laminar_pressure_drop: float
+    cavitation_pressure: float
+    hose_volume_a: float
+    hose_volume_b: float
+    oil_bulk_modulus: float
+    hose_bulk_modulus: float
+    cylinder_bulk_modulus: float
+    dead_band: float = 0.0
+    meter_out_flow: float = 0.0
+    meter_out_pressure_drop: float = 0.0
+    spool_time_constant: float = 0.0
+    leakage: float = 0.0
+
+
+@dataclass(frozen=True)
 class Cylinder:
     """A double-acting hydraulic cylinder: diameters, pin-to-pin length at stroke 0, stroke range (m)."""
 
@@ -69,6 +103,7 @@ class Cylinder:
     stroke_min: float
     stroke_max: float
     friction: Friction
+    hydraulics: Optional[Hydraulics] = None   #: None: the cylinder cannot be valve-driven
 
     @property
     def area_a(self) -> float:
@@ -333,6 +368,8 @@ def _field_names() -> dict:
             hint = _hints(cls)[f.name]
             if f.name in ("name", "estimates", "pillar", "shape"):
                 continue
+            if hint == Optional[Hydraulics]:
+                hint = Hydraulics
             if dataclasses.is_dataclass(hint):
                 out += leaves(hint, prefix + f.name + ".")
             else:
@@ -370,6 +407,10 @@ def _check_crane(c: Crane) -> None:
     from . import _core
     from ._cranepredict import ffi, lib
 
+    for cyl_name in ("lift_cylinder", "tilt_cylinder"):
+        hyd = getattr(c, cyl_name).hydraulics
+        if hyd is not None and hyd.valve not in VALVES:   # a name: the C core gets its enum
+            raise ValueError(f"{cyl_name}.hydraulics.valve must be one of {VALVES}, got {hyd.valve!r}")
     field = ffi.new("crane_field *")
     status = lib.crane_params_check(_core.params(c), field)
     if status == lib.CRANE_OK:

@@ -9,7 +9,6 @@ body's frame of docs/model.md (``"boom_plane"``, ``"lift_boom"``, ``"outer_boom"
 
 from __future__ import annotations
 
-import math
 from dataclasses import dataclass, field
 from typing import Any, Mapping, Optional, Tuple, Union
 
@@ -18,6 +17,8 @@ from ._checks import number as _number
 __all__ = ["Part", "Shape", "PART_KINDS", "BODY_FRAMES"]
 
 PART_KINDS = ("capsule", "sphere", "box")
+#: The largest coordinate or size accepted, m (the C core's CRANE_GUARD_LENGTH_MAX).
+LENGTH_MAX = 1e6
 #: Frames a point can be given in, by the body's name (docs/model.md "Frames").
 BODY_FRAMES = ("boom_plane", "lift_boom", "outer_boom", "extension_boom")
 
@@ -36,8 +37,8 @@ def _point(value: Any, where: str) -> Point:
         if value[0] not in BODY_FRAMES:
             raise ValueError(f"{where}[0] must be one of {BODY_FRAMES}, got {value[0]!r}")
         x, y = _number(value[1], f"{where}[1]"), _number(value[2], f"{where}[2]")
-        if not (math.isfinite(x) and math.isfinite(y)):
-            raise ValueError(f"{where} coordinates must be finite, got {value[1]}, {value[2]}")
+        if not (abs(x) <= LENGTH_MAX and abs(y) <= LENGTH_MAX):
+            raise ValueError(f"{where} coordinates must be within +-{LENGTH_MAX:g} m, got {x:g}, {y:g}")
         return (value[0], x, y)
     raise TypeError(f"{where} must be a point name or [body, x, y], got {value!r}")
 
@@ -70,21 +71,22 @@ class Part:
             if self.b is None:
                 raise ValueError(f"{where}.b is missing (a capsule needs two points)")
             object.__setattr__(self, "b", _point(self.b, f"{where}.b"))
-            if not (math.isfinite(r) and r >= 0):
-                raise ValueError(f"{where}.radius must be >= 0 m, got {r}")
+            if not 0 <= r <= LENGTH_MAX:
+                raise ValueError(f"{where}.radius must be in [0, {LENGTH_MAX:g}] m, got {r}")
         elif self.b is not None:
             raise ValueError(f"{where}.b is only for capsules (a {self.kind} hangs below a)")
-        if self.kind == "sphere" and not (math.isfinite(r) and r > 0):
-            raise ValueError(f"{where}.radius must be > 0 m, got {r}")
-        if not math.isfinite(d):
-            raise ValueError(f"{where}.drop must be finite, got {d}")
+        if self.kind == "sphere" and not 0 < r <= LENGTH_MAX:
+            raise ValueError(f"{where}.radius must be in (0, {LENGTH_MAX:g}] m, got {r}")
+        if not abs(d) <= LENGTH_MAX:
+            raise ValueError(f"{where}.drop must be within +-{LENGTH_MAX:g} m, got {d}")
         size = self.size
         if self.kind == "box":
             if isinstance(size, (str, bytes)) or not hasattr(size, "__len__") or len(size) != 3:
                 raise TypeError(f"{where}.size must be [x, y, z] in m, got {size!r}")
             size = tuple(_number(v, f"{where}.size[{i}]") for i, v in enumerate(size))
-            if not all(math.isfinite(v) and v > 0 for v in size):
-                raise ValueError(f"{where}.size must be > 0 m in every direction, got {list(size)}")
+            if not all(0 < v <= 2 * LENGTH_MAX for v in size):
+                raise ValueError(f"{where}.size must be in (0, {2 * LENGTH_MAX:g}] m in every "
+                                 f"direction, got {list(size)}")
         object.__setattr__(self, "radius", r)
         object.__setattr__(self, "drop", d)
         object.__setattr__(self, "size", tuple(float(v) for v in size))

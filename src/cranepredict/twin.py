@@ -34,9 +34,11 @@ EVENT_BISECTIONS = 60
 RELEASE_BISECTIONS = 40
 #: Most pieces (impacts and releases) one step is cut into; the last takes the rest (spec: 8).
 MAX_PIECES = 8
-#: lambda h that a step of RK4 may take for the extension's friction at rest (spec "Four joints":
-#: 2.5 of the 2.785 at which RK4 stops being stable on the negative real axis)
-FRICTION_RK4_LIMIT = 2.5
+#: The four-joint histories of _run that the API does not carry yet (issue 11).
+FOUR_JOINT_ARRAYS = ("slew", "extension", "slew_rate", "extension_rate", "slew_stop", "extension_stop")
+#: Where a valve-driven state's hydraulic entries start: (p_a0, p_b0, p_a1, p_b1, y0, y1) follow
+#: (theta0, theta1, psi, e) and their rates.
+HYD = 8
 
 Vec = Tuple[float, float]
 Pair = Tuple[float, float]
@@ -218,6 +220,7 @@ class _LinkPose(NamedTuple):
     j2: Vec          #: side link 2's centre-of-mass velocity per unit tilt rate, v2/u
     phi1: float      #: side link 1's turn relative to the lift boom
     phi2: float      #: side link 2's turn relative to the lift boom
+    stroke: float    #: the tilt stroke at this angle
 
 
 class _Configuration(NamedTuple):
@@ -230,6 +233,7 @@ class _Configuration(NamedTuple):
     dot products, cross products and perp."""
 
     ratio: Pair      #: (ds/dtheta0, ds/dtheta1)
+    tilt_stroke: float  #: the tilt stroke (from the four-bar pose)
     r12: Vec         #: R(theta0) O2
     cc1: Vec         #: R(theta0) c1
     cc2: Vec         #: R(theta0 + theta1) c_ob (the outer boom alone)
@@ -252,6 +256,8 @@ class _Configuration(NamedTuple):
     j2: Vec
     phi1: float      #: theta0 + phi1: side link 1's angle in the boom plane
     phi2: float      #: theta0 + phi2
+    lumped: Tuple[float, float]  #: (m, izz) of body 2 lumped with body 3 at this extension
+    cc2l: Vec        #: R(theta0 + theta1) c of that lumped body
 
 
 def _vertical_inertia(t: Tensor, phi: float) -> Tuple[float, float]:
@@ -403,6 +409,11 @@ class TwinModel:
         self.pillar_inertia = 0.0 if pillar is None else (
             float(pillar.mass) * float(pillar.com[0]) ** 2 + _tensor(pillar)[1])
         self._pose: Optional[_LinkPose] = None                      # the last four-bar pose
+        self._lumped: dict = {}                                     # extension -> lumped body 2
+        self._m_ext = float(crane.extension_boom.mass)
+        self._c_ext = _vec(crane.extension_boom.com)
+        self._i_ext = float(crane.extension_boom.izz)
+        self._m_load = float(crane.load_mass)
 
         # --- tilt four-bar validity and assembly (spec "Tilt kinematics") ------------------
         #: the side of P1 -> A on which angle -> stroke puts Q (+1 left, -1 right)
@@ -624,9 +635,10 @@ class TwinModel:
         # v1 = dphi1 perp(e1), v2 = dQ + dphi2 perp(e2), dQ = dphi1 perp(Q - P1); per unit u
         j1 = (-k1 * e1[1], k1 * e1[0])
         j2 = (-k1 * arm_q[1] - k2 * e2[1], k1 * arm_q[0] + k2 * e2[0])
-        ratio = self._tilt_ratio(q, a, _norm(_sub(q, self.tilt_cylinder_base)))
+        length = _norm(_sub(q, self.tilt_cylinder_base))
+        ratio = self._tilt_ratio(q, a, length)
         pose = _LinkPose(theta, ratio, arm_a, arm_q, link, den1, den2, k1, k2,
-                         d1, e1, j1, d2, e2, j2, phi1, phi2)
+                         d1, e1, j1, d2, e2, j2, phi1, phi2, length - self.length_retracted[TILT])
         self._pose = pose
         return pose
 
@@ -665,15 +677,16 @@ class TwinModel:
         pose = self._link_pose(th1)
         th12 = th0 + th1
         mount = self.extension_mount
+        lumped = self._lumped_outer_body(e)
         return _Configuration(
-            (self._lift_transmission(th0), pose.ratio),
+            (self._lift_transmission(th0), pose.ratio), pose.stroke,
             rot(self.tilt_pivot), rot(self.c1), _rotate(th12, self.c2),
             _rotate(th12, (mount[0] + e + self.c3[0], mount[1] + self.c3[1])),
             (math.cos(th12), math.sin(th12)), th0, th12,
             rot(pose.arm_a), rot(pose.arm_q), rot(pose.link), pose.den1, pose.den2,
             pose.k1, pose.k2,
             rot(pose.d1), rot(pose.e1), rot(pose.j1), rot(pose.d2), rot(pose.e2), rot(pose.j2),
-            th0 + pose.phi1, th0 + pose.phi2)
+            th0 + pose.phi1, th0 + pose.phi2, (lumped[0], lumped[2]), _rotate(th12, lumped[1]))
 
     def inverse_dynamics(self, theta: Sequence[float], omega: Sequence[float],
                          alpha: Sequence[float], gravity: Optional[float] = None) -> Pair:
@@ -686,11 +699,59 @@ class TwinModel:
         g = self.gravity if gravity is None else gravity
         return self._inverse_dynamics(self._configuration(theta), omega, alpha, g)
 
+    def _lumped_outer_body(self, e: float) -> Tuple[float, Vec, float]:
+        """Body 2 = outer boom + extension boom at extension e + load at the tip, in the outer boom
+        frame (spec "Bodies and the lumped outer boom"): the planar model's body 2, for motion
+        with the extension at rest; summed in the spec's order (the C core's)."""
+        cached = self._lumped.get(e)
+        if cached is not None:
+            return cached
+        m_ob, c_ob, m_ext, c_ext, m_load = self.m2, self.c2, self._m_ext, self._c_ext, self._m_load
+        mount = self.extension_mount
+        x_ext = (mount[0] + e + c_ext[0], mount[1] + c_ext[1])
+        x_tip = (mount[0] + e + self.tip_distance, mount[1])
+        m2 = m_ob + m_ext + m_load
+        c2 = ((m_ob * c_ob[0] + m_ext * x_ext[0] + m_load * x_tip[0]) / m2,
+              (m_ob * c_ob[1] + m_ext * x_ext[1] + m_load * x_tip[1]) / m2)
+
+        def offset2(p: Vec) -> float:
+            d = _sub(p, c2)
+            return _dot(d, d)
+
+        i2 = (self.i2 + m_ob * offset2(c_ob) + self._i_ext + m_ext * offset2(x_ext)
+              + m_load * offset2(x_tip))
+        lumped = (m2, c2, i2)
+        self._lumped[e] = lumped
+        return lumped
+
     def _inverse_dynamics(self, conf: _Configuration, omega: Sequence[float],
                           alpha: Sequence[float], g: float) -> Pair:
-        """The lift and tilt torques of ID with the slew and the extension at rest."""
-        tau = self._id4(conf, (omega[0], omega[1], 0.0, 0.0), (alpha[0], alpha[1], 0.0, 0.0), g)
-        return tau[0], tau[1]
+        """ID of the planar model (spec "Dynamics"): the slew and the extension at rest, the
+        outer boom lumped with the extension boom and the load, then the two side links. (The
+        same physics as _id4 with their rates zero; kept in the planar model's arithmetic, which
+        the C core shares, so that rounding does not move a located event between them.)"""
+        w1 = omega[0]
+        w2 = omega[0] + omega[1]
+        a1 = alpha[0]
+        a2 = alpha[0] + alpha[1]
+        r12, cc1, cc2 = conf.r12, conf.cc1, conf.cc2l
+        m1 = self.m1
+        m2, i2 = conf.lumped
+
+        # forward recursion: accelerations (acc = acc_parent + a perp(r) - w^2 r)
+        acc_c1 = (-a1 * cc1[1] - w1 * w1 * cc1[0], g + a1 * cc1[0] - w1 * w1 * cc1[1])
+        acc_o2 = (-a1 * r12[1] - w1 * w1 * r12[0], g + a1 * r12[0] - w1 * w1 * r12[1])
+        acc_c2 = (acc_o2[0] - a2 * cc2[1] - w2 * w2 * cc2[0],
+                  acc_o2[1] + a2 * cc2[0] - w2 * w2 * cc2[1])
+
+        # backward recursion: forces and moments about each joint
+        f2 = (m2 * acc_c2[0], m2 * acc_c2[1])
+        n2 = i2 * a2 + _cross(cc2, f2)
+        f1c = (m1 * acc_c1[0], m1 * acc_c1[1])
+        n1 = self.i1 * a1 + _cross(cc1, f1c) + _cross(r12, f2) + n2
+
+        links = self._side_link_torques(conf, w1, a1, omega[1], alpha[1], g)
+        return n1 + links[0], n2 + links[1]
 
     def inverse_dynamics4(self, q: Sequence[float], qd: Sequence[float], qdd: Sequence[float],
                           gravity: Optional[float] = None) -> Quad:
@@ -993,9 +1054,143 @@ class _PressureDrive:
                 self.p_b[k] + s * (self.p_b[k + 1] - self.p_b[k]))
 
 
-def _drive(drive: Any) -> Optional[_PressureDrive]:
-    """None for a held cylinder, else its pressure drive."""
-    return None if getattr(drive, "held", False) else _PressureDrive(drive)
+def _signed_root(dp: float, laminar: float) -> float:
+    """The orifice law g(dp) of docs/model.md: sign(dp) sqrt|dp|, replaced for |dp| < laminar by
+    the odd cubic that meets it with the same value and slope (so the flow stays Lipschitz)."""
+    if dp >= laminar:
+        return math.sqrt(dp)
+    if dp <= -laminar:
+        return -math.sqrt(-dp)
+    x = dp / laminar
+    return math.sqrt(laminar) * x * (5.0 - x * x) * 0.25
+
+
+def _saturation(x: float) -> float:
+    """phi(x) of the compensated valve's meter-in edge: 0 below 0, 1 above 1, C1 in between."""
+    if x <= 0.0:
+        return 0.0
+    if x >= 1.0:
+        return 1.0
+    return x * (3.0 - x * x) * 0.5
+
+
+class _ValveDrive:
+    """A valve-driven cylinder: the lever signal and the circuit of docs/model.md "Hydraulics"."""
+
+    def __init__(self, drive: Any, cylinder: Any) -> None:
+        hyd = cylinder.hydraulics
+        times = getattr(drive, "t", None)
+        if times is None:
+            self.times: Optional[List[float]] = None
+            self.u: Any = float(drive.u)
+        else:
+            self.times = [float(x) for x in times]
+            self.u = [float(x) for x in drive.u]
+        self.compensated = hyd.valve == "compensated"
+        self.p_s = float(hyd.supply_pressure)
+        self.p_t = float(hyd.tank_pressure)
+        self.p_r = float(hyd.relief_pressure)
+        self.p_c = float(hyd.cavitation_pressure)
+        self.laminar = float(hyd.laminar_pressure_drop)
+        self.q_n = float(hyd.nominal_flow)
+        self.k = self.q_n / math.sqrt(float(hyd.nominal_pressure_drop))
+        self.dead_band = float(hyd.dead_band)
+        if self.compensated:
+            self.k_m = float(hyd.meter_out_flow) / math.sqrt(float(hyd.meter_out_pressure_drop))
+            self.gradient = max(1.25 * self.k_m / math.sqrt(self.laminar),
+                                1.5 * self.q_n / self.laminar)
+        else:
+            self.k_m = 0.0
+            self.gradient = 1.25 * self.k / math.sqrt(self.laminar)
+        self.tau = float(hyd.spool_time_constant)
+        self.leakage = float(hyd.leakage)
+        self.v_hose = (float(hyd.hose_volume_a), float(hyd.hose_volume_b))
+        self.b_oil = float(hyd.oil_bulk_modulus)
+        self.b_hose = float(hyd.hose_bulk_modulus)
+        self.b_cyl = float(hyd.cylinder_bulk_modulus)
+        self.area_a = math.pi * float(cylinder.bore) ** 2 / 4.0
+        self.area_b = math.pi * (float(cylinder.bore) ** 2 - float(cylinder.rod) ** 2) / 4.0
+        self.stroke_min = float(cylinder.stroke_min)
+        self.stroke_max = float(cylinder.stroke_max)
+
+    def lever(self, t: float) -> float:
+        if self.times is None:
+            return self.u
+        ts = self.times
+        k = bisect_right(ts, t) - 1
+        k = min(max(k, 0), len(ts) - 2)
+        s = (t - ts[k]) / (ts[k + 1] - ts[k])
+        return self.u[k] + s * (self.u[k + 1] - self.u[k])
+
+    def volumes(self, stroke: float) -> Pair:
+        return (self.v_hose[0] + self.area_a * (stroke - self.stroke_min),
+                self.v_hose[1] + self.area_b * (self.stroke_max - stroke))
+
+    def compliance(self, volume: float, side: int) -> float:
+        """C(V) = V / Be: the oil, the cylinder wall and the hose in series."""
+        v_hose = self.v_hose[side]
+        return volume / self.b_oil + (volume - v_hose) / self.b_cyl + v_hose / self.b_hose
+
+    def flows(self, y: float, p_a: float, p_b: float) -> Pair:
+        """(Q_a into the bore side, Q_b out of the rod side) through the valve at spool y."""
+        lam = self.laminar
+        if not self.compensated:
+            k = y * self.k
+            if y >= 0.0:
+                return k * _signed_root(self.p_s - p_a, lam), k * _signed_root(p_b - self.p_t, lam)
+            return k * _signed_root(p_a - self.p_t, lam), k * _signed_root(self.p_s - p_b, lam)
+        u0 = self.dead_band
+        if y > u0:
+            r = (y - u0) / (1.0 - u0)
+            return (r * self.q_n * _saturation((self.p_s - p_a) / lam),
+                    r * self.k_m * _signed_root(p_b - self.p_t, lam))
+        if y < -u0:
+            r = (-y - u0) / (1.0 - u0)
+            return (-r * self.k_m * _signed_root(p_a - self.p_t, lam),
+                    -r * self.q_n * _saturation((self.p_s - p_b) / lam))
+        return 0.0, 0.0
+
+    def limit_flow(self, p: float) -> float:
+        """Relief (above p_R, to tank) and anti-cavitation (below p_C, from tank) into a chamber."""
+        if p < self.p_c:
+            return self.gradient * (self.p_c - p)
+        if p > self.p_r:
+            return -self.gradient * (p - self.p_r)
+        return 0.0
+
+    def rates(self, t: float, stroke: float, v: float, p_a: float, p_b: float,
+              y: float) -> Tuple[float, float, float]:
+        """(dp_a/dt, dp_b/dt, dy/dt) of the chamber equations."""
+        if self.tau > 0.0:
+            dy = (self.lever(t) - y) / self.tau
+        else:
+            y = self.lever(t)
+            dy = 0.0
+        q_a, q_b = self.flows(y, p_a, p_b)
+        v_a, v_b = self.volumes(stroke)
+        q_l = self.leakage * (p_a - p_b)
+        dp_a = (q_a - self.area_a * v - q_l + self.limit_flow(p_a)) / self.compliance(v_a, 0)
+        dp_b = (self.area_b * v - q_b + q_l + self.limit_flow(p_b)) / self.compliance(v_b, 1)
+        return dp_a, dp_b, dy
+
+    def stiffness(self, stroke: float) -> float:
+        """lambda of docs/model.md: the bound of both chambers' self-feedback rate at this stroke."""
+        v_a, v_b = self.volumes(stroke)
+        g = 2.0 * self.gradient + self.leakage
+        return max(g / self.compliance(v_a, 0), g / self.compliance(v_b, 1))
+
+
+#: Substeps keep lambda h/n below this (RK4 is stable on the negative real axis up to 2.785).
+SUBSTEP_STABILITY = 2.5
+
+
+def _drive(drive: Any, cylinder: Any = None) -> Any:
+    """None for a held cylinder, else its pressure or valve drive."""
+    if getattr(drive, "held", False):
+        return None
+    if hasattr(drive, "u"):
+        return _ValveDrive(drive, cylinder)
+    return _PressureDrive(drive)
 
 
 # --------------------------------------------------------------------------------------------
@@ -1015,6 +1210,10 @@ class _Prediction:
         self.model = model
         self.drives = tuple(drives)
         self.held = tuple(d is None for d in drives)
+        #: the valve-driven joints; with any, the state is 10 long: (theta0, theta1, omega0,
+        #: omega1, p_a0, p_b0, p_a1, p_b1, y0, y1), entries of other joints unused (kept at 0)
+        self.valve = tuple(isinstance(d, _ValveDrive) for d in drives)
+        self.hydraulic = any(self.valve)
         #: stop[j]: 0 not stopped, -1 at the lower angle limit, +1 at the upper (angle terms;
         #: the reported flag is converted to actuator terms by TwinModel.stop_flag)
         self.stop = [0, 0, 0, 0]
@@ -1027,16 +1226,16 @@ class _Prediction:
     def locked(self) -> Tuple[bool, ...]:
         return tuple(self.held[j] or self.stop[j] != 0 for j in JOINTS)
 
-    def _conf(self, x: State8) -> _Configuration:
+    def _conf(self, x: Sequence[float]) -> _Configuration:
         return self.model._configuration((x[0], x[1]), x[3])
 
-    def acceleration(self, t: float, x: State8, locked: Tuple[bool, ...]) -> Quad:
+    def acceleration(self, t: float, x: Sequence[float], locked: Tuple[bool, ...]) -> Quad:
         """qdd at time t: actuator forces of the unlocked joints into forward dynamics."""
         if all(locked):
             return 0.0, 0.0, 0.0, 0.0
         conf = self._conf(x)
-        qd = x[4:]
-        tau = self.torques(t, conf, qd, locked)
+        qd = x[4:8]
+        tau = self.torques(t, conf, qd, locked, x)
         if locked[SLEW] and locked[EXTENSION]:
             # both at rest (held, or stopped with the rate zeroed): the planar 2x2 solve
             a = self.model._forward_dynamics(conf, qd[:2], tau[:2], locked[:2])
@@ -1052,17 +1251,70 @@ class _Prediction:
         return conf.ratio[j]
 
     def torques(self, t: float, conf: _Configuration, qd: Sequence[float],
-                locked: Sequence[bool]) -> Quad:
-        """Actuator forces at time t of the joints that are not locked (0 for the others)."""
+                locked: Sequence[bool], x: Sequence[float]) -> Quad:
+        """Actuator forces at time t of the joints that are not locked (0 for the others); a
+        valve-driven cylinder's pressures are the state's."""
         tau = [0.0, 0.0, 0.0, 0.0]
         for j in JOINTS:
             if not locked[j]:
-                p_a, p_b = self.drives[j].pressures(t)  # type: ignore[union-attr]
+                if self.valve[j]:
+                    p_a, p_b = x[HYD + 2 * j], x[HYD + 1 + 2 * j]
+                else:
+                    p_a, p_b = self.drives[j].pressures(t)  # type: ignore[union-attr]
                 tau[j] = self.model._joint_torque(j, self.ratio(conf, j), qd[j], p_a, p_b)
         return tau[0], tau[1], tau[2], tau[3]
 
-    def rk4(self, t: float, x: State8, h: float, locked: Tuple[bool, ...]) -> State8:
-        """One classical RK4 step of size h on (q, qd)."""
+    def stroke(self, j: int, theta: float, conf: Optional[_Configuration] = None) -> float:
+        """Joint j's stroke (lift or tilt): its limit on a stop, else from the angle."""
+        if self.stop[j] != 0:
+            return self.model.stroke_at_stop[j][self.stop[j]]
+        if j == LIFT:
+            return self.model.lift_stroke(theta)
+        return conf.tilt_stroke if conf is not None else self.model.tilt_stroke(theta)
+
+    def derivative(self, t: float, x: Sequence[float], locked: Tuple[bool, ...]) -> Tuple[float, ...]:
+        """d/dt of the hydraulic state: qd, qdd, the chamber pressures, the spools."""
+        conf = self._conf(x)
+        qdd = self.acceleration(t, x, locked)
+        d = list(x[4:8]) + list(qdd) + [0.0] * 6
+        for j in (LIFT, TILT):
+            if not self.valve[j]:
+                continue
+            v = 0.0 if locked[j] else conf.ratio[j] * x[4 + j]
+            d[HYD + 2 * j], d[HYD + 1 + 2 * j], d[HYD + 4 + j] = self.drives[j].rates(  # type: ignore
+                t, self.stroke(j, x[j], conf), v, x[HYD + 2 * j], x[HYD + 1 + 2 * j], x[HYD + 4 + j])
+        return tuple(d)
+
+    def rk4_hydraulic(self, t: float, x: Sequence[float], h: float,
+                      locked: Tuple[bool, ...]) -> Tuple[float, ...]:
+        """Classical RK4 on the whole hydraulic state (docs/model.md, "Hydraulics")."""
+        half = 0.5 * h
+        k1 = self.derivative(t, x, locked)
+        x2 = tuple(a + half * b for a, b in zip(x, k1))
+        k2 = self.derivative(t + half, x2, locked)
+        x3 = tuple(a + half * b for a, b in zip(x, k2))
+        k3 = self.derivative(t + half, x3, locked)
+        x4 = tuple(a + h * b for a, b in zip(x, k3))
+        k4 = self.derivative(t + h, x4, locked)
+        sixth = h / 6.0
+        return tuple(a + sixth * (b1 + 2.0 * b2 + 2.0 * b3 + b4)
+                     for a, b1, b2, b3, b4 in zip(x, k1, k2, k3, k4))
+
+    def substeps(self, x: Sequence[float], h: float) -> int:
+        """n = max(1, ceil(h Lambda / 2.5)): Lambda from the chamber volumes at the step's start
+        (hydraulics) and the extension's friction (spec "Four joints"), the larger."""
+        lam = 0.0
+        for j in (LIFT, TILT):
+            if self.valve[j]:
+                lam = max(lam, self.drives[j].stiffness(self.stroke(j, x[j])))  # type: ignore
+        if not self.held[EXTENSION]:
+            lam = max(lam, self.extension_friction_rate(x))
+        return max(1, int(math.ceil(h * lam / SUBSTEP_STABILITY)))
+
+    def rk4(self, t: float, x: Sequence[float], h: float, locked: Tuple[bool, ...]) -> Tuple[float, ...]:
+        """One classical RK4 step of size h on (q, qd) (and the pressures, if any)."""
+        if self.hydraulic:
+            return self.rk4_hydraulic(t, x, h, locked)
         half = 0.5 * h
         k1 = self.acceleration(t, x, locked)
         x2 = tuple(x[j] + half * x[4 + j] for j in JOINTS) + tuple(x[4 + j] + half * k1[j] for j in JOINTS)
@@ -1080,10 +1332,21 @@ class _Prediction:
         """Put the joint on its limit and stop it; the impulse acts on this joint only: over the
         free joints F, qd_F <- qd_F - Minv e_i (qd_i / Minv_ii) (Minv the inverse of M over F)."""
         q = list(x[:4])
-        w = list(x[4:])
+        w = list(x[4:8])
         lower, upper = self.model.angle_limits[joint]
         q[joint] = lower if side < 0 else upper
         free = [j for j in JOINTS if j == joint or (not self.held[j] and self.stop[j] == 0)]
+        if all(j in (LIFT, TILT) for j in free):
+            # the planar model's impact (its closed-form M^-1, the C core's arithmetic)
+            other = 1 - joint
+            if other in free:
+                minv = self.model.inverse_mass_matrix(q[:2])
+                scale = w[joint] / minv[joint][joint]
+                w[0] -= minv[0][joint] * scale
+                w[1] -= minv[1][joint] * scale
+            w[joint] = 0.0
+            self.stop[joint] = side
+            return tuple(q) + tuple(w) + tuple(x[8:])
         conf = self.model._configuration((q[0], q[1]), q[3])
         mass = self.model._mass_matrix4(conf, free)
         i = free.index(joint)
@@ -1094,7 +1357,7 @@ class _Prediction:
             w[j] -= col[k] * scale
         w[joint] = 0.0
         self.stop[joint] = side
-        return tuple(q) + tuple(w)
+        return tuple(q) + tuple(w) + tuple(x[8:])
 
     def stop_at_start(self, x: State8, strokes: Sequence[float], rates: Sequence[float]) -> State8:
         """t = 0 rule: a free joint at a stroke limit whose stroke rate does not point into the
@@ -1158,9 +1421,13 @@ class _Prediction:
         """The complementarity rule itself, for released()."""
         m = self.model
         conf = self._conf(x)
-        qd = x[4:]
-        h = m._id4(conf, qd, (0.0, 0.0, 0.0, 0.0), m.gravity)
-        tau = self.torques(t, conf, qd, self.held)
+        qd = x[4:8]
+        planar = self.held[SLEW] and self.held[EXTENSION]   # the planar model's arithmetic
+        if planar:
+            h = m._inverse_dynamics(conf, qd[:2], (0.0, 0.0), m.gravity) + (0.0, 0.0)
+        else:
+            h = m._id4(conf, qd, (0.0, 0.0, 0.0, 0.0), m.gravity)
+        tau = self.torques(t, conf, qd, self.held, x)
         net = tuple(tau[j] - h[j] for j in JOINTS)
         mass: Optional[List[List[float]]] = None   # only a candidate that moves a joint needs M
         stopped = [self.stop[j] != 0 for j in JOINTS]
@@ -1169,7 +1436,10 @@ class _Prediction:
             if any(not stopped[j] for j in released):
                 continue
             locked = tuple(self.held[j] or (stopped[j] and j not in released) for j in JOINTS)
-            alpha = m._forward4(conf, qd, tau, locked)
+            if planar:
+                alpha = m._forward_dynamics(conf, qd[:2], tau[:2], locked[:2]) + (0.0, 0.0)
+            else:
+                alpha = m._forward4(conf, qd, tau, locked)
             consistent = True
             for j in JOINTS:
                 if not stopped[j]:
@@ -1182,8 +1452,9 @@ class _Prediction:
                         reaction = -net[j]
                     else:
                         if mass is None:
-                            mass = m._mass_matrix4(conf, JOINTS)
-                        reaction = sum(mass[j][k] * alpha[k] for k in JOINTS) - net[j]
+                            mass = ([list(row) for row in m._mass_matrix(conf)] if planar
+                                    else m._mass_matrix4(conf, JOINTS))
+                        reaction = sum(mass[j][k] * alpha[k] for k in range(len(mass))) - net[j]
                     consistent = consistent and inward * reaction >= 0.0
             if consistent:
                 return released
@@ -1297,6 +1568,9 @@ def _optional_drive(inputs: Any, name: str, has_actuator: bool) -> Optional[_Pre
     if not has_actuator:
         raise ValueError(f"Inputs.{name}: the crane has no "
                          f"{'slew_drive' if name == 'slew' else 'extension_cylinder'} to drive")
+    if not hasattr(drive, "p_a"):
+        raise NotImplementedError(f"Inputs.{name}: only pressure drives and holds for the slew and "
+                                  "the extension so far (valves: issue 11, next step)")
     return _PressureDrive(drive)
 
 
@@ -1306,7 +1580,7 @@ def _run(crane: Any, state: Any, inputs: Any, horizon: float, dt: float
     horizon = float(horizon)
     dt = float(dt)
     model = TwinModel(crane, state.extension)
-    drives = (_drive(inputs.lift), _drive(inputs.tilt),
+    drives = (_drive(inputs.lift, crane.lift_cylinder), _drive(inputs.tilt, crane.tilt_cylinder),
               _optional_drive(inputs, "slew", model.has_actuator[SLEW]),
               _optional_drive(inputs, "extension", model.has_actuator[EXTENSION]))
     pred = _Prediction(model, drives)
@@ -1325,9 +1599,29 @@ def _run(crane: Any, state: Any, inputs: Any, horizon: float, dt: float
     for j in (SLEW, EXTENSION):
         qd0[j] = 0.0 if pred.held[j] else rates0[j]
     x: State8 = tuple(q0) + tuple(qd0)
+    if pred.hydraulic:
+        hyd = [0.0] * 6
+        for j, name in ((LIFT, "lift"), (TILT, "tilt")):
+            if pred.valve[j]:
+                hyd[2 * j] = float(getattr(state, f"{name}_p_a"))
+                hyd[2 * j + 1] = float(getattr(state, f"{name}_p_b"))
+                hyd[4 + j] = float(getattr(state, f"{name}_spool"))
+        x = x + tuple(hyd)
     x = pred.stop_at_start(x, strokes0, rates0)
 
     n = int(math.ceil(horizon / dt - 1e-9))
+    if pred.hydraulic:
+        # docs/model.md "Hydraulics", bad input: the worst-case substeps (at the stroke ends, where
+        # the chambers are smallest; the last step up to 1.25 dt) count against MAX_STEPS
+        from ._checks import MAX_STEPS
+
+        lam = max(drive.stiffness(s) for drive, valve in zip(pred.drives, pred.valve) if valve
+                  for s in (drive.stroke_min, drive.stroke_max))
+        worst = max(1, int(math.ceil(1.25 * dt * lam / SUBSTEP_STABILITY)))
+        if n * worst > MAX_STEPS:
+            raise ValueError(f"horizon / dt asks for more than {MAX_STEPS} steps with the "
+                             f"valve-driven cylinders' substeps ({n} steps x up to {worst} "
+                             "substeps): raise dt or shorten the horizon")
     t_out = np.empty(n + 1)
     strokes = np.empty((n + 1, 2))
     theta = np.empty((n + 1, 2))
@@ -1337,6 +1631,11 @@ def _run(crane: Any, state: Any, inputs: Any, horizon: float, dt: float
     coords = np.empty((n + 1, 2))            # (slew, extension)
     rates = np.empty((n + 1, 2))             # (slew rate, extension rate)
     stop2 = np.zeros((n + 1, 2), dtype=np.int64)
+    p_a = np.zeros((n + 1, 2))
+    p_b = np.zeros((n + 1, 2))
+    flow_a = np.zeros((n + 1, 2))
+    flow_b = np.zeros((n + 1, 2))
+    spool = np.zeros((n + 1, 2))
 
     def record(i: int, t: float, x: State8) -> None:
         t_out[i] = t
@@ -1363,29 +1662,45 @@ def _run(crane: Any, state: Any, inputs: Any, horizon: float, dt: float
         theta[i] = (x[0], x[1])
         omega[i] = (x[4], x[5])
         tip[i] = model.tip((x[0], x[1]), coords[i, 0], coords[i, 1])
+        for j in (LIFT, TILT):
+            drive = pred.drives[j]
+            if drive is None:
+                continue
+            if pred.valve[j]:
+                y = x[HYD + 4 + j] if drive.tau > 0.0 else drive.lever(t)
+                p_a[i, j], p_b[i, j] = x[HYD + 2 * j], x[HYD + 1 + 2 * j]
+                flow_a[i, j], flow_b[i, j] = drive.flows(y, x[HYD + 2 * j], x[HYD + 1 + 2 * j])
+                spool[i, j] = y
+            else:
+                p_a[i, j], p_b[i, j] = drive.pressures(t)
 
     cylinders = (crane.lift_cylinder, crane.tilt_cylinder)
     record(0, 0.0, x)
     for k in range(n):
         t = k * dt
         last = k == n - 1
-        t_end = horizon if last else (k + 1) * dt
-        h = t_end - t
-        # the extension's friction is stiff near rest: substeps (spec "Four joints")
-        rate = 0.0 if pred.held[EXTENSION] else pred.extension_friction_rate(x)
-        subs = max(1, int(math.ceil(h * rate / FRICTION_RK4_LIMIT)))
-        for i in range(subs):
-            t_i = t + i * (h / subs)
-            h_i = (t_end - t_i) if i == subs - 1 else h / subs
-            pred.release(t_i, x)
-            x = pred.step(t_i, x, h_i)
+        h = horizon - t if last else dt
+        # docs/model.md "Hydraulics" and "Four joints" (the extension's friction): n equal
+        # substeps, each a full step of the scheme, the last ending at the step's end time
+        n_sub = pred.substeps(x, h) if pred.hydraulic or not pred.held[EXTENSION] else 1
+        if n_sub == 1:
+            pred.release(t, x)
+            x = pred.step(t, x, h)
+        else:
+            sub = h / n_sub
+            for i in range(n_sub):
+                t_sub = t + i * sub
+                pred.release(t_sub, x)
+                x = pred.step(t_sub, x, (horizon if last else (k + 1) * dt) - t_sub
+                              if i == n_sub - 1 else sub)
         if not all(math.isfinite(v) for v in x):
             raise ValueError(f"the prediction diverged at t = {t:g} s (the state is no longer finite): "
                              "check the crane's parameters for absurd values")
         record(k + 1, horizon if last else (k + 1) * dt, x)
 
     out = {"t": t_out, "strokes": strokes, "theta": theta, "omega": omega, "tip": tip,
-           "stop": stop, "slew": coords[:, 0].copy(), "extension": coords[:, 1].copy(),
+           "stop": stop, "p_a": p_a, "p_b": p_b, "flow_a": flow_a, "flow_b": flow_b,
+           "spool": spool, "slew": coords[:, 0].copy(), "extension": coords[:, 1].copy(),
            "slew_rate": rates[:, 0].copy(), "extension_rate": rates[:, 1].copy(),
            "slew_stop": stop2[:, 0].copy(), "extension_stop": stop2[:, 1].copy()}
     return out, pred.events
@@ -1401,7 +1716,7 @@ def simulate(crane: Any, state: Any, inputs: Any, horizon: float, dt: float) -> 
     """
     arrays = _run(crane, state, inputs, horizon, dt)[0]
     # the slew's and the extension's histories stay out until the API carries them (issue 11)
-    return {name: arrays[name] for name in ("t", "strokes", "theta", "omega", "tip", "stop")}
+    return {name: a for name, a in arrays.items() if name not in FOUR_JOINT_ARRAYS}
 
 
 def points(crane: Any, extension: float, slew: float, theta_array: Any) -> np.ndarray:

@@ -11,11 +11,15 @@ from typing import Callable, Dict, Optional, Tuple, Union
 
 import numpy as np
 
-__all__ = ["State", "Pressure", "PressureSeries", "Hold", "Drive", "Inputs", "Trajectory",
-           "TrajectoryBatch", "POINT_NAMES", "PRESSURE_MAX", "STROKE_RATE_MAX", "ARRAYS"]
+__all__ = ["State", "Pressure", "PressureSeries", "Hold", "Valve", "ValveSeries", "Drive", "Inputs",
+           "Trajectory", "TrajectoryBatch", "POINT_NAMES", "PRESSURE_MAX", "STROKE_RATE_MAX", "ARRAYS",
+           "CHAMBER_PRESSURE_MIN"]
 
 from ._checks import PRESSURE_MAX
 from ._checks import number as _number
+
+#: Pa (gauge): the lowest chamber pressure a state may hold (-1 bar: vacuum).
+CHAMBER_PRESSURE_MIN = -1e5
 
 #: Names of the points in ``Trajectory.points`` (the C core's and the twin's order).
 POINT_NAMES = ("pillar_base", "lift_pivot", "lift_cylinder_base", "lift_cylinder_rod",
@@ -24,7 +28,7 @@ POINT_NAMES = ("pillar_base", "lift_pivot", "lift_cylinder_base", "lift_cylinder
 
 
 #: The arrays of a Trajectory (and a TrajectoryBatch), in their order; the twin returns these keys.
-ARRAYS = ("t", "strokes", "theta", "omega", "tip", "stop")
+ARRAYS = ("t", "strokes", "theta", "omega", "tip", "stop", "p_a", "p_b", "flow_a", "flow_b", "spool")
 
 #: m/s: the largest initial stroke rate accepted (either sign). Hydraulic cylinders move below
 #: about 1 m/s; far above this the end-stop events of the C core and the twin stop agreeing (they
@@ -46,6 +50,11 @@ class State:
     Strokes (m) set the boom angles; slew (rad, about the vertical axis) and extension (m) stay as
     given during the prediction (they are kinematic inputs, not simulated). The crane starts at
     rest unless stroke rates (m/s) are given.
+
+    A valve-driven cylinder (:class:`Valve`, :class:`ValveSeries`) also needs its chamber
+    pressures (Pa gauge, p_a bore side, p_b rod side; measured, or from
+    :func:`cranepredict.state_at_rest`) and, with a spool lag, its spool position in [-1, 1]
+    (default 0: closed). Other drives ignore them.
     """
 
     lift_stroke: float
@@ -54,16 +63,39 @@ class State:
     extension: float = 0.0
     lift_stroke_rate: float = 0.0
     tilt_stroke_rate: float = 0.0
+    lift_p_a: Optional[float] = None
+    lift_p_b: Optional[float] = None
+    tilt_p_a: Optional[float] = None
+    tilt_p_b: Optional[float] = None
+    lift_spool: float = 0.0
+    tilt_spool: float = 0.0
 
     def __post_init__(self) -> None:
         for name in ("lift_stroke", "tilt_stroke", "slew", "extension",
-                     "lift_stroke_rate", "tilt_stroke_rate"):
+                     "lift_stroke_rate", "tilt_stroke_rate", "lift_spool", "tilt_spool"):
             object.__setattr__(self, name, _number(getattr(self, name), f"State.{name}"))
         for name in ("lift_stroke_rate", "tilt_stroke_rate"):
             v = getattr(self, name)
             if not -STROKE_RATE_MAX <= v <= STROKE_RATE_MAX:
                 raise ValueError(f"State.{name} must be in [-{STROKE_RATE_MAX:g}, {STROKE_RATE_MAX:g}] "
                                  f"m/s (cranepredict.STROKE_RATE_MAX), got {v:g}")
+
+        for name in ("lift_p_a", "lift_p_b", "tilt_p_a", "tilt_p_b"):
+            v = getattr(self, name)
+            if v is None:
+                continue
+            p = _number(v, f"State.{name}")
+            if not CHAMBER_PRESSURE_MIN <= p <= PRESSURE_MAX:
+                raise ValueError(f"State.{name} must be in [{CHAMBER_PRESSURE_MIN:g}, "
+                                 f"{PRESSURE_MAX:g}] Pa, got {p:g}")
+            object.__setattr__(self, name, p)
+        for name in ("lift_spool", "tilt_spool"):
+            if not -1.0 <= getattr(self, name) <= 1.0:
+                raise ValueError(f"State.{name} must be in [-1, 1], got {getattr(self, name)}")
+
+    def pressures(self, joint: str) -> Tuple[Optional[float], Optional[float]]:
+        """(p_a, p_b) of the "lift" or "tilt" cylinder (None where not given)."""
+        return getattr(self, f"{joint}_p_a"), getattr(self, f"{joint}_p_b")
 
 
 @dataclass(frozen=True)
@@ -147,7 +179,71 @@ class Hold:
     held = True
 
 
-Drive = Union[Pressure, PressureSeries, Hold]
+def _lever(value: object, name: str) -> float:
+    u = _number(value, name)
+    if not -1.0 <= u <= 1.0:
+        raise ValueError(f"{name} must be in [-1, 1] (the lever; > 0 extends), got {u:g}")
+    return u
+
+
+@dataclass(frozen=True)
+class Valve:
+    """The operator's lever held at u in [-1, 1] (u > 0 extends the cylinder, 0 closes the valve).
+
+    The cylinder needs a ``hydraulics`` table in the crane file; the chamber pressures follow from
+    the oil flows and the motion (docs/model.md, "Hydraulics")."""
+
+    u: float
+    held = False
+
+    def __post_init__(self) -> None:
+        object.__setattr__(self, "u", _lever(self.u, "Valve.u"))
+
+    @property
+    def t(self) -> None:
+        return None
+
+
+@dataclass(frozen=True)
+class ValveSeries:
+    """A sampled lever signal: u (in [-1, 1]) at times t (s, strictly increasing, covering
+    [0, horizon]), interpolated linearly. The arrays are copied; the caller's are never modified."""
+
+    t: np.ndarray
+    u: np.ndarray
+    held = False
+
+    def __post_init__(self) -> None:
+        arrays = {}
+        for name in ("t", "u"):
+            try:
+                a = np.array(getattr(self, name), dtype=float, copy=True)
+            except (TypeError, ValueError):
+                raise TypeError(f"ValveSeries.{name} must be a sequence of numbers") from None
+            if a.ndim != 1 or a.size < 2:
+                raise ValueError(f"ValveSeries.{name} must be 1-D with at least 2 samples, "
+                                 f"got shape {a.shape}")
+            if not np.all(np.isfinite(a)):
+                raise ValueError(f"ValveSeries.{name} must be finite")
+            a.setflags(write=False)
+            arrays[name] = a
+        if arrays["t"].size != arrays["u"].size:
+            raise ValueError("ValveSeries.t and u must have the same length, got "
+                             f"{arrays['t'].size} and {arrays['u'].size}")
+        if np.any(np.diff(arrays["t"]) <= 0):
+            raise ValueError("ValveSeries.t must be strictly increasing")
+        u = arrays["u"]
+        if u.min() < -1.0 or u.max() > 1.0:
+            raise ValueError(f"ValveSeries.u must be in [-1, 1] (the lever), "
+                             f"got [{u.min():g}, {u.max():g}]")
+        for name, a in arrays.items():
+            object.__setattr__(self, name, a)
+
+    def covers(self, horizon: float) -> bool:
+        return bool(self.t[0] <= 0.0 and self.t[-1] >= horizon)
+
+
+Drive = Union[Pressure, PressureSeries, Hold, Valve, ValveSeries]
 
 
 @dataclass(frozen=True)
@@ -160,9 +256,9 @@ class Inputs:
     def __post_init__(self) -> None:
         for name in ("lift", "tilt"):
             d = getattr(self, name)
-            if not isinstance(d, (Pressure, PressureSeries, Hold)):
-                raise TypeError(f"Inputs.{name} must be Pressure, PressureSeries or Hold, "
-                                f"got {type(d).__name__}")
+            if not isinstance(d, (Pressure, PressureSeries, Hold, Valve, ValveSeries)):
+                raise TypeError(f"Inputs.{name} must be Pressure, PressureSeries, Hold, Valve or "
+                                f"ValveSeries, got {type(d).__name__}")
 
 
 @dataclass(frozen=True, eq=False)
@@ -172,7 +268,10 @@ class Trajectory:
     t (N,) s; strokes (N, 2) m; theta (N, 2) rad (lift angle, tilt angle relative to the lift
     boom); omega (N, 2) rad/s; tip (N, 3) m in the world frame (X, Y horizontal, Z up);
     stop (N, 2): -1 at stroke_min (cylinder fully retracted), +1 at stroke_max (fully extended),
-    0 otherwise.
+    0 otherwise; p_a, p_b (N, 2) Pa: the chamber pressures of a valve-driven cylinder, the given
+    pressures of a pressure-driven one, 0 for a held one; flow_a, flow_b (N, 2) m^3/s: the valve's
+    flow into the bore side and out of the rod side (0 unless valve-driven); spool (N, 2): the
+    spool position (0 unless valve-driven).
     ``points()`` gives the world positions of every pivot and pin, to draw the crane.
     """
 
@@ -186,6 +285,11 @@ class Trajectory:
     extension: float
     backend: str
     _points: Callable[[np.ndarray], np.ndarray] = field(repr=False)
+    p_a: Optional[np.ndarray] = None
+    p_b: Optional[np.ndarray] = None
+    flow_a: Optional[np.ndarray] = None
+    flow_b: Optional[np.ndarray] = None
+    spool: Optional[np.ndarray] = None
 
     def points(self) -> Dict[str, np.ndarray]:
         """World positions (N, 3) of each point in POINT_NAMES, computed on demand."""
@@ -220,6 +324,11 @@ class TrajectoryBatch:
     backend: str
     sample_every: int
     _points: Callable[[int, np.ndarray], np.ndarray] = field(repr=False)
+    p_a: Optional[np.ndarray] = None      #: (F, N, 2) Pa, as Trajectory.p_a
+    p_b: Optional[np.ndarray] = None
+    flow_a: Optional[np.ndarray] = None
+    flow_b: Optional[np.ndarray] = None
+    spool: Optional[np.ndarray] = None
 
     def __len__(self) -> int:
         return int(self.tip.shape[0])
@@ -231,8 +340,8 @@ class TrajectoryBatch:
         if not -n <= k < n:
             raise IndexError(f"future index {k} out of range for {n} futures")
         k = int(k) % n
-        arrays = {name: getattr(self, name) if name == "t" else getattr(self, name)[k]
-                  for name in ARRAYS}
+        arrays = {name: getattr(self, name) if name == "t" or getattr(self, name) is None
+                  else getattr(self, name)[k] for name in ARRAYS}
         return Trajectory(**arrays, slew=float(self.slew[k]), extension=float(self.extension[k]),
                           backend=self.backend,
                           _points=lambda theta, _k=k: self._points(_k, theta))

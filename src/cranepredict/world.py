@@ -35,13 +35,21 @@ OBSTACLE_KINDS: Dict[str, Tuple[Tuple[str, ...], Dict[str, Any]]] = {
 _VECTORS = {"point", "normal", "centre", "size", "base", "a", "b"}
 
 
+#: The largest coordinate or size accepted, m (the C core's CRANE_GUARD_LENGTH_MAX).
+LENGTH_MAX = 1e6
+
+
+def _length(value: Any, where: str) -> float:
+    x = _number(value, where)
+    if not abs(x) <= LENGTH_MAX:
+        raise ValueError(f"{where} must be within +-{LENGTH_MAX:g} m, got {x:g}")
+    return x
+
+
 def _vec3(value: Any, where: str) -> Vec3:
     if isinstance(value, (str, bytes)) or not hasattr(value, "__len__") or len(value) != 3:
         raise TypeError(f"{where} must be [x, y, z] in m, got {value!r}")
-    v = tuple(_number(x, f"{where}[{i}]") for i, x in enumerate(value))
-    if not all(math.isfinite(x) for x in v):
-        raise ValueError(f"{where} must be finite, got {list(v)}")
-    return v  # type: ignore[return-value]
+    return tuple(_length(x, f"{where}[{i}]") for i, x in enumerate(value))  # type: ignore[return-value]
 
 
 @dataclass(frozen=True)
@@ -77,9 +85,12 @@ class Obstacle:
             raise ValueError(f"{where}.{missing[0]} is missing (a {kind} needs {', '.join(required)})")
         out: Dict[str, Any] = dict(optional)
         for key, value in values.items():
-            out[key] = _vec3(value, f"{where}.{key}") if key in _VECTORS else _number(value, f"{where}.{key}")
-            if key not in _VECTORS and not math.isfinite(out[key]):
-                raise ValueError(f"{where}.{key} must be finite, got {out[key]}")
+            if key in _VECTORS:
+                out[key] = _vec3(value, f"{where}.{key}")
+            elif key == "yaw":
+                out[key] = _number(value, f"{where}.{key}")
+            else:
+                out[key] = _length(value, f"{where}.{key}")
         if kind == "plane" and not np.linalg.norm(out["normal"]) > 0:
             raise ValueError(f"{where}.normal must not be zero")
         if kind == "box" and not min(out["size"]) > 0:

@@ -17,6 +17,11 @@ overrides its load, and gives the initial state, the drive of each cylinder and 
     p_b = 0.0
     [inputs.tilt]              # ... or hold = true, or sampled: t = [...], p_a = [...], p_b = [...]
     hold = true
+
+A valve-driven cylinder takes the lever, ``u = 0.5`` or sampled ``t = [...], u = [...]``; its
+chamber pressures go into ``[initial]`` (``lift_p_a = ...``), or ``at_rest = true`` there starts
+from :func:`cranepredict.state_at_rest` at the given strokes (slew, extension and
+``lift_rod_pressure``/``tilt_rod_pressure`` allowed too).
 """
 
 from __future__ import annotations
@@ -29,7 +34,7 @@ import numpy as np
 
 from .._checks import number, tomllib
 from ..crane import Crane
-from ..types import Drive, Hold, Inputs, Pressure, PressureSeries, State
+from ..types import Drive, Hold, Inputs, Pressure, PressureSeries, State, Valve, ValveSeries
 
 __all__ = ["Scenario", "get", "names", "all_scenarios", "from_dict", "random_case", "random_drive"]
 
@@ -55,8 +60,25 @@ def _drive(d: Mapping[str, Any], where: str) -> Drive:
         return Pressure(p_a=d["p_a"], p_b=d["p_b"])
     if keys == {"t", "p_a", "p_b"}:
         return PressureSeries(t=d["t"], p_a=d["p_a"], p_b=d["p_b"])
-    raise ValueError(f"{where} must have either hold = true, or p_a and p_b, or t, p_a and p_b; "
-                     f"got keys {sorted(keys)}")
+    if keys == {"u"}:
+        return Valve(u=d["u"])
+    if keys == {"t", "u"}:
+        return ValveSeries(t=d["t"], u=d["u"])
+    raise ValueError(f"{where} must have either hold = true, or p_a and p_b, or t, p_a and p_b, "
+                     f"or u, or t and u; got keys {sorted(keys)}")
+
+
+def _initial(crane: Crane, d: Any, where: str) -> State:
+    """[initial]: State fields, or at_rest = true and the arguments of state_at_rest."""
+    if isinstance(d, Mapping) and d.get("at_rest", False) is True:
+        from ..api import state_at_rest
+
+        args = {k: v for k, v in d.items() if k != "at_rest"}
+        try:
+            return state_at_rest(crane, **args)
+        except TypeError as exc:  # an unknown or missing argument
+            raise TypeError(f"{where} (at_rest): {exc}") from None
+    return _state(d, where)
 
 
 def _state(d: Any, where: str) -> State:
@@ -97,7 +119,7 @@ def from_dict(data: Mapping[str, Any], where: str = "scenario") -> Scenario:
         name=data["name"],
         description=data.get("description", ""),
         crane=crane,
-        initial=_state(data["initial"], f"{where}.initial"),
+        initial=_initial(crane, data["initial"], f"{where}.initial"),
         inputs=Inputs(lift=_drive(inputs["lift"], f"{where}.inputs.lift"),
                       tilt=_drive(inputs["tilt"], f"{where}.inputs.tilt")),
         horizon=number(data["horizon"], f"{where}.horizon"),

@@ -1,0 +1,159 @@
+/* SPDX-License-Identifier: MIT */
+/*
+ * Valve-driven cylinders: the valve's flows, the chamber equations and the stiffness bound that
+ * sets the substeps (docs/model.md, "Hydraulics"). Everything here runs on validated inputs.
+ */
+#include "crane_internal.h"
+
+#if CRANE_HYDRAULICS
+/* Substeps keep lambda h / n below this: RK4 is stable on the negative real axis up to 2.785,
+ * and the 10 % margin covers the chamber volumes changing within a step. */
+static const crane_real SUBSTEP_STABILITY = (crane_real)2.5;
+
+/* g(dp): the signed square root of the orifice law, replaced for |dp| < d_l by the odd cubic
+ * that meets it with the same value and slope, so that the flows stay Lipschitz at dp = 0. */
+static CRANE__ALWAYS_INLINE crane_real orifice(crane_real dp, crane_real dl)
+{
+    crane_real x;
+
+    if (dp >= dl)
+        return crane__sqrt(dp);
+    if (dp <= -dl)
+        return -crane__sqrt(-dp);
+    x = dp / dl;
+    return crane__sqrt(dl) * x * (5 - x * x) * (crane_real)0.25;
+}
+
+/* phi(x) of the compensated valve's meter-in edge: the compensator cannot push oil into a
+ * chamber above the supply pressure; C1 between 0 and 1. */
+static CRANE__ALWAYS_INLINE crane_real saturation(crane_real x)
+{
+    if (x <= 0)
+        return 0;
+    if (x >= 1)
+        return 1;
+    return x * (3 - x * x) * (crane_real)0.5;
+}
+
+static CRANE__ALWAYS_INLINE crane_real gain(const crane_hydraulics *h)
+{
+    return h->nominal_flow / crane__sqrt(h->nominal_pressure_drop);
+}
+
+/* The steepest pressure-flow slope of the valve; the relief and anti-cavitation valves open with
+ * it too, so that they add no stiffness of their own. */
+static CRANE__ALWAYS_INLINE crane_real gradient(const crane_hydraulics *h)
+{
+    if (h->valve == CRANE_VALVE_COMPENSATED) {
+        const crane_real km = h->meter_out_flow / crane__sqrt(h->meter_out_pressure_drop);
+        const crane_real g_out = (crane_real)1.25 * km / crane__sqrt(h->laminar_pressure_drop);
+        const crane_real g_in = (crane_real)1.5 * h->nominal_flow / h->laminar_pressure_drop;
+        return g_out > g_in ? g_out : g_in;
+    }
+    return (crane_real)1.25 * gain(h) / crane__sqrt(h->laminar_pressure_drop);
+}
+
+void crane__valve_flows(const crane_hydraulics *h, crane_real y, crane_real p_a, crane_real p_b,
+                        crane_real *q_a, crane_real *q_b)
+{
+    const crane_real dl = h->laminar_pressure_drop;
+
+    if (h->valve != CRANE_VALVE_COMPENSATED) {
+        const crane_real k = y * gain(h);
+        if (y >= 0) {
+            *q_a = k * orifice(h->supply_pressure - p_a, dl);
+            *q_b = k * orifice(p_b - h->tank_pressure, dl);
+        } else {
+            *q_a = k * orifice(p_a - h->tank_pressure, dl);
+            *q_b = k * orifice(h->supply_pressure - p_b, dl);
+        }
+        return;
+    }
+    {
+        const crane_real u0 = h->dead_band;
+        const crane_real km = h->meter_out_flow / crane__sqrt(h->meter_out_pressure_drop);
+        if (y > u0) {
+            const crane_real r = (y - u0) / (1 - u0);
+            *q_a = r * h->nominal_flow * saturation((h->supply_pressure - p_a) / dl);
+            *q_b = r * km * orifice(p_b - h->tank_pressure, dl);
+        } else if (y < -u0) {
+            const crane_real r = (-y - u0) / (1 - u0);
+            *q_a = -r * km * orifice(p_a - h->tank_pressure, dl);
+            *q_b = -r * h->nominal_flow * saturation((h->supply_pressure - p_b) / dl);
+        } else {
+            *q_a = 0;
+            *q_b = 0;
+        }
+    }
+}
+
+/* Relief (to tank above p_R) and anti-cavitation (from tank below p_C): the flow into a chamber. */
+static CRANE__ALWAYS_INLINE crane_real limit_flow(const crane_hydraulics *h, crane_real g, crane_real p)
+{
+    if (p < h->cavitation_pressure)
+        return g * (h->cavitation_pressure - p);
+    if (p > h->relief_pressure)
+        return -g * (p - h->relief_pressure);
+    return 0;
+}
+
+/* C(V) = V / Be: the oil, the cylinder wall and the hose in series. */
+static CRANE__ALWAYS_INLINE crane_real compliance(const crane_hydraulics *h, crane_real v, crane_real v_hose)
+{
+    return v / h->oil_bulk_modulus + (v - v_hose) / h->cylinder_bulk_modulus +
+           v_hose / h->hose_bulk_modulus;
+}
+
+void crane__chamber_rates(const crane_model *m, int i, crane_real lever, crane_real stroke,
+                          crane_real v, const crane_real p[2], crane_real y, crane_real rate[3])
+{
+    const crane_hydraulics *h = m->hyd[i];
+    const crane_real g = gradient(h);
+    const crane_real v_a = h->hose_volume_a + m->area_a[i] * (stroke - m->stroke_min[i]);
+    const crane_real v_b = h->hose_volume_b + m->area_b[i] * (m->stroke_max[i] - stroke);
+    const crane_real q_l = h->leakage * (p[0] - p[1]);
+    crane_real q_a, q_b;
+
+    if (h->spool_time_constant > 0) {
+        rate[2] = (lever - y) / h->spool_time_constant;
+    } else {
+        y = lever;
+        rate[2] = 0;
+    }
+    crane__valve_flows(h, y, p[0], p[1], &q_a, &q_b);
+    rate[0] = (q_a - m->area_a[i] * v - q_l + limit_flow(h, g, p[0])) /
+              compliance(h, v_a, h->hose_volume_a);
+    rate[1] = (m->area_b[i] * v - q_b + q_l + limit_flow(h, g, p[1])) /
+              compliance(h, v_b, h->hose_volume_b);
+}
+
+long crane__substeps(const crane_model *m, const crane_real stroke[2], const int valve[2],
+                     crane_real h)
+{
+    crane_real lam = 0, n;
+    int i;
+
+    for (i = 0; i < 2; ++i) {
+        const crane_hydraulics *hy = m->hyd[i];
+        crane_real g, v_a, v_b, la, lb;
+        if (!valve[i])
+            continue;
+        g = 2 * gradient(hy) + hy->leakage;
+        v_a = hy->hose_volume_a + m->area_a[i] * (stroke[i] - m->stroke_min[i]);
+        v_b = hy->hose_volume_b + m->area_b[i] * (m->stroke_max[i] - stroke[i]);
+        la = g / compliance(hy, v_a, hy->hose_volume_a);
+        lb = g / compliance(hy, v_b, hy->hose_volume_b);
+        if (la > lam)
+            lam = la;
+        if (lb > lam)
+            lam = lb;
+    }
+    n = crane__ceil(h * lam / SUBSTEP_STABILITY);
+    /* Bounded so that a long fits: a prediction that would need more substeps than
+     * CRANE_MAX_STEPS is refused before it runs (predict.c, check_work), so this never binds
+     * while integrating. */
+    if (!(n <= (crane_real)CRANE_MAX_STEPS))
+        n = (crane_real)CRANE_MAX_STEPS + 1;
+    return n < 1 ? 1 : (long)n;
+}
+#endif /* CRANE_HYDRAULICS */
