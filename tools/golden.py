@@ -30,7 +30,7 @@ from typing import List, Tuple
 import numpy as np
 
 import cranepredict as cp
-from cranepredict.types import Hold, Pressure, PressureSeries
+from cranepredict.types import Hold, Pressure, PressureSeries, Valve, ValveSeries
 
 ROOT = Path(__file__).resolve().parents[1]
 SCENARIOS_H = ROOT / "csrc" / "example" / "crane_scenarios.h"
@@ -76,7 +76,16 @@ def _drive(d) -> str | None:
             return "(const crane_real[]){" + ", ".join(_r(v) for v in a) + "}"
         return (f"{{.mode = CRANE_DRIVE_PRESSURE, .t = {arr(d.t)}, .p_a_samples = {arr(d.p_a)}, "
                 f".p_b_samples = {arr(d.p_b)}, .n_samples = {len(d.t)}}}")
+    if isinstance(d, Valve):
+        return f"{{.mode = CRANE_DRIVE_VALVE, .u = {_r(d.u)}}}"
+    if isinstance(d, ValveSeries):
+        return (f"{{.mode = CRANE_DRIVE_VALVE, .t = {_arr(d.t)}, .u_samples = {_arr(d.u)}, "
+                f".n_samples = {len(d.t)}}}")
     return None
+
+
+def _arr(a) -> str:
+    return "(const crane_real[]){" + ", ".join(_r(v) for v in a) + "}"
 
 
 def written() -> List:
@@ -113,12 +122,23 @@ def scenarios_header() -> str:
         out.append(f"#define CRANE_SCENARIO_{x}_STATE {{ \\\n"
                    f"    .stroke = {{{_r(s.lift_stroke)}, {_r(s.tilt_stroke)}}}, \\\n"
                    f"    .stroke_rate = {{{_r(s.lift_stroke_rate)}, {_r(s.tilt_stroke_rate)}}}, \\\n"
-                   f"    .slew = {_r(s.slew)}, .extension = {_r(s.extension)}}}")
+                   f"    .slew = {_r(s.slew)}, .extension = {_r(s.extension)}"
+                   + _chambers(s) + "}")
         out.append(f"#define CRANE_SCENARIO_{x}_INPUTS {{.drive = {{ \\\n"
                    f"    {_drive(sc.inputs.lift)}, \\\n    {_drive(sc.inputs.tilt)}}}}}")
         out.append(f"#define CRANE_SCENARIO_{x}_HORIZON {_r(sc.horizon)}")
     out.append("\n#endif\n")
     return "\n".join(out)
+
+
+def _chambers(s) -> str:
+    """The state's chamber pressures and spools (valve-driven cylinders, issue 9), if any."""
+    p = [s.lift_p_a, s.tilt_p_a, s.lift_p_b, s.tilt_p_b]
+    if all(v is None for v in p) and s.lift_spool == 0 and s.tilt_spool == 0:
+        return ""
+    p = [0.0 if v is None else v for v in p]
+    return (f", \\\n    .p_a = {{{_r(p[0])}, {_r(p[1])}}}, .p_b = {{{_r(p[2])}, {_r(p[3])}}}, "
+            f".spool = {{{_r(s.lift_spool)}, {_r(s.tilt_spool)}}}")
 
 
 def _first_stops(stop: np.ndarray) -> Tuple[int, int]:
