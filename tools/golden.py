@@ -13,7 +13,7 @@ they check themselves against these files. Two generated files, both committed:
                                      sample every 50 ms and the last one, and the first stop samples
 
     python3 tools/golden.py            # write both files
-    python3 tools/golden.py --check    # exit 1 if a committed file is stale (numbers to 1e-12)
+    python3 tools/golden.py --check    # exit 1 if a committed file is stale (numbers to 1e-10)
 
 Needs the package installed (the twin, the scenarios); tests/test_golden.py runs --check.
 """
@@ -198,9 +198,10 @@ def golden_header() -> str:
 _NUMBER = re.compile(r"-?(?:\d+\.\d*|\.\d+|\d+)(?:[eE][-+]?\d+)?")
 
 
-def same(old: str, new: str, rel: float = 1e-12, abs_: float = 1e-12) -> bool:
-    """Equal text except numbers, which agree to rel/abs (the twin's last bits may differ across
-    platforms' libm)."""
+def same(old: str, new: str, rel: float = 1e-10, abs_: float = 1e-10) -> bool:
+    """Equal text except numbers, which agree to rel/abs: the twin's last bits differ across
+    platforms' libm and with the order of its arithmetic (a 1e7 Pa chamber pressure moves by 4e-7
+    Pa), far below the C tests' tolerances (1e-9 m, 1e-3 Pa in double)."""
     if _NUMBER.sub("#", old) != _NUMBER.sub("#", new):
         return False
     a = [float(v) for v in _NUMBER.findall(old)]
