@@ -30,7 +30,7 @@ from typing import List, Tuple
 import numpy as np
 
 import cranepredict as cp
-from cranepredict.types import Hold, Pressure, PressureSeries
+from cranepredict.types import Hold, Pressure, PressureSeries, Valve, ValveSeries
 
 ROOT = Path(__file__).resolve().parents[1]
 SCENARIOS_H = ROOT / "csrc" / "example" / "crane_scenarios.h"
@@ -65,6 +65,10 @@ def _r(x: float) -> str:
     return f"CRANE_R({_lit(x)})"
 
 
+def _arr(a) -> str:
+    return "(const crane_real[]){" + ", ".join(_r(v) for v in a) + "}"
+
+
 def _drive(d) -> str | None:
     """The crane_drive initializer, or None for a drive type this generator does not write yet."""
     if isinstance(d, Hold):
@@ -72,11 +76,26 @@ def _drive(d) -> str | None:
     if isinstance(d, Pressure):
         return f"{{.mode = CRANE_DRIVE_PRESSURE, .p_a = {_r(d.p_a)}, .p_b = {_r(d.p_b)}}}"
     if isinstance(d, PressureSeries):
-        def arr(a) -> str:
-            return "(const crane_real[]){" + ", ".join(_r(v) for v in a) + "}"
-        return (f"{{.mode = CRANE_DRIVE_PRESSURE, .t = {arr(d.t)}, .p_a_samples = {arr(d.p_a)}, "
-                f".p_b_samples = {arr(d.p_b)}, .n_samples = {len(d.t)}}}")
+        return (f"{{.mode = CRANE_DRIVE_PRESSURE, .t = {_arr(d.t)}, .p_a_samples = {_arr(d.p_a)}, "
+                f".p_b_samples = {_arr(d.p_b)}, .n_samples = {len(d.t)}}}")
+    if isinstance(d, Valve):
+        return f"{{.mode = CRANE_DRIVE_VALVE, .u = {_r(d.u)}}}"
+    if isinstance(d, ValveSeries):
+        return (f"{{.mode = CRANE_DRIVE_VALVE, .t = {_arr(d.t)}, .u_samples = {_arr(d.u)}, "
+                f".n_samples = {len(d.t)}}}")
     return None
+
+
+def _chambers(s) -> str:
+    """A valve-driven cylinder's chamber pressures and spools (none given: 0, as in C)."""
+    p_a = [s.lift_p_a, s.tilt_p_a]
+    p_b = [s.lift_p_b, s.tilt_p_b]
+    if all(v is None for v in p_a + p_b) and s.lift_spool == 0 and s.tilt_spool == 0:
+        return ""
+    def pair(a, b) -> str:
+        return f"{{{_r(a or 0.0)}, {_r(b or 0.0)}}}"
+    return (f", \\\n    .p_a = {pair(*p_a)}, .p_b = {pair(*p_b)}, "
+            f".spool = {pair(s.lift_spool, s.tilt_spool)}")
 
 
 def written() -> List:
@@ -113,7 +132,8 @@ def scenarios_header() -> str:
         out.append(f"#define CRANE_SCENARIO_{x}_STATE {{ \\\n"
                    f"    .stroke = {{{_r(s.lift_stroke)}, {_r(s.tilt_stroke)}}}, \\\n"
                    f"    .stroke_rate = {{{_r(s.lift_stroke_rate)}, {_r(s.tilt_stroke_rate)}}}, \\\n"
-                   f"    .slew = {_r(s.slew)}, .extension = {_r(s.extension)}}}")
+                   f"    .slew = {_r(s.slew)}, .extension = {_r(s.extension)}"
+                   + _chambers(s) + "}")
         out.append(f"#define CRANE_SCENARIO_{x}_INPUTS {{.drive = {{ \\\n"
                    f"    {_drive(sc.inputs.lift)}, \\\n    {_drive(sc.inputs.tilt)}}}}}")
         out.append(f"#define CRANE_SCENARIO_{x}_HORIZON {_r(sc.horizon)}")
