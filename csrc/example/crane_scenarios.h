@@ -156,4 +156,88 @@
     {.mode = CRANE_DRIVE_PRESSURE, .p_a = CRANE_R(0.0), .p_b = CRANE_R(3000000.0)}}}
 #define CRANE_SCENARIO_TILT_ALONE_HORIZON CRANE_R(2.0)
 
+/* valve-both-levers: Both levers: the lift lever at 0.7 (extend) and the tilt lever at -0.6 (retract) from rest at once, 200 kg. */
+#define CRANE_SCENARIO_VALVE_BOTH_LEVERS_LOAD_MASS CRANE_R(200.0)
+#define CRANE_SCENARIO_VALVE_BOTH_LEVERS_STATE { \
+    .stroke = {CRANE_R(0.2), CRANE_R(0.4)}, \
+    .stroke_rate = {CRANE_R(0.0), CRANE_R(0.0)}, \
+    .slew = CRANE_R(0.0), .extension = CRANE_R(0.0), \
+    .p_a = {CRANE_R(6178987.191041451), CRANE_R(100000.0)}, .p_b = {CRANE_R(100000.0), CRANE_R(2333301.3827653583)}, .spool = {CRANE_R(0.0), CRANE_R(0.0)}}
+#define CRANE_SCENARIO_VALVE_BOTH_LEVERS_INPUTS {.drive = { \
+    {.mode = CRANE_DRIVE_VALVE, .u = CRANE_R(0.7)}, \
+    {.mode = CRANE_DRIVE_VALVE, .u = CRANE_R(-0.6)}}}
+#define CRANE_SCENARIO_VALVE_BOTH_LEVERS_HORIZON CRANE_R(2.0)
+
+/* valve-closed-500: The lift valve closed holding 500 kg on its oil spring while the tilt lever is opened to 0.5 (retract) between 0.2 and 0.7 s and closed again: the lift's trapped oil carries the changing load and rings. */
+#define CRANE_SCENARIO_VALVE_CLOSED_500_LOAD_MASS CRANE_R(500.0)
+#define CRANE_SCENARIO_VALVE_CLOSED_500_STATE { \
+    .stroke = {CRANE_R(0.2), CRANE_R(0.4)}, \
+    .stroke_rate = {CRANE_R(0.0), CRANE_R(0.0)}, \
+    .slew = CRANE_R(0.0), .extension = CRANE_R(0.0), \
+    .p_a = {CRANE_R(10982290.630781185), CRANE_R(100000.0)}, .p_b = {CRANE_R(100000.0), CRANE_R(4793972.433945875)}, .spool = {CRANE_R(0.0), CRANE_R(0.0)}}
+#define CRANE_SCENARIO_VALVE_CLOSED_500_INPUTS {.drive = { \
+    {.mode = CRANE_DRIVE_VALVE, .u = CRANE_R(0.0)}, \
+    {.mode = CRANE_DRIVE_VALVE, .t = (const crane_real[]){CRANE_R(0.0), CRANE_R(0.2), CRANE_R(0.25), CRANE_R(0.65), CRANE_R(0.7), CRANE_R(2.0)}, .u_samples = (const crane_real[]){CRANE_R(0.0), CRANE_R(0.0), CRANE_R(-0.5), CRANE_R(-0.5), CRANE_R(0.0), CRANE_R(0.0)}, .n_samples = 6}}}
+#define CRANE_SCENARIO_VALVE_CLOSED_500_HORIZON CRANE_R(2.0)
+
+/* valve-end-stop: Driving into an end stop: the lift lever fully open (extend) from rest near the top of the stroke; the piston reaches its upper stop and the bore-side pressure builds towards the supply pressure (the PATU's relief setting is above its supply, so the relief stays shut), 200 kg. */
+#define CRANE_SCENARIO_VALVE_END_STOP_LOAD_MASS CRANE_R(200.0)
+#define CRANE_SCENARIO_VALVE_END_STOP_STATE { \
+    .stroke = {CRANE_R(0.47), CRANE_R(0.3)}, \
+    .stroke_rate = {CRANE_R(0.0), CRANE_R(0.0)}, \
+    .slew = CRANE_R(0.0), .extension = CRANE_R(0.0), \
+    .p_a = {CRANE_R(5206049.449543527), CRANE_R(100000.0)}, .p_b = {CRANE_R(100000.0), CRANE_R(2745699.1074384744)}, .spool = {CRANE_R(0.0), CRANE_R(0.0)}}
+#define CRANE_SCENARIO_VALVE_END_STOP_INPUTS {.drive = { \
+    {.mode = CRANE_DRIVE_VALVE, .u = CRANE_R(1.0)}, \
+    {.mode = CRANE_DRIVE_VALVE, .u = CRANE_R(0.0)}}}
+#define CRANE_SCENARIO_VALVE_END_STOP_HORIZON CRANE_R(2.0)
+
+/* valve-lift-reverse: Reversing the lever: the lift lever fully open (extend) from rest, then pulled through to fully reversed (lower) over 0.1 s at 0.8 s, 500 kg; the tilt valve stays closed. */
+#define CRANE_SCENARIO_VALVE_LIFT_REVERSE_LOAD_MASS CRANE_R(500.0)
+#define CRANE_SCENARIO_VALVE_LIFT_REVERSE_STATE { \
+    .stroke = {CRANE_R(0.25), CRANE_R(0.3)}, \
+    .stroke_rate = {CRANE_R(0.0), CRANE_R(0.0)}, \
+    .slew = CRANE_R(0.0), .extension = CRANE_R(0.0), \
+    .p_a = {CRANE_R(11841609.066659465), CRANE_R(100000.0)}, .p_b = {CRANE_R(100000.0), CRANE_R(6105370.016371044)}, .spool = {CRANE_R(0.0), CRANE_R(0.0)}}
+#define CRANE_SCENARIO_VALVE_LIFT_REVERSE_INPUTS {.drive = { \
+    {.mode = CRANE_DRIVE_VALVE, .t = (const crane_real[]){CRANE_R(0.0), CRANE_R(0.8), CRANE_R(0.9), CRANE_R(2.0)}, .u_samples = (const crane_real[]){CRANE_R(1.0), CRANE_R(1.0), CRANE_R(-1.0), CRANE_R(-1.0)}, .n_samples = 4}, \
+    {.mode = CRANE_DRIVE_VALVE, .u = CRANE_R(0.0)}}}
+#define CRANE_SCENARIO_VALVE_LIFT_REVERSE_HORIZON CRANE_R(2.0)
+
+/* valve-lift-step: Lever step from rest: the lift lever goes from closed to fully open (extend) at 0.1 s; the tilt valve stays closed (its oil spring carries the outer boom), 200 kg, starting at rest. */
+#define CRANE_SCENARIO_VALVE_LIFT_STEP_LOAD_MASS CRANE_R(200.0)
+#define CRANE_SCENARIO_VALVE_LIFT_STEP_STATE { \
+    .stroke = {CRANE_R(0.2), CRANE_R(0.3)}, \
+    .stroke_rate = {CRANE_R(0.0), CRANE_R(0.0)}, \
+    .slew = CRANE_R(0.0), .extension = CRANE_R(0.0), \
+    .p_a = {CRANE_R(6572430.490678124), CRANE_R(100000.0)}, .p_b = {CRANE_R(100000.0), CRANE_R(2710935.798333591)}, .spool = {CRANE_R(0.0), CRANE_R(0.0)}}
+#define CRANE_SCENARIO_VALVE_LIFT_STEP_INPUTS {.drive = { \
+    {.mode = CRANE_DRIVE_VALVE, .t = (const crane_real[]){CRANE_R(0.0), CRANE_R(0.1), CRANE_R(0.11), CRANE_R(2.0)}, .u_samples = (const crane_real[]){CRANE_R(0.0), CRANE_R(0.0), CRANE_R(1.0), CRANE_R(1.0)}, .n_samples = 4}, \
+    {.mode = CRANE_DRIVE_VALVE, .u = CRANE_R(0.0)}}}
+#define CRANE_SCENARIO_VALVE_LIFT_STEP_HORIZON CRANE_R(2.0)
+
+/* valve-lower-heavy: Lowering a heavy load: 500 kg with the outer boom folded in, where the tilt cylinder holds it in tension on the rod side; the tilt lever fully open (extend) lets the load run ahead of the oil, so the bore side falls to the cavitation floor while the rod side meters it out. */
+#define CRANE_SCENARIO_VALVE_LOWER_HEAVY_LOAD_MASS CRANE_R(500.0)
+#define CRANE_SCENARIO_VALVE_LOWER_HEAVY_STATE { \
+    .stroke = {CRANE_R(0.35), CRANE_R(0.2)}, \
+    .stroke_rate = {CRANE_R(0.0), CRANE_R(0.0)}, \
+    .slew = CRANE_R(0.0), .extension = CRANE_R(0.0), \
+    .p_a = {CRANE_R(11435648.948466873), CRANE_R(100000.0)}, .p_b = {CRANE_R(100000.0), CRANE_R(6086345.682005781)}, .spool = {CRANE_R(0.0), CRANE_R(0.0)}}
+#define CRANE_SCENARIO_VALVE_LOWER_HEAVY_INPUTS {.drive = { \
+    {.mode = CRANE_DRIVE_VALVE, .u = CRANE_R(0.0)}, \
+    {.mode = CRANE_DRIVE_VALVE, .u = CRANE_R(1.0)}}}
+#define CRANE_SCENARIO_VALVE_LOWER_HEAVY_HORIZON CRANE_R(2.0)
+
+/* valve-slow-ramp: Slow ramp: the lift lever opens linearly from closed to fully open (extend) over 2 s, 200 kg; the tilt valve stays closed. */
+#define CRANE_SCENARIO_VALVE_SLOW_RAMP_LOAD_MASS CRANE_R(200.0)
+#define CRANE_SCENARIO_VALVE_SLOW_RAMP_STATE { \
+    .stroke = {CRANE_R(0.15), CRANE_R(0.3)}, \
+    .stroke_rate = {CRANE_R(0.0), CRANE_R(0.0)}, \
+    .slew = CRANE_R(0.0), .extension = CRANE_R(0.0), \
+    .p_a = {CRANE_R(6651622.511669741), CRANE_R(100000.0)}, .p_b = {CRANE_R(100000.0), CRANE_R(2464712.0845374214)}, .spool = {CRANE_R(0.0), CRANE_R(0.0)}}
+#define CRANE_SCENARIO_VALVE_SLOW_RAMP_INPUTS {.drive = { \
+    {.mode = CRANE_DRIVE_VALVE, .t = (const crane_real[]){CRANE_R(0.0), CRANE_R(2.0)}, .u_samples = (const crane_real[]){CRANE_R(0.0), CRANE_R(1.0)}, .n_samples = 2}, \
+    {.mode = CRANE_DRIVE_VALVE, .u = CRANE_R(0.0)}}}
+#define CRANE_SCENARIO_VALVE_SLOW_RAMP_HORIZON CRANE_R(2.0)
+
 #endif
