@@ -65,10 +65,6 @@ def _r(x: float) -> str:
     return f"CRANE_R({_lit(x)})"
 
 
-def _arr(a) -> str:
-    return "(const crane_real[]){" + ", ".join(_r(v) for v in a) + "}"
-
-
 def _drive(d) -> str | None:
     """The crane_drive initializer, or None for a drive type this generator does not write yet."""
     if isinstance(d, Hold):
@@ -76,8 +72,10 @@ def _drive(d) -> str | None:
     if isinstance(d, Pressure):
         return f"{{.mode = CRANE_DRIVE_PRESSURE, .p_a = {_r(d.p_a)}, .p_b = {_r(d.p_b)}}}"
     if isinstance(d, PressureSeries):
-        return (f"{{.mode = CRANE_DRIVE_PRESSURE, .t = {_arr(d.t)}, .p_a_samples = {_arr(d.p_a)}, "
-                f".p_b_samples = {_arr(d.p_b)}, .n_samples = {len(d.t)}}}")
+        def arr(a) -> str:
+            return "(const crane_real[]){" + ", ".join(_r(v) for v in a) + "}"
+        return (f"{{.mode = CRANE_DRIVE_PRESSURE, .t = {arr(d.t)}, .p_a_samples = {arr(d.p_a)}, "
+                f".p_b_samples = {arr(d.p_b)}, .n_samples = {len(d.t)}}}")
     if isinstance(d, Valve):
         return f"{{.mode = CRANE_DRIVE_VALVE, .u = {_r(d.u)}}}"
     if isinstance(d, ValveSeries):
@@ -86,20 +84,12 @@ def _drive(d) -> str | None:
     return None
 
 
-def _chambers(s) -> str:
-    """A valve-driven cylinder's chamber pressures and spools (none given: 0, as in C)."""
-    p_a = [s.lift_p_a, s.tilt_p_a]
-    p_b = [s.lift_p_b, s.tilt_p_b]
-    if all(v is None for v in p_a + p_b) and s.lift_spool == 0 and s.tilt_spool == 0:
-        return ""
-    def pair(a, b) -> str:
-        return f"{{{_r(a or 0.0)}, {_r(b or 0.0)}}}"
-    return (f", \\\n    .p_a = {pair(*p_a)}, .p_b = {pair(*p_b)}, "
-            f".spool = {pair(s.lift_spool, s.tilt_spool)}")
+def _arr(a) -> str:
+    return "(const crane_real[]){" + ", ".join(_r(v) for v in a) + "}"
 
 
 def written() -> List:
-    """The scenarios crane_scenarios.h carries: those whose drives _drive can write."""
+    """The scenarios both files carry: those whose drives _drive can write."""
     return [sc for sc in cp.scenarios.all_scenarios()
             if _drive(sc.inputs.lift) is not None and _drive(sc.inputs.tilt) is not None]
 
@@ -152,6 +142,16 @@ def scenarios_header() -> str:
         out.append(f"#define CRANE_SCENARIO_{x}_HORIZON {_r(sc.horizon)}")
     out.append("\n#endif\n")
     return "\n".join(out)
+
+
+def _chambers(s) -> str:
+    """The state's chamber pressures and spools (valve-driven cylinders, issue 9), if any."""
+    p = [s.lift_p_a, s.tilt_p_a, s.lift_p_b, s.tilt_p_b]
+    if all(v is None for v in p) and s.lift_spool == 0 and s.tilt_spool == 0:
+        return ""
+    p = [0.0 if v is None else v for v in p]
+    return (f", \\\n    .p_a = {{{_r(p[0])}, {_r(p[1])}}}, .p_b = {{{_r(p[2])}, {_r(p[3])}}}, "
+            f".spool = {{{_r(s.lift_spool)}, {_r(s.tilt_spool)}}}")
 
 
 def _first_stops(stop: np.ndarray) -> Tuple[int, int]:
