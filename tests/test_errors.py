@@ -156,3 +156,15 @@ def test_a_scenario_file_error_names_the_file_and_field(change, exc, words):
     change(data)
     with pytest.raises(exc, match=words):
         cp.scenarios.from_dict(data, "odd.toml")
+
+
+# ValveSeries had the gap PressureSeries had: a huge int in a sampled signal gave a bare
+# "OverflowError: int too large to convert to float".
+@pytest.mark.parametrize("make, name", [
+    (lambda: cp.ValveSeries(t=[0.0, HUGE], u=[0.0, 0.0]), "ValveSeries.t"),
+    (lambda: cp.ValveSeries(t=[0.0, 2.0], u=[0.0, HUGE]), "ValveSeries.u"),
+    (lambda: cp.PressureSeries(t=[0.0, HUGE], p_a=[0.0, 0.0], p_b=[0.0, 0.0]), "PressureSeries.t"),
+])
+def test_a_huge_int_in_a_sampled_signal_names_the_field(make, name):
+    with pytest.raises(ValueError, match=rf"^{name} must be finite: it holds an int too large"):
+        make()

@@ -34,6 +34,11 @@ FOUR_JOINT_FIELDS = ("pillar", "slew_drive", "extension_cylinder")
 FOUR_JOINT_BODY_FIELDS = ("ixx", "iyy", "ixy")
 
 
+def _disc_area(diameter: float) -> float:
+    """Area of a circle of the given diameter, m^2 (a piston, a rod)."""
+    return math.pi * diameter**2 / 4.0
+
+
 @dataclass(frozen=True)
 class Body:
     """A rigid body: mass (kg), centre of mass in its own frame (m), Izz about the centre (kg m^2).
@@ -108,12 +113,12 @@ class Cylinder:
     @property
     def area_a(self) -> float:
         """Bore-side piston area, m^2."""
-        return math.pi * self.bore**2 / 4.0
+        return _disc_area(self.bore)
 
     @property
     def area_b(self) -> float:
         """Rod-side annulus area, m^2."""
-        return math.pi * (self.bore**2 - self.rod**2) / 4.0
+        return _disc_area(self.bore) - _disc_area(self.rod)
 
 
 @dataclass(frozen=True)
@@ -131,7 +136,7 @@ class SlewDrive:
     @property
     def area(self) -> float:
         """One cylinder's piston area, m^2 (both chambers of the equivalent cylinder)."""
-        return math.pi * self.bore**2 / 4.0
+        return _disc_area(self.bore)
 
     @property
     def displacement(self) -> float:
@@ -151,12 +156,12 @@ class ExtensionCylinder:
     @property
     def area_a(self) -> float:
         """Bore-side piston area, m^2."""
-        return math.pi * self.bore**2 / 4.0
+        return _disc_area(self.bore)
 
     @property
     def area_b(self) -> float:
         """Rod-side annulus area, m^2."""
-        return math.pi * (self.bore**2 - self.rod**2) / 4.0
+        return _disc_area(self.bore) - _disc_area(self.rod)
 
 
 @dataclass(frozen=True)

@@ -7,7 +7,7 @@ Index 0 of every (N, 2) array is the lift cylinder/joint, index 1 the tilt cylin
 from __future__ import annotations
 
 from dataclasses import dataclass, field
-from typing import Callable, Dict, Optional, Tuple, Union
+from typing import Any, Callable, Dict, Optional, Tuple, Union
 
 import numpy as np
 
@@ -115,6 +115,16 @@ class Pressure:
         return None
 
 
+def _float_array(value: Any, name: str) -> np.ndarray:
+    """A copy of a sampled signal as a float array; a huge int or a non-number names the field."""
+    try:
+        return np.array(value, dtype=float, copy=True)
+    except OverflowError:
+        raise ValueError(f"{name} must be finite: it holds an int too large for a float") from None
+    except (TypeError, ValueError):
+        raise TypeError(f"{name} must be a sequence of numbers") from None
+
+
 @dataclass(frozen=True)
 class PressureSeries:
     """Chamber pressures sampled at times t (s, strictly increasing, covering [0, horizon]),
@@ -128,13 +138,7 @@ class PressureSeries:
     def __post_init__(self) -> None:
         arrays = {}
         for name in ("t", "p_a", "p_b"):
-            try:
-                a = np.array(getattr(self, name), dtype=float, copy=True)
-            except OverflowError:
-                raise ValueError(f"PressureSeries.{name} must be finite: it holds an int too large "
-                                 "for a float") from None
-            except (TypeError, ValueError):
-                raise TypeError(f"PressureSeries.{name} must be a sequence of numbers") from None
+            a = _float_array(getattr(self, name), f"PressureSeries.{name}")
             if a.ndim != 1 or a.size < 2:
                 raise ValueError(f"PressureSeries.{name} must be 1-D with at least 2 samples, "
                                  f"got shape {a.shape}")
@@ -216,10 +220,7 @@ class ValveSeries:
     def __post_init__(self) -> None:
         arrays = {}
         for name in ("t", "u"):
-            try:
-                a = np.array(getattr(self, name), dtype=float, copy=True)
-            except (TypeError, ValueError):
-                raise TypeError(f"ValveSeries.{name} must be a sequence of numbers") from None
+            a = _float_array(getattr(self, name), f"ValveSeries.{name}")
             if a.ndim != 1 or a.size < 2:
                 raise ValueError(f"ValveSeries.{name} must be 1-D with at least 2 samples, "
                                  f"got shape {a.shape}")
