@@ -11,6 +11,7 @@ import numpy as np
 from ._checks import MAX_SAMPLES, MAX_STEPS, kept_samples, step_count
 from ._checks import number as _number
 from .crane import Crane
+from .statics import holding_forces
 from .types import (ARRAYS, Hold, Inputs, PressureSeries, State, Trajectory, TrajectoryBatch,
                     Valve, ValveSeries)
 
@@ -162,20 +163,14 @@ def state_at_rest(crane: Crane, lift_stroke: float, tilt_stroke: float, *, slew:
         raise TypeError(f"crane must be a cranepredict.Crane, got {type(crane).__name__}")
     base = State(lift_stroke=lift_stroke, tilt_stroke=tilt_stroke, slew=slew, extension=extension)
     _check_future(crane, base, Inputs(lift=Hold(), tilt=Hold()), 1.0)
-    theta = []
-    ratio = []
-    for j, s in enumerate((base.lift_stroke, base.tilt_stroke)):
-        th, ds = _core_module().joint_angle(crane, j, s, base.extension)
-        theta.append(th)
-        ratio.append(ds)
-    h = _core_module().inverse_dynamics(crane, base.extension, theta, (0.0, 0.0), (0.0, 0.0))
+    forces = holding_forces(crane, base.lift_stroke, base.tilt_stroke, base.extension)
     fields = {}
     for j, (joint, cyl, rod) in enumerate((("lift", crane.lift_cylinder, lift_rod_pressure),
                                            ("tilt", crane.tilt_cylinder, tilt_rod_pressure))):
         hyd = cyl.hydraulics
         if hyd is None:
             continue
-        force = h[j] / ratio[j]          # N, the cylinder force that holds the booms
+        force = forces[j]
         if rod is not None:
             p_b = _number(rod, f"{joint}_rod_pressure")
             p_a = (force + p_b * cyl.area_b) / cyl.area_a

@@ -8,13 +8,13 @@ pressure is one value: a little more raises the boom, a little less lets it sink
 
 from __future__ import annotations
 
-from typing import Optional
+from typing import Optional, Tuple
 
 from ._checks import number as _number
 from .crane import Crane
 from .types import PRESSURE_MAX, State
 
-__all__ = ["holding_pressure"]
+__all__ = ["holding_pressure", "holding_forces"]
 
 _JOINTS = ("lift", "tilt")
 
@@ -29,8 +29,6 @@ def holding_pressure(crane: Crane, state: State, joint: str = "lift", *,
     only a rod-side pressure holds). Raises ValueError naming the field if the state is not at
     rest or outside the crane's ranges, or if no pressure in [0, PRESSURE_MAX] holds the boom.
     """
-    from . import _core  # the compiled core; imported here so the twin imports without it
-
     if not isinstance(crane, Crane):
         raise TypeError(f"crane must be a cranepredict.Crane, got {type(crane).__name__}")
     if not isinstance(state, State):
@@ -49,7 +47,6 @@ def holding_pressure(crane: Crane, state: State, joint: str = "lift", *,
         raise ValueError(f"state.extension must be in [{g.extension_min}, {g.extension_max}] m, "
                          f"got {state.extension}")
     cylinders = (crane.lift_cylinder, crane.tilt_cylinder)
-    theta, ratio = [], []
     for name, cyl in zip(_JOINTS, cylinders):
         stroke, rate = getattr(state, f"{name}_stroke"), getattr(state, f"{name}_stroke_rate")
         if rate != 0.0:
@@ -57,13 +54,9 @@ def holding_pressure(crane: Crane, state: State, joint: str = "lift", *,
         if not cyl.stroke_min <= stroke <= cyl.stroke_max:
             raise ValueError(f"state.{name}_stroke must be in [{cyl.stroke_min}, {cyl.stroke_max}] m, "
                              f"got {stroke}")
-        th, ds = _core.joint_angle(crane, _JOINTS.index(name), stroke, state.extension)
-        theta.append(th)
-        ratio.append(ds)
 
     j = _JOINTS.index(joint)
-    tau = _core.inverse_dynamics(crane, state.extension, theta, (0.0, 0.0), (0.0, 0.0))[j]
-    force = tau / ratio[j]          # the cylinder force (positive extends) that holds the boom
+    force = holding_forces(crane, state.lift_stroke, state.tilt_stroke, state.extension)[j]
     cyl = cylinders[j]
     if given_name == "p_b":
         result_name, result = "p_a", (force + given * cyl.area_b) / cyl.area_a
@@ -74,3 +67,19 @@ def holding_pressure(crane: Crane, state: State, joint: str = "lift", *,
                          f"this pose with {given_name} = {given:g} Pa: it would take {result:g} Pa"
                          f" (give {result_name} instead to get {given_name})")
     return result
+
+
+def holding_forces(crane: Crane, lift_stroke: float, tilt_stroke: float,
+                   extension: float) -> Tuple[float, float]:
+    """The cylinder forces (N, positive extends) that hold the crane still at these strokes: each
+    joint's gravity torque at rest (the core's inverse dynamics) over its ds/dtheta. The strokes
+    and the extension must be in range (the callers check them and name the field)."""
+    from . import _core  # the compiled core; imported here so the twin imports without it
+
+    theta, ratio = [], []
+    for j, stroke in enumerate((lift_stroke, tilt_stroke)):
+        th, ds = _core.joint_angle(crane, j, stroke, extension)
+        theta.append(th)
+        ratio.append(ds)
+    tau = _core.inverse_dynamics(crane, extension, theta, (0.0, 0.0), (0.0, 0.0))
+    return tau[0] / ratio[0], tau[1] / ratio[1]
