@@ -17,6 +17,14 @@
 #define CRANE__ALWAYS_INLINE inline
 #endif
 
+/* Keeps a static helper out of line (gcc inlines a helper with one call site), so that its locals
+ * are not in its caller's frame while the caller calls something deep (the stack budget). */
+#if defined(__GNUC__)
+#define CRANE__NOINLINE __attribute__((noinline))
+#else
+#define CRANE__NOINLINE
+#endif
+
 /* ---- math wrappers: one spelling for both precisions, so no call promotes float to double ---- */
 
 #ifdef CRANE_FLOAT

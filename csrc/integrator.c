@@ -148,10 +148,12 @@ static void valve_rates(ctx_t *c, crane_real t, const xstate *x, int i, crane_re
 
 /* Mass matrix M (M00, M01, M11) and the net joint torques b = tau - h at (t, theta, omega);
  * cylinder torques only for the joints in act[] (a locked joint's own torque is not needed to
- * move the crane, only to decide whether it leaves its stop). With dh, also the valve-driven
- * joints' chamber and spool rates. */
+ * move the crane, only to decide whether it leaves its stop). With sv, also the valve-driven
+ * joints' strokes (sv[i]) and stroke rates (sv[2 + i]), for their chamber rates: the caller
+ * evaluates those after this returns, so that the valve's frames do not stack on this one's
+ * (the stack budget of docs/embedding.md). */
 static void forces(ctx_t *c, crane_real t, const xstate *x, const int act[2], crane_real M[3],
-                   crane_real b[2], crane_real *dh)
+                   crane_real b[2], crane_real *sv)
 {
     const crane_model *m = c->m;
     static const crane_real zero[2] = {0, 0};
@@ -189,8 +191,10 @@ static void forces(ctx_t *c, crane_real t, const xstate *x, const int act[2], cr
         b[i] = -h[i];
         if (!act[i]) {
 #if CRANE_HYDRAULICS
-            if (dh && c->valve[i])
-                valve_rates(c, t, x, i, stop_stroke(c, i), 0, dh);
+            if (sv && c->valve[i]) {
+                sv[i] = stop_stroke(c, i);
+                sv[2 + i] = 0;
+            }
 #endif
             continue;
         }
@@ -208,13 +212,15 @@ static void forces(ctx_t *c, crane_real t, const xstate *x, const int act[2], cr
         if (c->valve[i]) {
             p_a = x->p[2 * i];
             p_b = x->p[2 * i + 1];
-            if (dh)
-                valve_rates(c, t, x, i, stroke, ds * x->w[i], dh);
+            if (sv) {
+                sv[i] = stroke;
+                sv[2 + i] = ds * x->w[i];
+            }
         } else
 #endif
         {
             (void)stroke;
-            (void)dh;
+            (void)sv;
             pressures(c, i, t, &p_a, &p_b);
         }
         b[i] += crane__cylinder_force(m, i, p_a, p_b, ds * x->w[i]) * ds;
@@ -246,21 +252,33 @@ static void accel(ctx_t *c, crane_real t, const xstate *x, const int lk[2], cran
 {
     const int act[2] = {!lk[0], !lk[1]};
     crane_real M[3], b[2];
+#if CRANE_HYDRAULICS
+    crane_real sv[4]; /* the valve-driven joints' strokes and stroke rates */
+    int i;
 
     if (lk[0] && lk[1]) {
         alpha[0] = alpha[1] = 0;
-#if CRANE_HYDRAULICS
-        if (dh) {
-            int i;
-            for (i = 0; i < 2; ++i)
-                if (c->valve[i])
-                    valve_rates(c, t, x, i, stop_stroke(c, i), 0, dh);
+        for (i = 0; i < 2; ++i) {
+            sv[i] = c->valve[i] ? stop_stroke(c, i) : 0;
+            sv[2 + i] = 0;
         }
-#endif
+    } else {
+        forces(c, t, x, act, M, b, dh ? sv : NULL);
+        solve(M, b, lk, alpha);
+    }
+    if (dh)
+        for (i = 0; i < 2; ++i)
+            if (c->valve[i])
+                valve_rates(c, t, x, i, sv[i], sv[2 + i], dh);
+#else
+    (void)dh;
+    if (lk[0] && lk[1]) {
+        alpha[0] = alpha[1] = 0;
         return;
     }
-    forces(c, t, x, act, M, b, dh);
+    forces(c, t, x, act, M, b, NULL);
     solve(M, b, lk, alpha);
+#endif
 }
 
 static void lock_mask(const ctx_t *c, int lk[2])
@@ -269,39 +287,40 @@ static void lock_mask(const ctx_t *c, int lk[2])
     lk[1] = c->mode[1] != CRANE__FREE;
 }
 
-/* x + h * (dtheta, domega) (and the pressures and spools + h * dh, with valves) */
-static xstate axpy(const xstate *x, crane_real h, const crane_real dth[2], const crane_real dw[2],
-                   const crane_real *dh)
+/* y = x + h * (dtheta, domega) (and the pressures and spools + h * dh, with valves), written in
+ * place: dth may be y->w (each rate is read before its entry is written), which spares RK4 a
+ * second stage state (the stack). */
+static void axpy(const xstate *x, crane_real h, const crane_real *dth, const crane_real dw[2],
+                 const crane_real *dh, xstate *y)
 {
-    xstate y;
-    y.th[0] = x->th[0] + h * dth[0];
-    y.th[1] = x->th[1] + h * dth[1];
-    y.w[0] = x->w[0] + h * dw[0];
-    y.w[1] = x->w[1] + h * dw[1];
+    y->th[0] = x->th[0] + h * dth[0];
+    y->th[1] = x->th[1] + h * dth[1];
+    y->w[0] = x->w[0] + h * dw[0];
+    y->w[1] = x->w[1] + h * dw[1];
 #if CRANE_HYDRAULICS
     {
         int k;
         for (k = 0; k < 4; ++k)
-            y.p[k] = dh ? x->p[k] + h * dh[k] : x->p[k];
+            y->p[k] = dh ? x->p[k] + h * dh[k] : x->p[k];
         for (k = 0; k < 2; ++k)
-            y.y[k] = dh ? x->y[k] + h * dh[4 + k] : x->y[k];
+            y->y[k] = dh ? x->y[k] + h * dh[4 + k] : x->y[k];
     }
 #else
     (void)dh;
 #endif
-    return y;
 }
 
 /* Classic RK4, its four stages in one loop so that accel (forces and all) has one call site and
- * is inlined once. The stage sums are accumulated as the stages go (one stage state, one
- * acceleration), in the order ((k1 + 2 k2) + 2 k3) + k4, which is the textbook expression's. */
+ * is inlined once. The stage sums are accumulated in *y as the stages go (one stage state, one
+ * acceleration, no sums of their own: the stack), in the order ((k1 + 2 k2) + 2 k3) + k4, which is
+ * the textbook expression's; so y must not be x. */
 static void rk4(ctx_t *c, crane_real t, const xstate *x, crane_real h, xstate *y)
 {
     const crane_real h2 = h / 2, h6 = h / 6;
-    crane_real a[2], sw[2], sa[2];
+    crane_real a[2];
 #if CRANE_HYDRAULICS
     /* the rates of joints that are not valve-driven stay 0: their entries of the state too */
-    crane_real dh[6] = {0, 0, 0, 0, 0, 0}, sh[6];
+    crane_real dh[6] = {0, 0, 0, 0, 0, 0};
     crane_real *const pdh = c->hyd ? dh : NULL;
 #else
     crane_real *const pdh = NULL;
@@ -315,32 +334,30 @@ static void rk4(ctx_t *c, crane_real t, const xstate *x, crane_real h, xstate *y
 #if CRANE_HYDRAULICS
         if (pdh) {
             for (i = 0; i < 6; ++i) {
+                crane_real *const sum = i < 4 ? &y->p[i] : &y->y[i - 4];
                 if (k == 0)
-                    sh[i] = dh[i];
+                    *sum = dh[i];
                 else if (k < 3)
-                    sh[i] = sh[i] + 2 * dh[i];
-                else if (i < 4)
-                    y->p[i] = x->p[i] + h6 * (sh[i] + dh[i]);
+                    *sum = *sum + 2 * dh[i];
                 else
-                    y->y[i - 4] = x->y[i - 4] + h6 * (sh[i] + dh[i]);
+                    *sum = (i < 4 ? x->p[i] : x->y[i - 4]) + h6 * (*sum + dh[i]);
             }
         }
 #endif
         for (i = 0; i < 2; ++i) {
             if (k == 0) {
-                sw[i] = xs.w[i];
-                sa[i] = a[i];
+                y->th[i] = xs.w[i];
+                y->w[i] = a[i];
             } else if (k < 3) {
-                sw[i] = sw[i] + 2 * xs.w[i];
-                sa[i] = sa[i] + 2 * a[i];
+                y->th[i] = y->th[i] + 2 * xs.w[i];
+                y->w[i] = y->w[i] + 2 * a[i];
             } else {
-                /* y may be x: joint i's values are read here for the last time */
-                y->th[i] = x->th[i] + h6 * (sw[i] + xs.w[i]);
-                y->w[i] = x->w[i] + h6 * (sa[i] + a[i]);
+                y->th[i] = x->th[i] + h6 * (y->th[i] + xs.w[i]);
+                y->w[i] = x->w[i] + h6 * (y->w[i] + a[i]);
             }
         }
         if (k < 3)
-            xs = axpy(x, k == 2 ? h : h2, xs.w, a, pdh);
+            axpy(x, k == 2 ? h : h2, xs.w, a, pdh, &xs);
     }
 #if CRANE_HYDRAULICS
     if (!pdh) {
@@ -460,22 +477,22 @@ static void release(ctx_t *c, crane_real t, const xstate *x)
 /* Release inside a piece (docs/model.md, "Release inside a step"): the piece from (t, x) over
  * size h ended with a STOPPED joint that the release rule would let go of. Bisects the piece size
  * (lo: an RK4 step of that size ends where the rule releases nothing; hi: where it releases
- * something), advances to hi and releases there; returns hi. */
-static crane_real release_in_piece(ctx_t *c, crane_real t, xstate *x, crane_real h)
+ * something), advances to hi and releases there; returns hi. y is scratch for the search. */
+static crane_real release_in_piece(ctx_t *c, crane_real t, xstate *x, crane_real h, xstate *y)
 {
     crane_real lo = 0, hi = h;
-    xstate y;
     int k;
 
     for (k = 0; k < RELEASE_BISECTIONS; ++k) {
         const crane_real mid = (lo + hi) / 2;
-        rk4(c, t, x, mid, &y);
-        if (release_set(c, t + mid, &y))
+        rk4(c, t, x, mid, y);
+        if (release_set(c, t + mid, y))
             hi = mid;
         else
             lo = mid;
     }
-    rk4(c, t, x, hi, x);
+    rk4(c, t, x, hi, y);
+    *x = *y;
     release(c, t + hi, x);
     return hi;
 }
@@ -518,7 +535,8 @@ static void step(ctx_t *c, crane_real t, xstate *x, crane_real h, crane_real t_e
             if (piece < MAX_PIECES - 1 &&
                 (c->mode[0] >= CRANE__STOP_LO || c->mode[1] >= CRANE__STOP_LO)) {
                 if (release_set(c, t_end, &x1)) {
-                    const crane_real hi = release_in_piece(c, t, x, rem);
+                    /* x1 is free again: the search's scratch (the stack) */
+                    const crane_real hi = release_in_piece(c, t, x, rem, &x1);
                     t += hi;
                     rem -= hi;
                     continue;
@@ -544,7 +562,8 @@ static void step(ctx_t *c, crane_real t, xstate *x, crane_real h, crane_real t_e
                     tmin = tau;
             }
         }
-        rk4(c, t, x, tmin, x);
+        rk4(c, t, x, tmin, &x1); /* x1 is free again: rk4 cannot write over its x */
+        *x = x1;
         t += tmin;
         rem -= tmin;
         /* In joint order, every free joint at or beyond a limit goes onto it. */
