@@ -147,12 +147,12 @@ static void valve_rates(ctx_t *c, crane_real t, const xstate *x, int i, crane_re
 #endif
 
 /* Mass matrix M (M00, M01, M11) and the net joint torques b = tau - h at (t, theta, omega);
- * cylinder torques only for the joints in act[] (a locked joint's own torque is not needed to
- * move the crane, only to decide whether it leaves its stop). With sv, also the valve-driven
+ * cylinder torques only for the joints that are not locked (lk[i] = 0: a locked joint's own
+ * torque is not needed to move the crane, only to decide whether it leaves its stop). With sv, also the valve-driven
  * joints' strokes (sv[i]) and stroke rates (sv[2 + i]), for their chamber rates: the caller
  * evaluates those after this returns, so that the valve's frames do not stack on this one's
  * (the stack budget of docs/embedding.md). */
-static void forces(ctx_t *c, crane_real t, const xstate *x, const int act[2], crane_real M[3],
+static void forces(ctx_t *c, crane_real t, const xstate *x, const int lk[2], crane_real M[3],
                    crane_real b[2], crane_real *sv)
 {
     const crane_model *m = c->m;
@@ -176,20 +176,20 @@ static void forces(ctx_t *c, crane_real t, const xstate *x, const int act[2], cr
     }
     c01 = c0 * c1 - s0 * s1;
     s01 = s0 * c1 + c0 * s1;
-    C1 = crane__rot(c0, s0, m->c1);
+    C1 = crane__rot(c0, s0, m->params->lift_boom.com);
     C2 = crane__rot(c01, s01, m->c2);
-    r12 = crane__rot(c0, s0, m->tilt_pivot);
+    r12 = crane__rot(c0, s0, m->params->tilt_pivot);
     /* The four-bar is needed for the side links and for a driven tilt cylinder's ds/dtheta. */
-    if (m->links || act[CRANE_TILT])
+    if (m->links || !lk[CRANE_TILT])
         tk = tilt_kin(c, x->th[1], c1, s1);
     crane__inverse_dynamics(m, C1, C2, r12, c0, s0, m->links ? tk : NULL, x->w, zero,
-                            m->gravity, h);
+                            m->params->gravity, h);
     crane__mass_matrix(m, c1, s1, m->links ? tk : NULL, M);
 
     for (i = 0; i < 2; ++i) {
         crane_real ds, p_a, p_b, stroke = 0;
         b[i] = -h[i];
-        if (!act[i]) {
+        if (lk[i]) {
 #if CRANE_HYDRAULICS
             if (sv && c->valve[i]) {
                 sv[i] = stop_stroke(c, i);
@@ -250,7 +250,6 @@ static void solve(const crane_real M[3], const crane_real b[2], const int lk[2],
 static void accel(ctx_t *c, crane_real t, const xstate *x, const int lk[2], crane_real alpha[2],
                   crane_real *dh)
 {
-    const int act[2] = {!lk[0], !lk[1]};
     crane_real M[3], b[2];
 #if CRANE_HYDRAULICS
     crane_real sv[4]; /* the valve-driven joints' strokes and stroke rates */
@@ -263,7 +262,7 @@ static void accel(ctx_t *c, crane_real t, const xstate *x, const int lk[2], cran
             sv[2 + i] = 0;
         }
     } else {
-        forces(c, t, x, act, M, b, dh ? sv : NULL);
+        forces(c, t, x, lk, M, b, dh ? sv : NULL);
         solve(M, b, lk, alpha);
     }
     if (dh)
@@ -276,7 +275,7 @@ static void accel(ctx_t *c, crane_real t, const xstate *x, const int lk[2], cran
         alpha[0] = alpha[1] = 0;
         return;
     }
-    forces(c, t, x, act, M, b, NULL);
+    forces(c, t, x, lk, M, b, NULL);
     solve(M, b, lk, alpha);
 #endif
 }
@@ -425,16 +424,15 @@ static void stop_joint(ctx_t *c, xstate *x, int i, int upper)
  * keeps a joint from being released when only the other's being locked makes it want to leave. */
 static int release_set(ctx_t *c, crane_real t, const xstate *x)
 {
-    int held[2], act[2], cand, i;
+    int held[2], cand, i;
     crane_real M[3], b[2];
 
     if (c->mode[0] < CRANE__STOP_LO && c->mode[1] < CRANE__STOP_LO)
         return 0;
-    for (i = 0; i < 2; ++i) {
+    for (i = 0; i < 2; ++i)
         held[i] = c->mode[i] == CRANE__HELD;
-        act[i] = !held[i];
-    }
-    forces(c, t, x, act, M, b, NULL);
+    /* the stopped joints' cylinder torques decide their release: only held joints are locked */
+    forces(c, t, x, held, M, b, NULL);
     for (cand = 0; cand < 4; ++cand) {
         int lk[2], ok = 1;
         crane_real alpha[2];
@@ -588,8 +586,9 @@ static void put_sample(ctx_t *c, crane_real t, const xstate *x, crane_real cpsi,
 
     crane__sincos(x->th[0], &s0, &c0);
     crane__sincos(x->th[1], &s1, &c1);
-    tip = crane__add(m->lift_pivot,
-                     crane__rot(c0, s0, crane__add(m->tilt_pivot, crane__rot(c1, s1, m->tip))));
+    tip = crane__add(m->params->lift_pivot,
+                     crane__rot(c0, s0,
+                                crane__add(m->params->tilt_pivot, crane__rot(c1, s1, m->tip))));
 
     c->kin_valid = 1;
     c->kin_th[0] = x->th[0];
