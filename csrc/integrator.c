@@ -47,7 +47,7 @@ typedef struct {
 } ctx_t;
 
 /* Joint i is valve-driven (never in a build without CRANE_HYDRAULICS, whose validation refuses
- * valve drives; the fields are left out there to keep the stack of docs/embedding.md). */
+ * valve drives; the fields are left out there, to keep its stack smaller). */
 static inline int is_valve(const ctx_t *c, int i)
 {
 #if CRANE_HYDRAULICS
@@ -288,7 +288,7 @@ static void lock_mask(const ctx_t *c, int lk[2])
 
 /* y = x + h * (dtheta, domega) (and the pressures and spools + h * dh, with valves), written in
  * place: dth may be y->w (each rate is read before its entry is written), which spares RK4 a
- * second stage state (the stack). */
+ * second stage state (the stack). Without dh, y's pressures and spools are left as they are. */
 static void axpy(const xstate *x, crane_real h, const crane_real *dth, const crane_real dw[2],
                  const crane_real *dh, xstate *y)
 {
@@ -297,12 +297,14 @@ static void axpy(const xstate *x, crane_real h, const crane_real *dth, const cra
     y->w[0] = x->w[0] + h * dw[0];
     y->w[1] = x->w[1] + h * dw[1];
 #if CRANE_HYDRAULICS
-    {
+    /* without rates (no valve-driven joint) the pressures and spools stay those of x, which RK4's
+     * stage state already holds */
+    if (dh) {
         int k;
         for (k = 0; k < 4; ++k)
-            y->p[k] = dh ? x->p[k] + h * dh[k] : x->p[k];
+            y->p[k] = x->p[k] + h * dh[k];
         for (k = 0; k < 2; ++k)
-            y->y[k] = dh ? x->y[k] + h * dh[4 + k] : x->y[k];
+            y->y[k] = x->y[k] + h * dh[4 + k];
     }
 #else
     (void)dh;
@@ -650,27 +652,32 @@ static void put_sample(ctx_t *c, crane_real t, const xstate *x, crane_real cpsi,
     o->tip[2] = tip.y;
 }
 
-/* theta and omega (and the pressures and spools) are all finite. */
-static int finite_state(const xstate *x)
+/* theta and omega (and the pressures and spools, which stay 0 without valve-driven joints) are
+ * all finite. */
+static int finite_state(const ctx_t *c, const xstate *x)
 {
 #if CRANE_HYDRAULICS
     int k;
-    for (k = 0; k < 4; ++k)
+    for (k = 0; c->hyd && k < 4; ++k)
         if (!crane__finite(x->p[k]))
             return 0;
-    if (!crane__finite(x->y[0]) || !crane__finite(x->y[1]))
+    if (c->hyd && (!crane__finite(x->y[0]) || !crane__finite(x->y[1])))
         return 0;
+#else
+    (void)c;
 #endif
     return crane__finite(x->th[0]) && crane__finite(x->th[1]) && crane__finite(x->w[0]) &&
            crane__finite(x->w[1]);
 }
 
 #if CRANE_HYDRAULICS
-/* The strokes of the valve-driven joints at the state x (a stopped joint's is its stop's), for
- * the substep count. */
-static void valve_strokes(ctx_t *c, const xstate *x, crane_real stroke[2])
+/* The substep count of a step of size h from the state x (docs/model.md, "Hydraulics"), from the
+ * strokes of the valve-driven joints (a stopped joint's is its stop's). Out of line, so that its
+ * locals are not in crane__integrate's frame under the step (the stack budget). */
+static CRANE__NOINLINE long substeps(ctx_t *c, const xstate *x, crane_real h)
 {
-    crane_real s1, c1;
+    const int valve[2] = {c->valve[0], c->valve[1]};
+    crane_real stroke[2], s1, c1;
     int i;
 
     for (i = 0; i < 2; ++i) {
@@ -688,6 +695,7 @@ static void valve_strokes(ctx_t *c, const xstate *x, crane_real stroke[2])
             stroke[i] = tilt_kin(c, x->th[1], c1, s1)->stroke;
         }
     }
+    return crane__substeps(c->m, stroke, valve, h);
 }
 #endif
 
@@ -754,7 +762,7 @@ crane_status crane__integrate(const crane_model *m, const crane_state *s0, const
     /* A state that stops being finite (only with absurd parameters, e.g. gravity 1e135) ends
      * the prediction with CRANE_E_DIVERGED and the samples written before it, all finite. */
     *n_written = 0;
-    if (!finite_state(&x))
+    if (!finite_state(&c, &x))
         return CRANE_E_DIVERGED;
     put_sample(&c, 0, &x, cpsi, spsi, &out[0]);
     /* Samples after every sample_every-th step and after the last one. The kinematic cache is
@@ -772,12 +780,7 @@ crane_status crane__integrate(const crane_model *m, const crane_state *s0, const
         /* docs/model.md "Hydraulics": with valve-driven joints, n equal substeps, each a full
          * step of the scheme (one call site of step, so that it stays inlined: the stack). */
         if (c.hyd && h > 0) {
-            crane_real stroke[2];
-            valve_strokes(&c, &x, stroke);
-            {
-                const int valve[2] = {c.valve[0], c.valve[1]};
-                n_sub = crane__substeps(m, stroke, valve, h);
-            }
+            n_sub = substeps(&c, &x, h);
             sub = h / (crane_real)n_sub;
         }
         for (j = 0; j < n_sub; ++j) {
@@ -795,7 +798,7 @@ crane_status crane__integrate(const crane_model *m, const crane_state *s0, const
         if (h > 0)
             step(&c, t, &x, h, t_end);
 #endif
-        if (!finite_state(&x)) {
+        if (!finite_state(&c, &x)) {
             *n_written = next;
             return CRANE_E_DIVERGED;
         }
