@@ -175,13 +175,17 @@ def _chain_xml(crane: cp.Crane, extension: float, integrator: str, dt: float) ->
     """The 2-link open chain of the lumped model in MJCF: the boom plane (x, y) is MuJoCo's
     (x, z); the hinges turn about -y so that a positive angle is counterclockwise in the boom
     plane; qpos = (theta0, theta1) with the bodies' frames at zero angle. Masses, centres of mass
-    and Izz are the C core's (crane_model: m1, c1, i1 and the lumped m2, c2, i2)."""
-    m = _core.model(crane, extension)
+    and Izz are the lift boom's and the lumped outer body's (outer + extension boom + load, the
+    reference model's lumping; crane_model is opaque to Python)."""
+    from cranepredict.reference import _lumped_outer
+
+    m2, c2, i2 = _lumped_outer(crane, extension)
+    lift = crane.lift_boom
     g = crane.geometry
     o1, o2 = g.lift_pivot, g.tilt_pivot
 
     def inertial(mass, com, izz):
-        return (f'<inertial pos="{com.x!r} 0 {com.y!r}" mass="{mass!r}" '
+        return (f'<inertial pos="{float(com[0])!r} 0 {float(com[1])!r}" mass="{float(mass)!r}" '
                 f'diaginertia="{izz!r} {izz!r} {izz!r}"/>')
 
     return f"""
@@ -190,10 +194,10 @@ def _chain_xml(crane: cp.Crane, extension: float, integrator: str, dt: float) ->
   <worldbody>
     <body name="lift" pos="{o1[0]!r} 0 {o1[1]!r}">
       <joint name="lift" type="hinge" axis="0 -1 0" damping="0"/>
-      {inertial(m.m1, m.c1, m.i1)}
+      {inertial(lift.mass, lift.com, lift.izz)}
       <body name="outer" pos="{o2[0]!r} 0 {o2[1]!r}">
         <joint name="tilt" type="hinge" axis="0 -1 0" damping="0"/>
-        {inertial(m.m2, m.c2, m.i2)}
+        {inertial(m2, c2, i2)}
       </body>
     </body>
   </worldbody>

@@ -17,7 +17,8 @@
 #    qemu-user and compares the tip with the host's (double: <= 1e-9 m) and float with double
 #    over the whole paper scenario (<= 1 mm);
 # 6. the tests and the corpus under ASan+UBSan, and under valgrind;
-# 7. libFuzzer for FUZZ_TIME seconds (default 60) in double and FUZZ_TIME_FLOAT (default 30) in float.
+# 7. libFuzzer for FUZZ_TIME seconds (default 60) in double and FUZZ_TIME_FLOAT (default 30) in float;
+#    the collision guard's target for half of each.
 #
 # Exits nonzero if any step failed; the last line is "ci-embedded: N passed, N failed".
 set -uo pipefail
@@ -142,6 +143,12 @@ fuzz() {   # new crashes land in build-fuzz*/crash-*; the committed corpus is re
 }
 step fuzz-double fuzz "$FUZZ_TIME" 0
 step fuzz-float fuzz "$FUZZ_TIME_FLOAT" 1
+# the collision guard's target (csrc/fuzz/fuzz_guard.c), half the time each
+fuzz_guard() {
+    make fuzz-guard FUZZ_TIME="$1" CRANE_FLOAT="$2"
+}
+step fuzz-guard-double fuzz_guard "$(( (FUZZ_TIME + 1) / 2 ))" 0
+step fuzz-guard-float fuzz_guard "$(( (FUZZ_TIME_FLOAT + 1) / 2 ))" 1
 grep -ah "stat::number_of_executed_units\|Done [0-9]* runs" "$LOG"/fuzz-*.log | sed 's/^/      /'
 
 # ---- summary ----

@@ -245,3 +245,222 @@ def test_crane_file_four_joint_tables_are_type_checked(crane):
     plain = cp.Crane.from_dict(d)
     assert plain.slew_drive is None and plain.lift_boom.ixx is None
     assert cp.Crane.from_toml_string(crane.to_toml()) == crane
+
+
+# -- the twin (stage 2) ------------------------------------------------------------------------
+
+def test_twin_four_joint_inverse_dynamics_equals_lagrange(crane):
+    """The twin's four-joint Newton-Euler (docs: ID with the slew's centripetal and gyroscopic
+    terms, the sliding body 3, J_z alpha_s + Jdot_z omega_s) against the spatial oracle, every
+    component to 1e-9 of the largest, random states, loads and extensions."""
+    from cranepredict import twin
+
+    worst = 0.0
+    for q, qd, qdd, load in _random_states(60, 11, crane):
+        c = crane.with_load(load)
+        ref = Lagrange4(c).torques(q, qd, qdd)
+        tau = twin.TwinModel(c, 0.0).inverse_dynamics4(tuple(q), tuple(qd), tuple(qdd))
+        worst = max(worst, _rel(tau, ref))
+        # the extension force on its own scale (it is small next to the torques)
+        assert tau[EXTENSION] == pytest.approx(ref[EXTENSION], rel=1e-8, abs=1e-9 * abs(ref).max())
+    assert worst < 1e-9, worst
+
+
+def test_twin_four_joint_lagrange_comparison_has_teeth(crane):
+    """A 1 % error in the pillar's or the extension boom's inertia is seen far above 1e-9."""
+    from cranepredict import twin
+
+    q, qd, qdd = (0.3, -1.0, 0.5, 0.6), (0.5, -0.7, 0.8, 0.3), (1.0, 2.0, -1.5, 0.7)
+    ref = Lagrange4(crane).torques(q, qd, qdd)
+    wrong = dataclasses.replace(crane, extension_boom=dataclasses.replace(
+        crane.extension_boom, ixx=crane.extension_boom.ixx + 0.01 * crane.extension_boom.iyy))
+    assert _rel(twin.TwinModel(wrong, 0.0).inverse_dynamics4(q, qd, qdd), ref) > 1e-7
+
+
+def _frictionless4(crane, gravity=None):
+    from conftest import frictionless
+
+    c = frictionless(crane, gravity)
+    zero = cp.Friction(coulomb=0.0, static=0.0, viscous=0.0, stribeck_velocity=0.005, factor=1.0)
+    return dataclasses.replace(
+        c, slew_drive=dataclasses.replace(c.slew_drive, friction=zero),
+        extension_cylinder=dataclasses.replace(c.extension_cylinder, friction=zero))
+
+
+def _run4(crane, horizon, dt, *, lift=0.25, tilt=0.4, slew=0.0, extension=0.5, rates=(0, 0, 0, 0),
+          drives=None):
+    """The twin's four-joint prediction (the API does not carry the slew and extension drives
+    yet): state and inputs as plain namespaces."""
+    from types import SimpleNamespace
+
+    from cranepredict import twin
+
+    zero = cp.Pressure(0.0, 0.0)
+    d = drives or {}
+    state = SimpleNamespace(lift_stroke=lift, tilt_stroke=tilt, slew=slew, extension=extension,
+                            lift_stroke_rate=rates[0], tilt_stroke_rate=rates[1],
+                            slew_rate=rates[2], extension_rate=rates[3])
+    inputs = SimpleNamespace(lift=d.get("lift", zero), tilt=d.get("tilt", zero),
+                             slew=d.get("slew", zero), extension=d.get("extension", zero))
+    return twin._run(crane, state, inputs, horizon, dt)
+
+
+def _q_qd(crane, arrays):
+    q = np.column_stack([arrays["theta"], arrays["slew"], arrays["extension"]])
+    qd = np.column_stack([arrays["omega"], arrays["slew_rate"], arrays["extension_rate"]])
+    return q, qd
+
+
+def test_twin_four_joints_conserve_energy_without_friction_and_gravity(crane):
+    """All four joints move from initial rates (pressures 0, no friction, no gravity): the
+    kinetic energy, evaluated by the Lagrange oracle along the twin's trajectory, is conserved."""
+    c = _frictionless4(crane, gravity=0.0)
+    arrays, events = _run4(c, 1.0, 1e-3, rates=(0.05, -0.08, 0.4, 0.05))
+    assert not events, "the energy test must not touch an end stop"
+    q, qd = _q_qd(c, arrays)
+    assert np.ptp(q[:, 2]) > 0.2 and np.ptp(q[:, 3]) > 0.03   # the slew and the extension move
+    lag = Lagrange4(c)
+    e = np.array([lag.kinetic(a, b) for a, b in zip(q[::20], qd[::20])])
+    assert e[0] > 10.0
+    drift = float(np.max(np.abs(e - e[0])) / e[0])
+    assert drift < 1e-9, drift
+
+
+def test_twin_four_joints_conserve_energy_with_gravity(crane):
+    """With gravity, T + V (the oracle's) is conserved to the integrator's error."""
+    c = _frictionless4(crane)
+    arrays, events = _run4(c, 0.5, 1e-3, lift=0.40, tilt=0.30, rates=(0.02, 0.0, 0.5, 0.0))
+    assert not events
+    q, qd = _q_qd(c, arrays)
+    lag = Lagrange4(c)
+    e = np.array([lag.energy(a, b) for a, b in zip(q[::25], qd[::25])])
+    scale = max(np.max(np.abs(e)), 1.0)
+    assert np.max(np.abs(e - e[0])) / scale < 1e-8
+
+
+def test_slew_drive_starts_the_held_boom_with_j_z(crane):
+    """Booms and extension held, the slew drive at 100 bar on chamber a: the slew accelerates
+    from rest with alpha = r_p A dp / J_z (J_z from the oracle, no friction at rest)."""
+    h = cp.Hold()
+    arrays, _ = _run4(crane, 0.01, 1e-3, drives={"lift": h, "tilt": h, "extension": h,
+                                                  "slew": cp.Pressure(100e5, 0.0)})
+    sd = crane.slew_drive
+    torque = sd.pinion_radius * sd.area * 100e5
+    q0 = np.array([*arrays["theta"][0], arrays["slew"][0], arrays["extension"][0]])
+    j_z = Lagrange4(crane).mass_matrix(q0)[SLEW, SLEW]
+    # the rate after 1 ms, against alpha t (friction is ~ 1e-3 of the torque above v_S)
+    assert arrays["slew_rate"][1] == pytest.approx(torque / j_z * 1e-3, rel=2e-2)
+    assert np.all(arrays["theta"] == arrays["theta"][0])
+
+
+def test_extension_runs_into_its_end_stop_and_stays(crane):
+    """The telescope pushed out at 50 bar reaches extension_max, stops there (plastic), and the
+    stop flag says so; the tip moves outward by the extension."""
+    h = cp.Hold()
+    arrays, events = _run4(crane, 2.0, 2e-3, extension=0.2,
+                           drives={"lift": h, "tilt": h, "slew": h, "extension": cp.Pressure(50e5, 0.0)})
+    e_max = crane.geometry.extension_max
+    assert events and events[0][1] == EXTENSION and events[0][2] == +1
+    assert arrays["extension"][-1] == e_max and arrays["extension_stop"][-1] == +1
+    assert arrays["extension_rate"][-1] == 0.0
+    u = arrays["tip"][-1] - arrays["tip"][0]
+    assert np.linalg.norm(u) == pytest.approx(e_max - 0.2, rel=1e-12)
+
+
+def test_slewing_moves_the_tip_around_the_axis(crane):
+    """A held boom slewing: the tip keeps its height and its distance from the slew axis."""
+    h = cp.Hold()
+    arrays, _ = _run4(crane, 1.0, 2e-3, drives={"lift": h, "tilt": h, "extension": h,
+                                                 "slew": cp.Pressure(80e5, 0.0)})
+    tip = arrays["tip"]
+    r = np.hypot(tip[:, 0], tip[:, 1])
+    assert np.ptp(arrays["slew"]) > 0.1
+    assert np.ptp(r) < 1e-12 * r[0] and np.ptp(tip[:, 2]) < 1e-12
+    assert np.allclose(np.arctan2(tip[:, 1], tip[:, 0]), arrays["slew"], atol=1e-12)
+
+
+def test_twin_four_joint_energy_drift_shrinks_as_dt_to_the_fourth(crane):
+    """Slewing and extending while falling under gravity (no friction): the drift of T + V is
+    RK4's, of fourth order in dt."""
+    c = _frictionless4(crane)
+    lag = Lagrange4(c)
+    drifts = []
+    for dt in (4e-3, 2e-3):
+        arrays, events = _run4(c, 0.5, dt, lift=0.40, tilt=0.30, rates=(0.02, 0.0, 0.5, 0.0))
+        assert not events
+        q, qd = _q_qd(c, arrays)
+        step = int(round(0.02 / dt))
+        e = np.array([lag.energy(a, b) for a, b in zip(q[::step], qd[::step])])
+        drifts.append(float(np.max(np.abs(e - e[0]))))
+    order = math.log2(drifts[0] / drifts[1])
+    assert 3.5 < order < 4.6, (drifts, order)
+
+
+def test_slew_runs_into_its_end_stop_and_leaves_it_when_reversed(crane):
+    """The folded crane slewed at 60 bar from near slew_max hits the stop (plastic: the slew rate
+    goes to 0, the booms' rates are untouched, M being block diagonal), stays while pushed, and
+    leaves it when the pressure turns round."""
+    sd = crane.slew_drive
+    h = cp.Hold()
+    push_then_pull = cp.PressureSeries(t=[0.0, 0.6, 0.61, 1.5], p_a=[60e5, 60e5, 0.0, 0.0],
+                                       p_b=[0.0, 0.0, 60e5, 60e5])
+    arrays, events = _run4(crane, 1.5, 2e-3, lift=0.05, tilt=0.75, slew=sd.slew_max - 0.2, extension=0.0,
+                           drives={"lift": h, "tilt": h, "extension": h, "slew": push_then_pull})
+    assert events and events[0][1] == SLEW and events[0][2] == +1
+    t = arrays["t"]
+    on_stop = arrays["slew_stop"] == +1
+    assert on_stop.any() and np.all(arrays["slew"][on_stop] == sd.slew_max)
+    assert np.all(arrays["slew_rate"][on_stop] == 0.0)
+    # released after the pressure turned round, and moving back
+    assert not on_stop[-1] and t[on_stop][-1] > 0.6 and arrays["slew_rate"][-1] < 0.0
+    assert np.all(arrays["slew"] <= sd.slew_max)
+
+
+def test_a_slew_impact_leaves_the_boom_rates_alone(crane):
+    """Block diagonal M: the plastic impact on the slew stop changes only the slew rate, so the
+    lift and tilt rates (free, moving) are continuous across it."""
+    from cranepredict import twin
+
+    zero = cp.Pressure(0.0, 0.0)
+    model = twin.TwinModel(crane, 0.0)
+    pred = twin._Prediction(model, (twin._PressureDrive(zero),) * 4)
+    th0 = model.lift_angle(0.25)[0]
+    th1 = model.tilt_angle(0.4)[0]
+    x = (th0, th1, crane.slew_drive.slew_max, 0.5, 0.3, -0.2, 0.7, 0.1)
+    y = pred.plastic_impact(x, SLEW, +1)
+    assert y[4 + SLEW] == 0.0 and y[:4] == x[:4]
+    assert y[4 + LIFT] == pytest.approx(x[4 + LIFT], abs=1e-15)
+    assert y[4 + TILT] == pytest.approx(x[4 + TILT], abs=1e-15)
+    assert y[4 + EXTENSION] == pytest.approx(x[4 + EXTENSION], abs=1e-15)
+    # an extension impact, in contrast, changes the boom rates through the coupling of M_p
+    pred2 = twin._Prediction(model, (twin._PressureDrive(zero),) * 4)
+    x2 = x[:3] + (crane.geometry.extension_max,) + x[4:]
+    z = pred2.plastic_impact(x2, EXTENSION, +1)
+    assert z[4 + EXTENSION] == 0.0 and z[4 + SLEW] == x2[4 + SLEW]
+    assert abs(z[4 + LIFT] - x2[4 + LIFT]) > 1e-3
+
+
+def test_extension_friction_substeps_keep_the_default_step_accurate(crane, monkeypatch):
+    """The light extension boom (16 kg + load) on a cylinder's friction is stiff near rest:
+    lambda = G_f (M^-1)_ee reaches 1e4 /s, beyond RK4's reach at 2 ms. With the substeps the
+    2-ms run stays within 0.01 mm of a 0.25-ms one here (7e-6 m); without them it is 0.8 mm off
+    (13 mm in a random case with the booms moving too)."""
+    from cranepredict import twin
+
+    c = crane.with_load(60.0)
+    drives = {"lift": cp.Hold(), "tilt": cp.Hold(), "slew": cp.Pressure(30e5, 0.0),
+              "extension": cp.PressureSeries(t=[0.0, 1.0, 1.01, 2.0], p_a=[1.2e5, 1.2e5, 0.0, 0.0],
+                                             p_b=[0.0, 0.0, 1.2e5, 1.2e5])}
+    start = dict(lift=0.30, tilt=0.10, slew=0.0, extension=0.3)
+
+    def gap():
+        coarse, e1 = _run4(c, 2.0, 2e-3, drives=drives, **start)
+        fine, e2 = _run4(c, 2.0, 2.5e-4, drives=drives, **start)
+        assert not e1 and not e2
+        return float(np.max(np.linalg.norm(fine["tip"][::8] - coarse["tip"], axis=1)))
+
+    with_substeps = gap()
+    monkeypatch.setattr(twin._Prediction, "extension_friction_rate", lambda self, x: 0.0)
+    without = gap()
+    assert with_substeps < 1e-4, with_substeps
+    assert without > 10 * with_substeps, (without, with_substeps)

@@ -448,3 +448,61 @@ def test_lengths_beyond_a_site_are_named(crane):
     field = ffi.new("int *")
     far = _solid({"kind": "sphere", "a": np.array([2e6, 0.0, 0.0]), "r": 1.0})
     assert lib.crane_solid_check(far, field) == lib.CRANE_E_SOLID and field[0] == lib.CRANE_GUARD_FIELD_A
+
+
+def test_an_empty_world_is_go_and_its_json_is_valid(crane):
+    import json
+
+    v = cp.guard(crane, _world(0.1), REST, HELD, 0.5)
+    assert v.signal == "GO" and all(math.isinf(c) for c in v.clearance.values())
+    d = json.loads(json.dumps(v.to_dict(), allow_nan=False))
+    assert d["min_clearance_m"]["load"] is None
+
+
+# -- valve-driven cylinders stop by their valves to neutral ----------------------------------------
+
+def test_stop_inputs_map_each_lever_to_its_stop():
+    v = cp.stop_inputs(cp.Inputs(lift=cp.Valve(0.7), tilt=cp.Pressure(p_a=1e6)))
+    assert v.lift == cp.Valve(0.0) and isinstance(v.tilt, cp.Hold)
+    s = cp.stop_inputs(cp.Inputs(lift=cp.ValveSeries(t=[0, 2], u=[0.2, -0.5]), tilt=cp.Hold()))
+    assert s.lift == cp.Valve(0.0) and isinstance(s.tilt, cp.Hold)
+
+
+def _lever_open_ball():
+    sc = cp.scenarios.get("lever-open")
+    tr = cp.predict(sc.crane, sc.initial, sc.inputs, 2.0)
+    p = tr.tip[int(round(1.2 / cp.DEFAULT_DT))]
+    world = _world(0.2, {"name": "ball", "kind": "sphere", "centre": (p + [0, 0, 0.9]).tolist(),
+                         "radius": 0.3})
+    return sc, world
+
+
+def test_valve_stop_analysis_against_the_stops_themselves(crane):
+    """The lift lever fully open (valve-driven) toward a ball: the stop is every valve to neutral.
+    Its latest stop time is earlier than the freeze bound (contact - reaction: a valve stop takes
+    time); and, checked with coal on every sample of independent predictions, stopping at that
+    time keeps the margin while stopping one judged sample later does not."""
+    sc, world = _lever_open_ball()
+    dt, reaction = cp.DEFAULT_DT, 0.2
+    v = cp.guard(sc.crane, world, sc.initial, sc.inputs, 2.0, reaction=reaction)
+    assert v.signal == "WARN" and v.stop.model == "valves to neutral"
+    assert 0 < v.stop.latest <= v.contact.t - reaction
+    traj = cp.predict(sc.crane, sc.initial, sc.inputs, 2.0, dt=dt)
+    spacing = G.GUARD_SPACING
+    stop = cp.stop_inputs(sc.inputs)
+
+    def stays_clear(t_s):
+        m = int(np.ceil((t_s + reaction) / dt - 1e-9))      # the stop takes effect at this sample
+        before = min(coal_clearances(sc.crane, sc.initial, th, world).min() for th in traj.theta[:m + 1])
+        _, ds0 = cp._core.joint_angle(sc.crane, 0, traj.strokes[m, 0])
+        start = cp.State(lift_stroke=traj.strokes[m, 0], tilt_stroke=traj.strokes[m, 1],
+                         lift_stroke_rate=traj.omega[m, 0] * ds0,
+                         lift_p_a=traj.p_a[m, 0], lift_p_b=traj.p_b[m, 0], lift_spool=traj.spool[m, 0],
+                         tilt_p_a=traj.p_a[m, 1], tilt_p_b=traj.p_b[m, 1], tilt_spool=traj.spool[m, 1],
+                         tilt_stroke_rate=traj.omega[m, 1] * cp._core.joint_angle(sc.crane, 1, traj.strokes[m, 1])[1])
+        after = cp.predict(sc.crane, start, stop, G.DEFAULT_STOP_HORIZON, dt=dt)
+        during = min(coal_clearances(sc.crane, sc.initial, th, world).min() for th in after.theta)
+        return min(before, during) > world.margin
+
+    assert stays_clear(v.stop.latest)
+    assert not stays_clear(v.stop.latest + spacing)

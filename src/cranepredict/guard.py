@@ -19,7 +19,7 @@ from . import api
 from ._checks import number as _number
 from .crane import Crane
 from .shape import Shape
-from .types import Hold, Inputs, Pressure, PressureSeries, State, Trajectory
+from .types import Hold, Inputs, Pressure, PressureSeries, State, Trajectory, Valve, ValveSeries
 from .world import World
 
 __all__ = ["guard", "Verdict", "Contact", "StopAnalysis", "stop_inputs", "part_solids",
@@ -34,6 +34,9 @@ DEFAULT_CLEARANCE_TOLERANCE = 1e-3   # m: per-part minima may be this much too l
 #: Default spacing of the samples the guard judges, s: every round(GUARD_SPACING / dt)-th step of
 #: the prediction (which still integrates at dt). Between them the motion bound finds any contact.
 GUARD_SPACING = 0.01
+#: How long the stop of valve-driven cylinders is followed, s: the PATU 655 at full lever comes to
+#: rest within about 0.1 s of its valve reaching neutral (then oscillates by millimetres on the oil).
+DEFAULT_STOP_HORIZON = 0.5
 SIGNALS = ("GO", "WARN", "STOP")
 JOINTS = ("lift", "tilt")
 
@@ -73,9 +76,12 @@ def _frame(body: str) -> int:
 # -- what "stop" means -----------------------------------------------------------------------------
 
 def _stop_drive(drive: Any) -> Any:
-    """The stop of one lever. Pressure-driven cylinders (and held ones) stop by Hold: the valve
-    closes and the stroke freezes at once, so this under-estimates the stopping distance (a real
-    crane decelerates). A valve-driven cylinder will stop by its valve to neutral here."""
+    """The stop of one lever. A valve-driven cylinder stops by its valve to neutral (lever 0): the
+    model then decelerates it through the spool's lag and the oil's stiffness. Pressure-driven
+    cylinders (and held ones) stop by Hold: the stroke freezes at once, which under-estimates the
+    stopping distance (a real crane decelerates)."""
+    if isinstance(drive, (Valve, ValveSeries)):
+        return Valve(0.0)
     if isinstance(drive, (Pressure, PressureSeries, Hold)):
         return Hold()
     raise TypeError(f"no stop is defined for a {type(drive).__name__} drive")
@@ -143,7 +149,10 @@ class Verdict:
         c = self.contact
         out: dict = {"signal": self.signal, "reason": self.reason, "world": self.world.name,
                      "margin_m": self.margin, "horizon_s": self.horizon,
-                     "min_clearance_m": dict(self.clearance), "evaluations": self.evaluations,
+                     # None: no obstacle to measure against (JSON has no infinity)
+                     "min_clearance_m": {k: (c if math.isfinite(c) else None)
+                                         for k, c in self.clearance.items()},
+                     "evaluations": self.evaluations,
                      "contact": None, "stop": None}
         if c is not None:
             out["contact"] = {"t_s": c.t, "part": c.part, "obstacle": c.obstacle,
@@ -152,7 +161,8 @@ class Verdict:
                               "theta_rad": c.theta.tolist(), "gradient_m_per_rad": dict(c.gradient),
                               "approach_m_per_s": dict(c.approach), "closing": list(c.closing)}
         if self.stop is not None:
-            out["stop"] = {"latest_s": self.stop.latest, "reaction_s": self.stop.reaction,
+            out["stop"] = {"latest_s": self.stop.latest if math.isfinite(self.stop.latest) else None,
+                           "reaction_s": self.stop.reaction,
                            "model": self.stop.model, "note": self.stop.note}
         return out
 
@@ -284,7 +294,8 @@ def guard(crane: Crane, world: World, state: State, inputs: Inputs, horizon: flo
           cycle: float = DEFAULT_CYCLE, margin: Optional[float] = None,
           time_tolerance: float = DEFAULT_TIME_TOLERANCE,
           clearance_tolerance: float = DEFAULT_CLEARANCE_TOLERANCE,
-          sample_every: Optional[int] = None, shape: Optional[Shape] = None) -> Verdict:
+          sample_every: Optional[int] = None, stop_horizon: float = DEFAULT_STOP_HORIZON,
+          shape: Optional[Shape] = None) -> Verdict:
     """Predicts the future under ``inputs`` and judges it against the world's obstacles.
 
     Returns a :class:`Verdict`: the minimum clearance of each part over the samples (m; at most
@@ -292,8 +303,10 @@ def guard(crane: Crane, world: World, state: State, inputs: Inputs, horizon: flo
     between samples too, to ``time_tolerance``), the stop analysis and the signal: GO (no contact
     within the horizon), WARN (contact predicted, stopping can wait beyond the next control
     ``cycle``), STOP (stopping must begin now, or the clearance is already within the margin).
-    The stop is :func:`stop_inputs`: for pressure-driven cylinders Hold, which stops instantly and
-    so under-estimates the stopping distance (``Verdict.stop.note``). ``margin`` defaults to the
+    The stop is :func:`stop_inputs`: valve-driven cylinders stop by their valve to neutral (the
+    stop is then predicted over ``stop_horizon`` s from each candidate stop time); pressure-driven
+    ones by Hold, which stops instantly and so under-estimates the stopping distance
+    (``Verdict.stop.note``). ``margin`` defaults to the
     world's. Slew and extension stay as in ``state`` (as in :func:`predict`). The prediction
     integrates at ``dt``; the guard judges every ``sample_every``-th step (default: about every
     GUARD_SPACING = 10 ms), the per-part minima are over those samples, and contacts are found
@@ -305,7 +318,8 @@ def guard(crane: Crane, world: World, state: State, inputs: Inputs, horizon: flo
     margin = world.margin if margin is None else margin
     checks = (("margin", margin, 0.0, True), ("reaction", reaction, 0.0, True),
               ("cycle", cycle, 0.0, False), ("time_tolerance", time_tolerance, 0.0, False),
-              ("clearance_tolerance", clearance_tolerance, 0.0, True))
+              ("clearance_tolerance", clearance_tolerance, 0.0, True),
+              ("stop_horizon", stop_horizon, 0.0, False))
     values = {}
     for name, value, low, closed in checks:
         v = _number(value, name)
@@ -319,9 +333,25 @@ def guard(crane: Crane, world: World, state: State, inputs: Inputs, horizon: flo
     # checks crane, state, inputs, horizon, dt and sample_every, naming the field
     traj = api.predict_many(crane, [state], [inputs], horizon, dt=dt, sample_every=sample_every)[0]
     stop = stop_inputs(inputs)
-    if not all(isinstance(d, Hold) for d in (stop.lift, stop.tilt)):  # pragma: no cover
-        raise NotImplementedError("the stop analysis handles stops by Hold (a frozen crane) only")
+    res, clearance = _judge(crane, world, state, traj, shape, values)
+    verdict = _verdict(res, clearance, shape, world, values, float(horizon), traj)
+    if verdict.contact is None or _freezes(stop):
+        return verdict
+    if verdict.contact.at_start:   # too late for any stop: say which stop that is
+        return _with_stop(verdict, -math.inf, values)
+    latest = _latest_valve_stop(crane, world, state, traj, stop, shape, values, values["stop_horizon"],
+                                dt, sample_every, verdict.contact.t)
+    return _with_stop(verdict, latest, values)
 
+
+def _freezes(stop: Inputs) -> bool:
+    """True if every lever stops by Hold: the crane is frozen when the stop takes effect."""
+    return all(isinstance(d, Hold) for d in (stop.lift, stop.tilt))
+
+
+def _judge(crane: Crane, world: World, state: State, traj: Trajectory, shape: Shape,
+           values: Dict[str, float]) -> Tuple[Any, np.ndarray]:
+    """crane_guard on a prediction's samples: the C result and the per-part clearances."""
     from . import _core
 
     ffi, lib = _c()
@@ -345,7 +375,91 @@ def guard(crane: Crane, world: World, state: State, inputs: Inputs, horizon: flo
                              cfg, ffi.cast("crane_real *", ffi.from_buffer(clearance)),
                              ffi.cast("crane_real *", ffi.from_buffer(work)), work.size, res)
     _core.ensure(status, "guard")
-    return _verdict(res, clearance, shape, world, values, float(horizon), traj)
+    return res, clearance
+
+
+def _state_at(crane: Crane, state: State, traj: Trajectory, k: int, stop: Inputs) -> State:
+    """The state at sample k of a prediction, as the start of the stop: strokes, stroke rates
+    (0 for a lever that stops by Hold: it freezes), chamber pressures and spools."""
+    from . import _core
+
+    rates = []
+    for j, drive in enumerate((stop.lift, stop.tilt)):
+        if isinstance(drive, Hold):
+            rates.append(0.0)
+        else:
+            _, ds = _core.joint_angle(crane, j, float(traj.strokes[k, j]), state.extension)
+            rates.append(float(traj.omega[k, j]) * ds)
+    extra: Dict[str, float] = {}
+    for j, name in enumerate(JOINTS):
+        if not isinstance((stop.lift, stop.tilt)[j], Hold) and traj.p_a is not None:
+            extra[f"{name}_p_a"] = float(traj.p_a[k, j])
+            extra[f"{name}_p_b"] = float(traj.p_b[k, j])
+            if traj.spool is not None:
+                extra[f"{name}_spool"] = float(traj.spool[k, j])
+    return State(lift_stroke=float(traj.strokes[k, 0]), tilt_stroke=float(traj.strokes[k, 1]),
+                 slew=state.slew, extension=state.extension, lift_stroke_rate=rates[0],
+                 tilt_stroke_rate=rates[1], **extra)
+
+
+def _latest_valve_stop(crane: Crane, world: World, state: State, traj: Trajectory, stop: Inputs,
+                       shape: Shape, values: Dict[str, float], stop_horizon: float,
+                       dt: float, sample_every: int, t_contact: float) -> float:
+    """The latest judged sample time t_s at which stopping (taking effect at the first sample at or
+    after t_s + reaction) keeps the clearance above the margin, by bisection over the samples:
+    stopping later is taken never to be safer. Each candidate predicts the stop from the state
+    there under ``stop`` over ``stop_horizon`` and judges it; the command's own path is clear
+    before its first contact. -inf if not even stopping at t = 0 is safe."""
+    reaction = values["reaction"]
+    t = traj.t
+
+    def safe(k: int) -> bool:
+        m = int(np.searchsorted(t, t[k] + reaction - 1e-12))
+        if m >= len(t) or t[m] >= t_contact:
+            return False
+        after = api.predict_many(crane, [_state_at(crane, state, traj, m, stop)], [stop],
+                                 stop_horizon, dt=dt, sample_every=sample_every)[0]
+        res, _ = _judge(crane, world, state, after, shape, values)
+        return not res.contact
+
+    lo, hi = -1, int(np.searchsorted(t, t_contact - reaction, side="right"))  # safe(lo), not hi
+    if hi <= 0 or not safe(0):
+        return -math.inf
+    lo = 0
+    while hi - lo > 1:
+        mid = (lo + hi) // 2
+        if safe(mid):
+            lo = mid
+        else:
+            hi = mid
+    return float(t[lo])
+
+
+def _with_stop(v: "Verdict", latest: float, values: Dict[str, float]) -> "Verdict":
+    """The verdict with the stop analysis of valves to neutral (the signal follows from it)."""
+    import dataclasses
+
+    stop = StopAnalysis(
+        latest=latest, reaction=values["reaction"], model="valves to neutral",
+        note="stop = every valve to neutral (lever 0; pressure-driven cylinders held): the crane "
+             "decelerates through the spool's lag and the oil's stiffness as modelled; the latest "
+             "time is that of the judged samples, found by bisection")
+    signal = "STOP" if latest < values["cycle"] else "WARN"
+    c = v.contact
+    assert c is not None
+    pair = f"{c.part} and {c.obstacle}"
+    if c.at_start:
+        return dataclasses.replace(v, stop=stop)
+    if signal == "STOP":
+        when = "no stop keeps the margin" if latest == -math.inf else f"by t = {latest:.3f} s: now"
+        reason = (f"contact of {pair} predicted at t = {c.t:.3f} s; with a {values['reaction']:g} s "
+                  f"reaction and the valves to neutral stopping must begin {when}")
+    else:
+        reason = (f"contact of {pair} predicted at t = {c.t:.3f} s; with the valves to neutral "
+                  f"stopping can wait until t = {latest:.3f} s")
+    if c.closing:
+        reason += f" (closing: {', '.join(c.closing)})"
+    return dataclasses.replace(v, signal=signal, reason=reason, stop=stop)
 
 
 def _verdict(res: Any, clearance: np.ndarray, shape: Shape, world: World, v: Dict[str, float],

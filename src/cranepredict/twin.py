@@ -21,10 +21,12 @@ import numpy as np
 
 from .types import POINT_NAMES
 
-__all__ = ["POINT_NAMES", "TwinModel", "simulate", "points", "LIFT", "TILT"]
+__all__ = ["POINT_NAMES", "TwinModel", "simulate", "points", "LIFT", "TILT", "SLEW", "EXTENSION"]
 
 LIFT = 0
 TILT = 1
+SLEW = 2
+EXTENSION = 3
 
 #: Bisections used to locate an end-stop impact inside a step (spec: 60).
 EVENT_BISECTIONS = 60
@@ -32,9 +34,16 @@ EVENT_BISECTIONS = 60
 RELEASE_BISECTIONS = 40
 #: Most pieces (impacts and releases) one step is cut into; the last takes the rest (spec: 8).
 MAX_PIECES = 8
+#: The four-joint histories of _run that the API does not carry yet (issue 11).
+FOUR_JOINT_ARRAYS = ("slew", "extension", "slew_rate", "extension_rate", "slew_stop", "extension_stop")
+#: Where a valve-driven state's hydraulic entries start: (p_a0, p_b0, p_a1, p_b1, y0, y1) follow
+#: (theta0, theta1, psi, e) and their rates.
+HYD = 8
 
 Vec = Tuple[float, float]
 Pair = Tuple[float, float]
+Quad = Tuple[float, float, float, float]
+Tensor = Tuple[float, float, float]     # in-plane inertia tensor entries (ixx, iyy, ixy)
 Matrix2 = Tuple[Pair, Pair]
 Matrix4 = Tuple[Tuple[float, float, float, float], ...]
 
@@ -49,6 +58,15 @@ _TWO_PI = 2.0 * math.pi
 def _vec(p: Sequence[float]) -> Vec:
     """A geometry point as a plain float pair (the crane may hold numpy scalars or lists)."""
     return (float(p[0]), float(p[1]))
+
+
+def _tensor(body: Any) -> Tensor:
+    """A crane body's in-plane inertia tensor entries (ixx, iyy, ixy); left out: (0, izz, 0)."""
+    ixx = getattr(body, "ixx", None)
+    iyy = getattr(body, "iyy", None)
+    ixy = getattr(body, "ixy", None)
+    return (0.0 if ixx is None else float(ixx), float(body.izz) if iyy is None else float(iyy),
+            0.0 if ixy is None else float(ixy))
 
 
 def _sub(a: Vec, b: Vec) -> Vec:
@@ -102,6 +120,24 @@ def _circle(c0: Vec, r0: float, c1: Vec, r1: float, sign: float) -> Vec:
     h = sign * math.sqrt(h2)
     # p = c0 + a u + sign sqrt(h2) perp(u), perp(u) = (-uy, ux)
     return (c0[0] + a * ux - h * uy, c0[1] + a * uy + h * ux)
+
+
+def _solve(a: List[List[float]], b: List[float]) -> List[float]:
+    """x with a x = b, Gaussian elimination with partial pivoting (n <= 4)."""
+    n = len(b)
+    m = [row[:] + [b[i]] for i, row in enumerate(a)]
+    for c in range(n):
+        p = max(range(c, n), key=lambda r: abs(m[r][c]))
+        m[c], m[p] = m[p], m[c]
+        for r in range(c + 1, n):
+            f = m[r][c] / m[c][c]
+            if f != 0.0:
+                for k in range(c, n + 1):
+                    m[r][k] -= f * m[c][k]
+    x = [0.0] * n
+    for r in range(n - 1, -1, -1):
+        x[r] = (m[r][n] - sum(m[r][k] * x[k] for k in range(r + 1, n))) / m[r][r]
+    return x
 
 
 def _wrap_tilt(theta: float) -> float:
@@ -182,6 +218,8 @@ class _LinkPose(NamedTuple):
     d2: Vec          #: side link 2's centre of mass, Q + R(phi2) cL2
     e2: Vec          #: R(phi2) cL2
     j2: Vec          #: side link 2's centre-of-mass velocity per unit tilt rate, v2/u
+    phi1: float      #: side link 1's turn relative to the lift boom
+    phi2: float      #: side link 2's turn relative to the lift boom
     stroke: float    #: the tilt stroke at this angle
 
 
@@ -198,7 +236,11 @@ class _Configuration(NamedTuple):
     tilt_stroke: float  #: the tilt stroke (from the four-bar pose)
     r12: Vec         #: R(theta0) O2
     cc1: Vec         #: R(theta0) c1
-    cc2: Vec         #: R(theta0 + theta1) c2
+    cc2: Vec         #: R(theta0 + theta1) c_ob (the outer boom alone)
+    cc3: Vec         #: R(theta0 + theta1) (mount + (e, 0) + c3): body 3 (extension boom + load)
+    u: Vec           #: R(theta0 + theta1) (1, 0): the extension's direction
+    th0: float       #: theta0: the lift boom's angle in the boom plane
+    th12: float      #: theta0 + theta1: the outer boom's and body 3's
     arm_a: Vec       #: R(theta0) (A - O2)
     arm_q: Vec       #: R(theta0) (Q - P1)
     link: Vec        #: R(theta0) (A - Q)
@@ -212,11 +254,26 @@ class _Configuration(NamedTuple):
     d2: Vec          #: R(theta0) d2, from O1
     e2: Vec
     j2: Vec
+    phi1: float      #: theta0 + phi1: side link 1's angle in the boom plane
+    phi2: float      #: theta0 + phi2
+    lumped: Tuple[float, float]  #: (m, izz) of body 2 lumped with body 3 at this extension
+    cc2l: Vec        #: R(theta0 + theta1) c of that lumped body
+
+
+def _vertical_inertia(t: Tensor, phi: float) -> Tuple[float, float]:
+    """(J_v, J_v'): a body's inertia about a vertical axis through its centre when turned by phi
+    in the boom plane, and its derivative by phi (spec "Four joints")."""
+    s2 = math.sin(2.0 * phi)
+    c2 = math.cos(2.0 * phi)
+    ixx, iyy, ixy = t
+    # ixx sin^2 + 2 ixy sin cos + iyy cos^2, with the double angles
+    return (0.5 * (ixx + iyy) + 0.5 * (iyy - ixx) * c2 + ixy * s2,
+            (ixx - iyy) * s2 + 2.0 * ixy * c2)
 
 
 def _link_torques(mass: float, izz: float, k: float, d: Vec, e: Vec, j: Vec, base_v: Vec,
                   base_acc: Vec, dphi: float, ddphi: float, w1: float, a1: float,
-                  g: float) -> Pair:
+                  g: float, cen_x: float = 0.0, n_g: float = 0.0) -> Pair:
     """One side link's share of (tau0, tau1), by virtual work.
 
     The link's frame origin moves relative to the lift boom with base_v, base_acc (zero for
@@ -224,7 +281,8 @@ def _link_torques(mass: float, izz: float, k: float, d: Vec, e: Vec, j: Vec, bas
     the lift boom; d is its centre of mass from O1, e from its frame origin, j its velocity per
     unit tilt rate, k its turn rate per unit tilt rate (boom-plane axes). The lift boom frame
     turns with w1, a1, so the absolute centre-of-mass acceleration picks up the Coriolis term
-    2 w1 perp(V) besides a1 perp(D) - w1^2 D. Gravity is the base acceleration (0, g).
+    2 w1 perp(V) besides a1 perp(D) - w1^2 D. Gravity is the base acceleration (0, g); the
+    slew adds the centripetal acceleration cen_x (along x) and the moment n_g (spec "Four joints").
     """
     # motion relative to the lift boom: v = base_v + dphi perp(e), acc likewise
     vx = base_v[0] - dphi * e[1]
@@ -232,9 +290,9 @@ def _link_torques(mass: float, izz: float, k: float, d: Vec, e: Vec, j: Vec, bas
     rel_x = base_acc[0] - ddphi * e[1] - dphi * dphi * e[0]
     rel_y = base_acc[1] + ddphi * e[0] - dphi * dphi * e[1]
     # acc_cL = acc_O1 + Acc + 2 w1 perp(V) + a1 perp(D) - w1^2 D
-    fx = mass * (rel_x - 2.0 * w1 * vy - a1 * d[1] - w1 * w1 * d[0])
+    fx = mass * (rel_x - 2.0 * w1 * vy - a1 * d[1] - w1 * w1 * d[0] + cen_x)
     fy = mass * (g + rel_y + 2.0 * w1 * vx + a1 * d[0] - w1 * w1 * d[1])
-    n = izz * (a1 + ddphi)
+    n = izz * (a1 + ddphi) + n_g
     # tau0 += cross(D, F) + N, tau1 += F . j + N k
     return d[0] * fy - d[1] * fx + n, fx * j[0] + fy * j[1] + n * k
 
@@ -291,24 +349,71 @@ class TwinModel:
         self.area_bore: Pair = tuple(math.pi * float(c.bore) ** 2 / 4.0 for c in cylinders)  # type: ignore
         self.area_rod: Pair = tuple(
             math.pi * (float(c.bore) ** 2 - float(c.rod) ** 2) / 4.0 for c in cylinders)  # type: ignore
-        self.friction = tuple(
-            (float(c.friction.coulomb), float(c.friction.static), float(c.friction.viscous),
-             float(c.friction.stribeck_velocity), float(c.friction.factor))
-            for c in cylinders)
+        frictions = [c.friction for c in cylinders]
 
-        # --- bodies ----------------------------------------------------------------------
+        # --- slew drive and extension cylinder (spec "Four joints"): equivalent cylinders --
+        slew_drive = getattr(crane, "slew_drive", None)
+        ext_cyl = getattr(crane, "extension_cylinder", None)
+        self.has_actuator = (True, True, slew_drive is not None, ext_cyl is not None)
+        e_min, e_max = float(geo.extension_min), float(geo.extension_max)
+        if slew_drive is not None:
+            area = math.pi * float(slew_drive.bore) ** 2 / 4.0
+            #: ds/dpsi of the rack (constant)
+            self.slew_ratio = float(slew_drive.pinion_radius)
+            slew_limits = (float(slew_drive.slew_min), float(slew_drive.slew_max))
+            slew_areas = (area, area)
+            frictions.append(slew_drive.friction)
+        else:
+            self.slew_ratio = 1.0
+            slew_limits = (-math.inf, math.inf)
+            slew_areas = (0.0, 0.0)
+            frictions.append(None)
+        if ext_cyl is not None:
+            ext_areas = (math.pi * float(ext_cyl.bore) ** 2 / 4.0,
+                         math.pi * (float(ext_cyl.bore) ** 2 - float(ext_cyl.rod) ** 2) / 4.0)
+            frictions.append(ext_cyl.friction)
+        else:
+            ext_areas = (0.0, 0.0)
+            frictions.append(None)
+        self.area_bore = self.area_bore + (slew_areas[0], ext_areas[0])  # type: ignore
+        self.area_rod = self.area_rod + (slew_areas[1], ext_areas[1])  # type: ignore
+        self.friction = tuple(
+            (0.0, 0.0, 0.0, 1.0, 0.0) if f is None else
+            (float(f.coulomb), float(f.static), float(f.viscous), float(f.stribeck_velocity),
+             float(f.factor))
+            for f in frictions)
+        self.slew_limits: Pair = slew_limits
+        self.extension_limits: Pair = (e_min, e_max)
+
+        # --- bodies (spec "Four joints": body 2 the outer boom alone, body 3 extension + load)
         self.m1 = float(crane.lift_boom.mass)
         self.c1 = _vec(crane.lift_boom.com)
         self.i1 = float(crane.lift_boom.izz)
-        self.m2, self.c2, self.i2 = self._lumped_outer_body(crane)
+        self.t1 = _tensor(crane.lift_boom)
+        self.m2 = float(crane.outer_boom.mass)
+        self.c2 = _vec(crane.outer_boom.com)
+        self.i2 = float(crane.outer_boom.izz)
+        self.t2 = _tensor(crane.outer_boom)
+        self.m3, self.c3, self.i3, self.t3 = self._extension_body(crane)
         # side link 1's frame has its origin at P1, side link 2's at the pin Q
         self.link1_mass = float(crane.side_link1.mass)
         self.link1_com = _vec(crane.side_link1.com)
         self.link1_izz = float(crane.side_link1.izz)
+        self.link1_tensor = _tensor(crane.side_link1)
         self.link2_mass = float(crane.side_link2.mass)
         self.link2_com = _vec(crane.side_link2.com)
         self.link2_izz = float(crane.side_link2.izz)
+        self.link2_tensor = _tensor(crane.side_link2)
+        pillar = crane.pillar
+        #: the pillar's constant share of the slew inertia, m x^2 + iyy
+        self.pillar_inertia = 0.0 if pillar is None else (
+            float(pillar.mass) * float(pillar.com[0]) ** 2 + _tensor(pillar)[1])
         self._pose: Optional[_LinkPose] = None                      # the last four-bar pose
+        self._lumped: dict = {}                                     # extension -> lumped body 2
+        self._m_ext = float(crane.extension_boom.mass)
+        self._c_ext = _vec(crane.extension_boom.com)
+        self._i_ext = float(crane.extension_boom.izz)
+        self._m_load = float(crane.load_mass)
 
         # --- tilt four-bar validity and assembly (spec "Tilt kinematics") ------------------
         #: the side of P1 -> A on which angle -> stroke puts Q (+1 left, -1 right)
@@ -332,10 +437,12 @@ class TwinModel:
                 limits.append((theta_b, theta_a))
                 at_stop.append({-1: self.stroke_max[joint], +1: self.stroke_min[joint]})
                 flags.append({-1: +1, +1: -1})
-        #: angle_limits[joint] = (lower, upper)
-        self.angle_limits: Tuple[Pair, Pair] = (limits[0], limits[1])
+        #: angle_limits[joint] = (lower, upper), for the slew and the extension their range
+        self.angle_limits: Tuple[Pair, ...] = (limits[0], limits[1], self.slew_limits,
+                                               self.extension_limits)
         self.stroke_at_stop = (at_stop[0], at_stop[1])
-        self.stop_flag = (flags[0], flags[1])
+        # the slew and the extension: -1 at the range's start, +1 at its end
+        self.stop_flag = (flags[0], flags[1], {-1: -1, +1: +1}, {-1: -1, +1: +1})
 
     def _fourbar_branch(self) -> float:
         """Exact validity of the four-bar over the tilt stroke (spec "Tilt kinematics"), decided in
@@ -409,30 +516,25 @@ class TwinModel:
             raise ValueError("the tilt angle leaves (-3pi/2, pi/2) over the tilt stroke")
         return branch
 
-    def _lumped_outer_body(self, crane: Any) -> Tuple[float, Vec, float]:
-        """Body 2 = outer boom + extension boom at this extension + load at the tip, in the outer
-        boom frame; lumped once because the extension does not move during a prediction."""
-        e = self.extension
-        m_ob = float(crane.outer_boom.mass)
-        c_ob = _vec(crane.outer_boom.com)
+    def _extension_body(self, crane: Any) -> Tuple[float, Vec, float, Tensor]:
+        """Body 3 = extension boom + load at the tip, lumped once per crane in the extension
+        boom frame (they slide together): mass, centre, izz and in-plane tensor (parallel axes)."""
         m_ext = float(crane.extension_boom.mass)
         c_ext = _vec(crane.extension_boom.com)
         m_load = float(crane.load_mass)
-        mount = self.extension_mount
-        x_ext = (mount[0] + e + c_ext[0], mount[1] + c_ext[1])
-        x_tip = (mount[0] + e + self.tip_distance, mount[1])
-        m2 = m_ob + m_ext + m_load
-        c2 = ((m_ob * c_ob[0] + m_ext * x_ext[0] + m_load * x_tip[0]) / m2,
-              (m_ob * c_ob[1] + m_ext * x_ext[1] + m_load * x_tip[1]) / m2)
-
-        def offset2(p: Vec) -> float:
-            d = _sub(p, c2)
-            return _dot(d, d)
-
-        i2 = (float(crane.outer_boom.izz) + m_ob * offset2(c_ob)
-              + float(crane.extension_boom.izz) + m_ext * offset2(x_ext)
-              + m_load * offset2(x_tip))
-        return m2, c2, i2
+        tip = (self.tip_distance, 0.0)
+        m3 = m_ext + m_load
+        c3 = ((m_ext * c_ext[0] + m_load * tip[0]) / m3, (m_ext * c_ext[1] + m_load * tip[1]) / m3)
+        t_ext = _tensor(crane.extension_boom)
+        i3 = float(crane.extension_boom.izz)
+        ixx, iyy, ixy = t_ext
+        for m, p in ((m_ext, c_ext), (m_load, tip)):
+            d = _sub(p, c3)
+            i3 += m * _dot(d, d)
+            ixx += m * d[1] * d[1]
+            iyy += m * d[0] * d[0]
+            ixy -= m * d[0] * d[1]
+        return m3, c3, i3, (ixx, iyy, ixy)
 
     # ---------------------------------------------------------------------------------
     # Lift kinematics (triangle)
@@ -536,7 +638,7 @@ class TwinModel:
         length = _norm(_sub(q, self.tilt_cylinder_base))
         ratio = self._tilt_ratio(q, a, length)
         pose = _LinkPose(theta, ratio, arm_a, arm_q, link, den1, den2, k1, k2,
-                         d1, e1, j1, d2, e2, j2, length - self.length_retracted[TILT])
+                         d1, e1, j1, d2, e2, j2, phi1, phi2, length - self.length_retracted[TILT])
         self._pose = pose
         return pose
 
@@ -560,9 +662,12 @@ class TwinModel:
     # Dynamics
     # ---------------------------------------------------------------------------------
 
-    def _configuration(self, theta: Sequence[float]) -> _Configuration:
-        """Everything ID needs about the configuration theta, in the boom plane."""
-        th0, th1 = theta
+    def _configuration(self, theta: Sequence[float], extension: Optional[float] = None
+                       ) -> _Configuration:
+        """Everything ID needs about the configuration (theta, e), in the boom plane; the
+        extension defaults to the model's."""
+        th0, th1 = theta[0], theta[1]
+        e = self.extension if extension is None else extension
         c = math.cos(th0)
         s = math.sin(th0)
 
@@ -570,12 +675,18 @@ class TwinModel:
             return (c * v[0] - s * v[1], s * v[0] + c * v[1])
 
         pose = self._link_pose(th1)
+        th12 = th0 + th1
+        mount = self.extension_mount
+        lumped = self._lumped_outer_body(e)
         return _Configuration(
             (self._lift_transmission(th0), pose.ratio), pose.stroke,
-            rot(self.tilt_pivot), rot(self.c1), _rotate(th0 + th1, self.c2),
+            rot(self.tilt_pivot), rot(self.c1), _rotate(th12, self.c2),
+            _rotate(th12, (mount[0] + e + self.c3[0], mount[1] + self.c3[1])),
+            (math.cos(th12), math.sin(th12)), th0, th12,
             rot(pose.arm_a), rot(pose.arm_q), rot(pose.link), pose.den1, pose.den2,
             pose.k1, pose.k2,
-            rot(pose.d1), rot(pose.e1), rot(pose.j1), rot(pose.d2), rot(pose.e2), rot(pose.j2))
+            rot(pose.d1), rot(pose.e1), rot(pose.j1), rot(pose.d2), rot(pose.e2), rot(pose.j2),
+            th0 + pose.phi1, th0 + pose.phi2, (lumped[0], lumped[2]), _rotate(th12, lumped[1]))
 
     def inverse_dynamics(self, theta: Sequence[float], omega: Sequence[float],
                          alpha: Sequence[float], gravity: Optional[float] = None) -> Pair:
@@ -588,15 +699,44 @@ class TwinModel:
         g = self.gravity if gravity is None else gravity
         return self._inverse_dynamics(self._configuration(theta), omega, alpha, g)
 
+    def _lumped_outer_body(self, e: float) -> Tuple[float, Vec, float]:
+        """Body 2 = outer boom + extension boom at extension e + load at the tip, in the outer boom
+        frame (spec "Bodies and the lumped outer boom"): the planar model's body 2, for motion
+        with the extension at rest; summed in the spec's order (the C core's)."""
+        cached = self._lumped.get(e)
+        if cached is not None:
+            return cached
+        m_ob, c_ob, m_ext, c_ext, m_load = self.m2, self.c2, self._m_ext, self._c_ext, self._m_load
+        mount = self.extension_mount
+        x_ext = (mount[0] + e + c_ext[0], mount[1] + c_ext[1])
+        x_tip = (mount[0] + e + self.tip_distance, mount[1])
+        m2 = m_ob + m_ext + m_load
+        c2 = ((m_ob * c_ob[0] + m_ext * x_ext[0] + m_load * x_tip[0]) / m2,
+              (m_ob * c_ob[1] + m_ext * x_ext[1] + m_load * x_tip[1]) / m2)
+
+        def offset2(p: Vec) -> float:
+            d = _sub(p, c2)
+            return _dot(d, d)
+
+        i2 = (self.i2 + m_ob * offset2(c_ob) + self._i_ext + m_ext * offset2(x_ext)
+              + m_load * offset2(x_tip))
+        lumped = (m2, c2, i2)
+        self._lumped[e] = lumped
+        return lumped
+
     def _inverse_dynamics(self, conf: _Configuration, omega: Sequence[float],
                           alpha: Sequence[float], g: float) -> Pair:
-        """ID at a prepared configuration: the two booms, then the two side links."""
+        """ID of the planar model (spec "Dynamics"): the slew and the extension at rest, the
+        outer boom lumped with the extension boom and the load, then the two side links. (The
+        same physics as _id4 with their rates zero; kept in the planar model's arithmetic, which
+        the C core shares, so that rounding does not move a located event between them.)"""
         w1 = omega[0]
         w2 = omega[0] + omega[1]
         a1 = alpha[0]
         a2 = alpha[0] + alpha[1]
-        r12, cc1, cc2 = conf.r12, conf.cc1, conf.cc2
-        m1, m2 = self.m1, self.m2
+        r12, cc1, cc2 = conf.r12, conf.cc1, conf.cc2l
+        m1 = self.m1
+        m2, i2 = conf.lumped
 
         # forward recursion: accelerations (acc = acc_parent + a perp(r) - w^2 r)
         acc_c1 = (-a1 * cc1[1] - w1 * w1 * cc1[0], g + a1 * cc1[0] - w1 * w1 * cc1[1])
@@ -606,15 +746,104 @@ class TwinModel:
 
         # backward recursion: forces and moments about each joint
         f2 = (m2 * acc_c2[0], m2 * acc_c2[1])
-        n2 = self.i2 * a2 + _cross(cc2, f2)
+        n2 = i2 * a2 + _cross(cc2, f2)
         f1c = (m1 * acc_c1[0], m1 * acc_c1[1])
         n1 = self.i1 * a1 + _cross(cc1, f1c) + _cross(r12, f2) + n2
 
         links = self._side_link_torques(conf, w1, a1, omega[1], alpha[1], g)
         return n1 + links[0], n2 + links[1]
 
+    def inverse_dynamics4(self, q: Sequence[float], qd: Sequence[float], qdd: Sequence[float],
+                          gravity: Optional[float] = None) -> Quad:
+        """Generalized forces (tau0, tau1, tau_s, tau_e) of the four joints, q = (theta0,
+        theta1, psi, e) (spec "Four joints"): N m for the revolute joints, N for the extension."""
+        g = self.gravity if gravity is None else gravity
+        return self._id4(self._configuration((q[0], q[1]), q[3]), qd, qdd, g)
+
+    def _id4(self, conf: _Configuration, qd: Sequence[float], qdd: Sequence[float],
+             g: float) -> Quad:
+        """ID at a prepared configuration: the three in-plane bodies with the slew's centripetal
+        and gyroscopic terms, the side links, then the slew's J_z alpha_s + Jdot_z omega_s."""
+        w1 = qd[0]
+        w2 = qd[0] + qd[1]
+        ws = qd[2]
+        ve = qd[3]
+        a1 = qdd[0]
+        a2 = qdd[0] + qdd[1]
+        ae = qdd[3]
+        r12, cc1, cc2, cc3, u = conf.r12, conf.cc1, conf.cc2, conf.cc3, conf.u
+        m1, m2, m3 = self.m1, self.m2, self.m3
+        s2 = ws * ws
+        x0 = self.lift_pivot[0]               # O1's distance from the slew axis
+        x2 = x0 + r12[0]                      # O2's
+        if s2 != 0.0:
+            n_g1 = -0.5 * s2 * _vertical_inertia(self.t1, conf.th0)[1]
+            n_g23 = _vertical_inertia(self.t2, conf.th12)[1] + _vertical_inertia(self.t3, conf.th12)[1]
+            n_g23 *= -0.5 * s2
+        else:
+            n_g1 = n_g23 = 0.0
+
+        # forward recursion: accelerations (acc = acc_parent + a perp(r) - w^2 r + cen)
+        acc_c1 = (-a1 * cc1[1] - w1 * w1 * cc1[0] - s2 * (x0 + cc1[0]),
+                  g + a1 * cc1[0] - w1 * w1 * cc1[1])
+        acc_o2 = (-a1 * r12[1] - w1 * w1 * r12[0], g + a1 * r12[0] - w1 * w1 * r12[1])
+        acc_c2 = (acc_o2[0] - a2 * cc2[1] - w2 * w2 * cc2[0] - s2 * (x2 + cc2[0]),
+                  acc_o2[1] + a2 * cc2[0] - w2 * w2 * cc2[1])
+        cor = 2.0 * w2 * ve                   # Coriolis of the sliding body 3: cor perp(u)
+        acc_c3 = (acc_o2[0] - a2 * cc3[1] - w2 * w2 * cc3[0] - cor * u[1] + ae * u[0]
+                  - s2 * (x2 + cc3[0]),
+                  acc_o2[1] + a2 * cc3[0] - w2 * w2 * cc3[1] + cor * u[0] + ae * u[1])
+
+        # backward recursion: forces and moments about each joint
+        f3 = (m3 * acc_c3[0], m3 * acc_c3[1])
+        tau_e = _dot(f3, u)
+        f2c = (m2 * acc_c2[0], m2 * acc_c2[1])
+        n2 = (self.i2 + self.i3) * a2 + n_g23 + _cross(cc2, f2c) + _cross(cc3, f3)
+        f2 = (f2c[0] + f3[0], f2c[1] + f3[1])
+        f1c = (m1 * acc_c1[0], m1 * acc_c1[1])
+        n1 = self.i1 * a1 + n_g1 + _cross(cc1, f1c) + _cross(r12, f2) + n2
+
+        links = self._side_link_torques(conf, w1, a1, qd[1], qdd[1], g, s2)
+        tau_s = 0.0
+        if ws != 0.0 or qdd[2] != 0.0:
+            j_z, j_dot = self._slew_inertia(conf, qd)
+            tau_s = j_z * qdd[2] + j_dot * ws
+        return n1 + links[0], n2 + links[1], tau_s, tau_e
+
+    def slew_inertia(self, q: Sequence[float], qd: Sequence[float]) -> Pair:
+        """(J_z, dJ_z/dt): the crane's inertia about the slew axis at q and its rate of change
+        with the rates qd (spec "Four joints")."""
+        return self._slew_inertia(self._configuration((q[0], q[1]), q[3]), qd)
+
+    def _slew_inertia(self, conf: _Configuration, qd: Sequence[float]) -> Pair:
+        w1 = qd[0]
+        w2 = qd[0] + qd[1]
+        r12, cc1, cc2, cc3 = conf.r12, conf.cc1, conf.cc2, conf.cc3
+        x0 = self.lift_pivot[0]
+        x2 = x0 + r12[0]
+        j_z = self.pillar_inertia
+        j_dot = 0.0
+        # (mass, x from the axis, xdot, tensor, phi, phidot) of every moving body
+        k1 = conf.k1 * qd[1]
+        k2 = conf.k2 * qd[1]
+        bodies = (
+            (self.m1, x0 + cc1[0], -w1 * cc1[1], self.t1, conf.th0, w1),
+            (self.m2, x2 + cc2[0], -w1 * r12[1] - w2 * cc2[1], self.t2, conf.th12, w2),
+            (self.m3, x2 + cc3[0], -w1 * r12[1] - w2 * cc3[1] + qd[3] * conf.u[0], self.t3,
+             conf.th12, w2),
+            (self.link1_mass, x0 + conf.d1[0], qd[1] * conf.j1[0] - w1 * conf.d1[1],
+             self.link1_tensor, conf.phi1, w1 + k1),
+            (self.link2_mass, x0 + conf.d2[0], qd[1] * conf.j2[0] - w1 * conf.d2[1],
+             self.link2_tensor, conf.phi2, w1 + k2),
+        )
+        for m, x, xdot, t, phi, phidot in bodies:
+            j_v, j_v_prime = _vertical_inertia(t, phi)
+            j_z += m * x * x + j_v
+            j_dot += 2.0 * m * x * xdot + j_v_prime * phidot
+        return j_z, j_dot
+
     def _side_link_torques(self, conf: _Configuration, w1: float, a1: float,
-                           u: float, a: float, g: float) -> Pair:
+                           u: float, a: float, g: float, s2: float = 0.0) -> Pair:
         """The side links' share of (tau0, tau1) (spec "Side links"): the four-bar's
         acceleration analysis gives each link's motion relative to the lift boom, which the
         lift boom's own motion then carries."""
@@ -631,10 +860,18 @@ class TwinModel:
         # side link 2 rides on the pin Q, which turns about P1 with side link 1
         dq = (-dphi1 * arm_q[1], dphi1 * arm_q[0])
         ddq = (-ddphi1 * arm_q[1] - sq1 * arm_q[0], ddphi1 * arm_q[0] - sq1 * arm_q[1])
+        cen1 = cen2 = n_g1 = n_g2 = 0.0
+        if s2 != 0.0:   # the slew's centripetal acceleration and gyroscopic moment
+            x0 = self.lift_pivot[0]
+            cen1 = -s2 * (x0 + conf.d1[0])
+            cen2 = -s2 * (x0 + conf.d2[0])
+            n_g1 = -0.5 * s2 * _vertical_inertia(self.link1_tensor, conf.phi1)[1]
+            n_g2 = -0.5 * s2 * _vertical_inertia(self.link2_tensor, conf.phi2)[1]
         tau1_0, tau1_1 = _link_torques(self.link1_mass, self.link1_izz, conf.k1, conf.d1, conf.e1,
-                                       conf.j1, (0.0, 0.0), (0.0, 0.0), dphi1, ddphi1, w1, a1, g)
+                                       conf.j1, (0.0, 0.0), (0.0, 0.0), dphi1, ddphi1, w1, a1, g,
+                                       cen1, n_g1)
         tau2_0, tau2_1 = _link_torques(self.link2_mass, self.link2_izz, conf.k2, conf.d2, conf.e2,
-                                       conf.j2, dq, ddq, dphi2, ddphi2, w1, a1, g)
+                                       conf.j2, dq, ddq, dphi2, ddphi2, w1, a1, g, cen2, n_g2)
         return tau1_0 + tau2_0, tau1_1 + tau2_1
 
     def mass_matrix(self, theta: Sequence[float]) -> Matrix2:
@@ -681,6 +918,46 @@ class TwinModel:
         return ((m11 / det, -m01 / det), (-m10 / det, m00 / det))
 
     # ---------------------------------------------------------------------------------
+    # Four joints: mass matrix and forward dynamics (spec "Four joints")
+    # ---------------------------------------------------------------------------------
+
+    def _mass_matrix4(self, conf: _Configuration, joints: Sequence[int]) -> List[List[float]]:
+        """The rows and columns `joints` of M (columns ID(q, 0, e_j, 0)); block diagonal, so the
+        slew's entry is J_z alone."""
+        cols = []
+        for j in joints:
+            unit = [0.0, 0.0, 0.0, 0.0]
+            unit[j] = 1.0
+            col = self._id4(conf, (0.0, 0.0, 0.0, 0.0), unit, 0.0)
+            cols.append([col[i] for i in joints])
+        return [[cols[c][r] for c in range(len(joints))] for r in range(len(joints))]
+
+    def _forward4(self, conf: _Configuration, qd: Sequence[float], tau: Sequence[float],
+                  locked: Sequence[bool]) -> Quad:
+        """qdd from M qdd = tau - h over the joints that are not locked (the others 0)."""
+        free = [j for j in (LIFT, TILT, SLEW, EXTENSION) if not locked[j]]
+        if not free:
+            return 0.0, 0.0, 0.0, 0.0
+        h = self._id4(conf, qd, (0.0, 0.0, 0.0, 0.0), self.gravity)
+        mass = self._mass_matrix4(conf, free)
+        sol = _solve(mass, [tau[j] - h[j] for j in free])
+        out = [0.0, 0.0, 0.0, 0.0]
+        for j, a in zip(free, sol):
+            out[j] = a
+        return out[0], out[1], out[2], out[3]
+
+    def friction_slope(self, joint: int) -> float:
+        """G_f, N s/m: the slope of the actuator's friction force at rest, k (4 F_C + 16/9 (F_S -
+        F_C)) / v_S + sigma tanh(4) (the law's steepest point)."""
+        f_c, f_s, sigma, v_s, k = self.friction[joint]
+        return k * (4.0 * f_c + 16.0 / 9.0 * (f_s - f_c)) / v_s + sigma * math.tanh(4.0)
+
+    def forward_dynamics4(self, q: Sequence[float], qd: Sequence[float], tau: Sequence[float],
+                          locked: Sequence[bool]) -> Quad:
+        """Joint accelerations of the four joints; a locked joint has qdd = 0."""
+        return self._forward4(self._configuration((q[0], q[1]), q[3]), qd, tau, locked)
+
+    # ---------------------------------------------------------------------------------
     # Cylinders
     # ---------------------------------------------------------------------------------
 
@@ -712,18 +989,21 @@ class TwinModel:
     # Points
     # ---------------------------------------------------------------------------------
 
-    def _frames(self, theta: Sequence[float], slew: float) -> Tuple[Matrix4, Matrix4, Matrix4, Matrix4]:
+    def _frames(self, theta: Sequence[float], slew: float, extension: Optional[float] = None
+                ) -> Tuple[Matrix4, Matrix4, Matrix4, Matrix4]:
         """World transforms of the boom plane, lift boom, outer boom and extension boom frames."""
+        e = self.extension if extension is None else extension
         t_w0 = _world_transform(slew)
         t_w1 = _compose(t_w0, _planar_transform(theta[0], self.lift_pivot))
         t_w2 = _compose(t_w1, _planar_transform(theta[1], self.tilt_pivot))
         mount = self.extension_mount
-        t_we = _compose(t_w2, _planar_transform(0.0, (mount[0] + self.extension, mount[1])))
+        t_we = _compose(t_w2, _planar_transform(0.0, (mount[0] + e, mount[1])))
         return t_w0, t_w1, t_w2, t_we
 
-    def points(self, theta: Sequence[float], slew: float) -> List[Tuple[float, float, float]]:
+    def points(self, theta: Sequence[float], slew: float, extension: Optional[float] = None
+               ) -> List[Tuple[float, float, float]]:
         """The 11 POINT_NAMES points in world coordinates (m), for drawing the crane."""
-        t_w0, t_w1, t_w2, t_we = self._frames(theta, slew)
+        t_w0, t_w1, t_w2, t_we = self._frames(theta, slew, extension)
         _, q = self._tilt_pins(theta[1])
         return [
             _apply(t_w0, (0.0, 0.0)),
@@ -739,9 +1019,10 @@ class TwinModel:
             _apply(t_we, (self.tip_distance, 0.0)),
         ]
 
-    def tip(self, theta: Sequence[float], slew: float) -> Tuple[float, float, float]:
+    def tip(self, theta: Sequence[float], slew: float, extension: Optional[float] = None
+            ) -> Tuple[float, float, float]:
         """World position of the load point, T_w0 T01 T12 T2e (tip_distance, 0, 0, 1)."""
-        return _apply(self._frames(theta, slew)[3], (self.tip_distance, 0.0))
+        return _apply(self._frames(theta, slew, extension)[3], (self.tip_distance, 0.0))
 
 
 # --------------------------------------------------------------------------------------------
@@ -916,11 +1197,14 @@ def _drive(drive: Any, cylinder: Any = None) -> Any:
 # Integration with end stops
 # --------------------------------------------------------------------------------------------
 
-State4 = Tuple[float, float, float, float]   # (theta0, theta1, omega0, omega1)
+State8 = Tuple[float, ...]   # (theta0, theta1, psi, e, omega0, omega1, omega_s, v_e)
+
+JOINTS = (LIFT, TILT, SLEW, EXTENSION)
 
 
 class _Prediction:
-    """One prediction: the model, the drives and the joint status (held / stopped side)."""
+    """One prediction: the model, the drives and the joint status (held / stopped side) of the
+    four joints (spec "Four joints": the end-stop rules of "End stops" over four joints)."""
 
     def __init__(self, model: TwinModel, drives: Sequence[Optional[_PressureDrive]]) -> None:
         self.model = model
@@ -931,69 +1215,78 @@ class _Prediction:
         self.valve = tuple(isinstance(d, _ValveDrive) for d in drives)
         self.hydraulic = any(self.valve)
         #: stop[j]: 0 not stopped, -1 at the lower angle limit, +1 at the upper (angle terms;
-        #: the reported flag is converted to cylinder terms by TwinModel.stop_flag)
-        self.stop = [0, 0]
+        #: the reported flag is converted to actuator terms by TwinModel.stop_flag)
+        self.stop = [0, 0, 0, 0]
         #: the last release verdict, ((t, x, stop), released): a step that ends on a stop asks
-        #: the rule at its end and the next step asks again at its start, mostly at the same t
+        #: at its end and the next step asks again at its start, mostly at the same t
         self._last_release: Optional[Tuple[Tuple[Any, ...], Tuple[int, ...]]] = None
         #: (time, joint, angle side) of every impact, for diagnostics
         self.events: List[Tuple[float, int, int]] = []
 
-    def locked(self) -> Tuple[bool, bool]:
-        return (self.held[0] or self.stop[0] != 0, self.held[1] or self.stop[1] != 0)
+    def locked(self) -> Tuple[bool, ...]:
+        return tuple(self.held[j] or self.stop[j] != 0 for j in JOINTS)
 
-    def acceleration(self, t: float, x: State4, locked: Tuple[bool, bool]) -> Pair:
-        """alpha at time t: cylinder torques of the unlocked joints into forward dynamics."""
-        if locked[0] and locked[1]:
-            return 0.0, 0.0
-        model = self.model
-        conf = model._configuration((x[0], x[1]))
-        omega = (x[2], x[3])
-        return model._forward_dynamics(conf, omega, self.torques(t, conf, omega, locked, x), locked)
+    def _conf(self, x: Sequence[float]) -> _Configuration:
+        return self.model._configuration((x[0], x[1]), x[3])
 
-    def torques(self, t: float, conf: _Configuration, omega: Pair,
-                locked: Sequence[bool], x: Sequence[float]) -> Pair:
-        """Cylinder torques at time t of the joints that are not locked (0 for the others)."""
-        tau = [0.0, 0.0]
-        for j in (LIFT, TILT):
+    def acceleration(self, t: float, x: Sequence[float], locked: Tuple[bool, ...]) -> Quad:
+        """qdd at time t: actuator forces of the unlocked joints into forward dynamics."""
+        if all(locked):
+            return 0.0, 0.0, 0.0, 0.0
+        conf = self._conf(x)
+        qd = x[4:8]
+        tau = self.torques(t, conf, qd, locked, x)
+        if locked[SLEW] and locked[EXTENSION]:
+            # both at rest (held, or stopped with the rate zeroed): the planar 2x2 solve
+            a = self.model._forward_dynamics(conf, qd[:2], tau[:2], locked[:2])
+            return a[0], a[1], 0.0, 0.0
+        return self.model._forward4(conf, qd, tau, locked)
+
+    def ratio(self, conf: _Configuration, j: int) -> float:
+        """ds/dq of joint j's actuator."""
+        if j == SLEW:
+            return self.model.slew_ratio
+        if j == EXTENSION:
+            return 1.0
+        return conf.ratio[j]
+
+    def torques(self, t: float, conf: _Configuration, qd: Sequence[float],
+                locked: Sequence[bool], x: Sequence[float]) -> Quad:
+        """Actuator forces at time t of the joints that are not locked (0 for the others); a
+        valve-driven cylinder's pressures are the state's."""
+        tau = [0.0, 0.0, 0.0, 0.0]
+        for j in JOINTS:
             if not locked[j]:
                 if self.valve[j]:
-                    p_a, p_b = x[4 + 2 * j], x[5 + 2 * j]
+                    p_a, p_b = x[HYD + 2 * j], x[HYD + 1 + 2 * j]
                 else:
                     p_a, p_b = self.drives[j].pressures(t)  # type: ignore[union-attr]
-                tau[j] = self.model._joint_torque(j, conf.ratio[j], omega[j], p_a, p_b)
-        return tau[0], tau[1]
+                tau[j] = self.model._joint_torque(j, self.ratio(conf, j), qd[j], p_a, p_b)
+        return tau[0], tau[1], tau[2], tau[3]
 
     def stroke(self, j: int, theta: float, conf: Optional[_Configuration] = None) -> float:
-        """Joint j's stroke: its limit on a stop, else from the angle."""
+        """Joint j's stroke (lift or tilt): its limit on a stop, else from the angle."""
         if self.stop[j] != 0:
             return self.model.stroke_at_stop[j][self.stop[j]]
         if j == LIFT:
             return self.model.lift_stroke(theta)
         return conf.tilt_stroke if conf is not None else self.model.tilt_stroke(theta)
 
-    def derivative(self, t: float, x: Sequence[float], locked: Tuple[bool, bool]) -> Tuple[float, ...]:
-        """d/dt of the 10-long hydraulic state: omega, alpha, the chamber pressures, the spools."""
-        model = self.model
-        conf = model._configuration((x[0], x[1]))
-        omega = (x[2], x[3])
-        if locked[0] and locked[1]:
-            alpha: Pair = (0.0, 0.0)
-        else:
-            alpha = model._forward_dynamics(conf, omega, self.torques(t, conf, omega, locked, x),
-                                            locked)
-        d = [x[2], x[3], alpha[0], alpha[1],
-             0.0, 0.0, 0.0, 0.0, 0.0, 0.0]
+    def derivative(self, t: float, x: Sequence[float], locked: Tuple[bool, ...]) -> Tuple[float, ...]:
+        """d/dt of the hydraulic state: qd, qdd, the chamber pressures, the spools."""
+        conf = self._conf(x)
+        qdd = self.acceleration(t, x, locked)
+        d = list(x[4:8]) + list(qdd) + [0.0] * 6
         for j in (LIFT, TILT):
             if not self.valve[j]:
                 continue
-            v = 0.0 if locked[j] else conf.ratio[j] * omega[j]
-            d[4 + 2 * j], d[5 + 2 * j], d[8 + j] = self.drives[j].rates(  # type: ignore[union-attr]
-                t, self.stroke(j, x[j], conf), v, x[4 + 2 * j], x[5 + 2 * j], x[8 + j])
+            v = 0.0 if locked[j] else conf.ratio[j] * x[4 + j]
+            d[HYD + 2 * j], d[HYD + 1 + 2 * j], d[HYD + 4 + j] = self.drives[j].rates(  # type: ignore
+                t, self.stroke(j, x[j], conf), v, x[HYD + 2 * j], x[HYD + 1 + 2 * j], x[HYD + 4 + j])
         return tuple(d)
 
     def rk4_hydraulic(self, t: float, x: Sequence[float], h: float,
-                      locked: Tuple[bool, bool]) -> Tuple[float, ...]:
+                      locked: Tuple[bool, ...]) -> Tuple[float, ...]:
         """Classical RK4 on the whole hydraulic state (docs/model.md, "Hydraulics")."""
         half = 0.5 * h
         k1 = self.derivative(t, x, locked)
@@ -1008,60 +1301,78 @@ class _Prediction:
                      for a, b1, b2, b3, b4 in zip(x, k1, k2, k3, k4))
 
     def substeps(self, x: Sequence[float], h: float) -> int:
-        """n = max(1, ceil(h Lambda / 2.5)), Lambda from the chamber volumes at the step's start."""
+        """n = max(1, ceil(h Lambda / 2.5)): Lambda from the chamber volumes at the step's start
+        (hydraulics) and the extension's friction (spec "Four joints"), the larger."""
         lam = 0.0
         for j in (LIFT, TILT):
             if self.valve[j]:
                 lam = max(lam, self.drives[j].stiffness(self.stroke(j, x[j])))  # type: ignore
+        if not self.held[EXTENSION]:
+            lam = max(lam, self.extension_friction_rate(x))
         return max(1, int(math.ceil(h * lam / SUBSTEP_STABILITY)))
 
-    def rk4(self, t: float, x: State4, h: float, locked: Tuple[bool, bool]) -> State4:
-        """One classical RK4 step of size h on (theta, omega) (and the pressures, if any)."""
+    def rk4(self, t: float, x: Sequence[float], h: float, locked: Tuple[bool, ...]) -> Tuple[float, ...]:
+        """One classical RK4 step of size h on (q, qd) (and the pressures, if any)."""
         if self.hydraulic:
-            return self.rk4_hydraulic(t, x, h, locked)  # type: ignore[return-value]
-        th0, th1, w0, w1 = x
+            return self.rk4_hydraulic(t, x, h, locked)
         half = 0.5 * h
         k1 = self.acceleration(t, x, locked)
-        x2 = (th0 + half * w0, th1 + half * w1, w0 + half * k1[0], w1 + half * k1[1])
+        x2 = tuple(x[j] + half * x[4 + j] for j in JOINTS) + tuple(x[4 + j] + half * k1[j] for j in JOINTS)
         k2 = self.acceleration(t + half, x2, locked)
-        x3 = (th0 + half * x2[2], th1 + half * x2[3], w0 + half * k2[0], w1 + half * k2[1])
+        x3 = tuple(x[j] + half * x2[4 + j] for j in JOINTS) + tuple(x[4 + j] + half * k2[j] for j in JOINTS)
         k3 = self.acceleration(t + half, x3, locked)
-        x4 = (th0 + h * x3[2], th1 + h * x3[3], w0 + h * k3[0], w1 + h * k3[1])
+        x4 = tuple(x[j] + h * x3[4 + j] for j in JOINTS) + tuple(x[4 + j] + h * k3[j] for j in JOINTS)
         k4 = self.acceleration(t + h, x4, locked)
         sixth = h / 6.0
-        return (th0 + sixth * (w0 + 2.0 * x2[2] + 2.0 * x3[2] + x4[2]),
-                th1 + sixth * (w1 + 2.0 * x2[3] + 2.0 * x3[3] + x4[3]),
-                w0 + sixth * (k1[0] + 2.0 * k2[0] + 2.0 * k3[0] + k4[0]),
-                w1 + sixth * (k1[1] + 2.0 * k2[1] + 2.0 * k3[1] + k4[1]))
+        return (tuple(x[j] + sixth * (x[4 + j] + 2.0 * x2[4 + j] + 2.0 * x3[4 + j] + x4[4 + j])
+                      for j in JOINTS)
+                + tuple(x[4 + j] + sixth * (k1[j] + 2.0 * k2[j] + 2.0 * k3[j] + k4[j]) for j in JOINTS))
 
-    def plastic_impact(self, x: State4, joint: int, side: int) -> State4:
-        """Put the joint on its limit and stop it; the impulse acts on this joint only, so with
-        the other joint free omega <- omega - Minv e_i (omega_i / Minv_ii), else omega_i <- 0."""
-        model = self.model
-        th = [x[0], x[1]]
-        w = [x[2], x[3]]
-        lower, upper = model.angle_limits[joint]
-        th[joint] = lower if side < 0 else upper
-        other = 1 - joint
-        if not self.held[other] and self.stop[other] == 0:
-            minv = model.inverse_mass_matrix(th)
-            scale = w[joint] / minv[joint][joint]
-            w[0] -= minv[0][joint] * scale
-            w[1] -= minv[1][joint] * scale
+    def plastic_impact(self, x: State8, joint: int, side: int) -> State8:
+        """Put the joint on its limit and stop it; the impulse acts on this joint only: over the
+        free joints F, qd_F <- qd_F - Minv e_i (qd_i / Minv_ii) (Minv the inverse of M over F)."""
+        q = list(x[:4])
+        w = list(x[4:8])
+        lower, upper = self.model.angle_limits[joint]
+        q[joint] = lower if side < 0 else upper
+        free = [j for j in JOINTS if j == joint or (not self.held[j] and self.stop[j] == 0)]
+        if all(j in (LIFT, TILT) for j in free):
+            # the planar model's impact (its closed-form M^-1, the C core's arithmetic)
+            other = 1 - joint
+            if other in free:
+                minv = self.model.inverse_mass_matrix(q[:2])
+                scale = w[joint] / minv[joint][joint]
+                w[0] -= minv[0][joint] * scale
+                w[1] -= minv[1][joint] * scale
+            w[joint] = 0.0
+            self.stop[joint] = side
+            return tuple(q) + tuple(w) + tuple(x[8:])
+        conf = self.model._configuration((q[0], q[1]), q[3])
+        mass = self.model._mass_matrix4(conf, free)
+        i = free.index(joint)
+        unit = [1.0 if k == i else 0.0 for k in range(len(free))]
+        col = _solve(mass, unit)                  # Minv e_i
+        scale = w[joint] / col[i]
+        for k, j in enumerate(free):
+            w[j] -= col[k] * scale
         w[joint] = 0.0
         self.stop[joint] = side
-        return (th[0], th[1], w[0], w[1]) + tuple(x[4:])  # type: ignore[return-value]
+        return tuple(q) + tuple(w) + tuple(x[8:])
 
-    def stop_at_start(self, x: State4, strokes: Pair, rates: Pair) -> State4:
+    def stop_at_start(self, x: State8, strokes: Sequence[float], rates: Sequence[float]) -> State8:
         """t = 0 rule: a free joint at a stroke limit whose stroke rate does not point into the
         range starts STOPPED there (with a plastic impact if it was moving)."""
         model = self.model
-        for j in (LIFT, TILT):
+        for j in JOINTS:
             if self.held[j]:
                 continue
-            if strokes[j] <= model.stroke_min[j] and rates[j] <= 0.0:
+            if j in (LIFT, TILT):
+                lo, hi = model.stroke_min[j], model.stroke_max[j]
+            else:
+                lo, hi = model.angle_limits[j]
+            if strokes[j] <= lo and rates[j] <= 0.0:
                 at_min = True
-            elif strokes[j] >= model.stroke_max[j] and rates[j] >= 0.0:
+            elif strokes[j] >= hi and rates[j] >= 0.0:
                 at_min = False
             else:
                 continue
@@ -1072,22 +1383,33 @@ class _Prediction:
             self.events.append((0.0, j, side))
         return x
 
-    def release(self, t: float, x: State4) -> None:
+    def extension_friction_rate(self, x: State8) -> float:
+        """lambda_e = G_f (M^-1)_ee, 1/s, over the joints that are not held: how fast the
+        extension's friction acts near rest (spec "Four joints"; the light extension boom makes it
+        the stiffest term of the mechanics). Coupled to free booms, (M^-1)_ee is up to ~4 / m3."""
+        free = [j for j in JOINTS if not self.held[j]]
+        mass = self.model._mass_matrix4(self._conf(x), free)
+        i = free.index(EXTENSION)
+        col = _solve(mass, [1.0 if k == i else 0.0 for k in range(len(free))])
+        return self.model.friction_slope(EXTENSION) * col[i]
+
+    def release(self, t: float, x: State8) -> None:
         """Let go of the STOPPED joints that the release rule frees at (t, x)."""
         for j in self.released(t, x):
             self.stop[j] = 0
 
-    def released(self, t: float, x: State4) -> Tuple[int, ...]:
+    def released(self, t: float, x: State8) -> Tuple[int, ...]:
         """The STOPPED joints that leave their stops at (t, x) (docs/model.md, "Release").
 
-        The two unilateral stops form a small complementarity problem. The candidate release
-        sets are tried in the order none, lift, tilt, both; the first is taken in which every
+        The unilateral stops form a small complementarity problem. The candidate release sets
+        are the subsets of STOPPED joints in the order of their bitmask (lift 1, tilt 2, slew 4,
+        extension 8; for two joints: none, lift, tilt, both); the first is taken in which every
         released joint accelerates into its range and every joint left on its stop is pressed
-        onto it (its reaction M alpha - (tau - h) points into the range). Changes nothing, so
+        onto it (its reaction M qdd - (tau - h) points into the range). Changes nothing, so
         that the release search inside a step can ask it at trial times."""
-        if self.stop[0] == 0 and self.stop[1] == 0:
+        if not any(self.stop):
             return ()
-        key = (t, x, self.stop[0], self.stop[1])
+        key = (t, x, tuple(self.stop))
         last = self._last_release
         if last is not None and last[0] == key:
             return last[1]
@@ -1095,35 +1417,44 @@ class _Prediction:
         self._last_release = (key, released)
         return released
 
-    def _release_rule(self, t: float, x: State4) -> Tuple[int, ...]:
+    def _release_rule(self, t: float, x: State8) -> Tuple[int, ...]:
         """The complementarity rule itself, for released()."""
         m = self.model
-        conf = m._configuration((x[0], x[1]))
-        omega = (x[2], x[3])
-        h = m._inverse_dynamics(conf, omega, (0.0, 0.0), m.gravity)
-        tau = self.torques(t, conf, omega, self.held, x)
-        net = (tau[0] - h[0], tau[1] - h[1])
-        mass: Optional[Matrix2] = None   # only a candidate that moves a joint needs M
-        stopped = [self.stop[j] != 0 for j in (LIFT, TILT)]
-        for released in ((), (LIFT,), (TILT,), (LIFT, TILT)):
+        conf = self._conf(x)
+        qd = x[4:8]
+        planar = self.held[SLEW] and self.held[EXTENSION]   # the planar model's arithmetic
+        if planar:
+            h = m._inverse_dynamics(conf, qd[:2], (0.0, 0.0), m.gravity) + (0.0, 0.0)
+        else:
+            h = m._id4(conf, qd, (0.0, 0.0, 0.0, 0.0), m.gravity)
+        tau = self.torques(t, conf, qd, self.held, x)
+        net = tuple(tau[j] - h[j] for j in JOINTS)
+        mass: Optional[List[List[float]]] = None   # only a candidate that moves a joint needs M
+        stopped = [self.stop[j] != 0 for j in JOINTS]
+        for mask in range(16):
+            released = tuple(j for j in JOINTS if mask & (1 << j))
             if any(not stopped[j] for j in released):
                 continue
-            locked = tuple(self.held[j] or (stopped[j] and j not in released) for j in (LIFT, TILT))
-            alpha = m._forward_dynamics(conf, omega, tau, locked)
+            locked = tuple(self.held[j] or (stopped[j] and j not in released) for j in JOINTS)
+            if planar:
+                alpha = m._forward_dynamics(conf, qd[:2], tau[:2], locked[:2]) + (0.0, 0.0)
+            else:
+                alpha = m._forward4(conf, qd, tau, locked)
             consistent = True
-            for j in (LIFT, TILT):
+            for j in JOINTS:
                 if not stopped[j]:
                     continue
                 inward = float(-self.stop[j])  # the lower stop (-1) is left with alpha > 0
                 if j in released:
                     consistent = consistent and inward * alpha[j] > 0.0
                 else:
-                    if alpha[0] == 0.0 and alpha[1] == 0.0:
+                    if not any(alpha):
                         reaction = -net[j]
                     else:
                         if mass is None:
-                            mass = m._mass_matrix(conf)
-                        reaction = mass[j][0] * alpha[0] + mass[j][1] * alpha[1] - net[j]
+                            mass = ([list(row) for row in m._mass_matrix(conf)] if planar
+                                    else m._mass_matrix4(conf, JOINTS))
+                        reaction = sum(mass[j][k] * alpha[k] for k in range(len(mass))) - net[j]
                     consistent = consistent and inward * reaction >= 0.0
             if consistent:
                 return released
@@ -1150,7 +1481,7 @@ class _Prediction:
                 lo = mid
         return hi
 
-    def step(self, t: float, x: State4, h: float) -> State4:
+    def step(self, t: float, x: State8, h: float) -> State8:
         """One step of size h, cut into pieces at the impacts and releases located inside it
         (at most MAX_PIECES; the last takes the rest of the step whatever happens in it)."""
         t_cur = t
@@ -1163,7 +1494,7 @@ class _Prediction:
             tau = self.impact_time(x, x1, remaining, locked)
             if tau is not None:
                 x = self.impacts(t_cur + tau, self.rk4(t_cur, x, tau, locked), touching=True)
-            elif (self.stop[0] != 0 or self.stop[1] != 0) and self.released(t_cur + remaining, x1):
+            elif any(self.stop) and self.released(t_cur + remaining, x1):
                 tau, x = self.release_time(t_cur, x, remaining, x1, locked)
                 self.release(t_cur + tau, x)
             else:
@@ -1174,26 +1505,26 @@ class _Prediction:
                 return x
         raise AssertionError("unreachable: the last piece returns")
 
-    def impact_time(self, x: State4, x1: State4, h: float, locked: Tuple[bool, bool]
+    def impact_time(self, x: State8, x1: State8, h: float, locked: Tuple[bool, ...]
                     ) -> Optional[float]:
         """Size of the piece up to the first impact in the RK4 step x -> x1 of size h, or None
         if no free joint ends strictly outside its limits."""
         tau = math.inf
-        for j in (LIFT, TILT):
+        for j in JOINTS:
             if locked[j]:
                 continue
             lower, upper = self.model.angle_limits[j]
             if x1[j] < lower:
-                tau = min(tau, self.crossing_time(x[j], x[2 + j], x1[j], x1[2 + j], h, lower, True))
+                tau = min(tau, self.crossing_time(x[j], x[4 + j], x1[j], x1[4 + j], h, lower, True))
             elif x1[j] > upper:
-                tau = min(tau, self.crossing_time(x[j], x[2 + j], x1[j], x1[2 + j], h, upper, False))
+                tau = min(tau, self.crossing_time(x[j], x[4 + j], x1[j], x1[4 + j], h, upper, False))
         return None if tau == math.inf else tau
 
-    def impacts(self, t: float, x: State4, touching: bool) -> State4:
+    def impacts(self, t: float, x: State8, touching: bool) -> State8:
         """In joint order, every free joint beyond a limit (or at it, if touching) is put on it
         with a plastic impact. After a located impact the joint is at the limit to within the
         bisection, so it counts as touching; the last piece of a step takes only those beyond."""
-        for j in (LIFT, TILT):
+        for j in JOINTS:
             if self.held[j] or self.stop[j] != 0:
                 continue
             lower, upper = self.model.angle_limits[j]
@@ -1207,8 +1538,8 @@ class _Prediction:
             self.events.append((t, j, side))
         return x
 
-    def release_time(self, t: float, x: State4, h: float, x1: State4,
-                     locked: Tuple[bool, bool]) -> Tuple[float, State4]:
+    def release_time(self, t: float, x: State8, h: float, x1: State8,
+                     locked: Tuple[bool, ...]) -> Tuple[float, State8]:
         """The piece size (and the state it ends in) at which a stopped joint is released,
         given that the release rule frees something at the end of the RK4 step x -> x1 of size
         h: RELEASE_BISECTIONS bisections keeping lo (releases nothing) and hi (releases).
@@ -1229,24 +1560,45 @@ class _Prediction:
         return hi, x_hi
 
 
+def _optional_drive(inputs: Any, name: str, has_actuator: bool) -> Optional[_PressureDrive]:
+    """The slew or extension drive: left out (older Inputs) or Hold means held."""
+    drive = getattr(inputs, name, None)
+    if drive is None or getattr(drive, "held", False):
+        return None
+    if not has_actuator:
+        raise ValueError(f"Inputs.{name}: the crane has no "
+                         f"{'slew_drive' if name == 'slew' else 'extension_cylinder'} to drive")
+    if not hasattr(drive, "p_a"):
+        raise NotImplementedError(f"Inputs.{name}: only pressure drives and holds for the slew and "
+                                  "the extension so far (valves: issue 11, next step)")
+    return _PressureDrive(drive)
+
+
 def _run(crane: Any, state: Any, inputs: Any, horizon: float, dt: float
          ) -> Tuple[dict, List[Tuple[float, int, int]]]:
     """simulate() plus the list of impacts (time, joint, angle side), for diagnostics and tests."""
     horizon = float(horizon)
     dt = float(dt)
     model = TwinModel(crane, state.extension)
-    pred = _Prediction(model, (_drive(inputs.lift, crane.lift_cylinder),
-                               _drive(inputs.tilt, crane.tilt_cylinder)))
-    slew = float(state.slew)
+    drives = (_drive(inputs.lift, crane.lift_cylinder), _drive(inputs.tilt, crane.tilt_cylinder),
+              _optional_drive(inputs, "slew", model.has_actuator[SLEW]),
+              _optional_drive(inputs, "extension", model.has_actuator[EXTENSION]))
+    pred = _Prediction(model, drives)
 
-    strokes0 = (float(state.lift_stroke), float(state.tilt_stroke))
-    rates0 = (float(state.lift_stroke_rate), float(state.tilt_stroke_rate))
-    theta0 = [0.0, 0.0]
-    omega0 = [0.0, 0.0]
+    slew0 = float(state.slew)
+    ext0 = float(state.extension)
+    # the slew and the extension in their own terms (the coordinate is the "stroke")
+    strokes0 = (float(state.lift_stroke), float(state.tilt_stroke), slew0, ext0)
+    rates0 = (float(state.lift_stroke_rate), float(state.tilt_stroke_rate),
+              float(getattr(state, "slew_rate", 0.0)), float(getattr(state, "extension_rate", 0.0)))
+    q0 = [0.0, 0.0, slew0, ext0]
+    qd0 = [0.0, 0.0, 0.0, 0.0]
     for j in (LIFT, TILT):
-        theta0[j], ratio = model.joint_angle(j, strokes0[j])
-        omega0[j] = 0.0 if pred.held[j] else rates0[j] / ratio
-    x: State4 = (theta0[0], theta0[1], omega0[0], omega0[1])
+        q0[j], ratio = model.joint_angle(j, strokes0[j])
+        qd0[j] = 0.0 if pred.held[j] else rates0[j] / ratio
+    for j in (SLEW, EXTENSION):
+        qd0[j] = 0.0 if pred.held[j] else rates0[j]
+    x: State8 = tuple(q0) + tuple(qd0)
     if pred.hydraulic:
         hyd = [0.0] * 6
         for j, name in ((LIFT, "lift"), (TILT, "tilt")):
@@ -1254,7 +1606,7 @@ def _run(crane: Any, state: Any, inputs: Any, horizon: float, dt: float
                 hyd[2 * j] = float(getattr(state, f"{name}_p_a"))
                 hyd[2 * j + 1] = float(getattr(state, f"{name}_p_b"))
                 hyd[4 + j] = float(getattr(state, f"{name}_spool"))
-        x = x + tuple(hyd)  # type: ignore[assignment]
+        x = x + tuple(hyd)
     x = pred.stop_at_start(x, strokes0, rates0)
 
     n = int(math.ceil(horizon / dt - 1e-9))
@@ -1276,13 +1628,16 @@ def _run(crane: Any, state: Any, inputs: Any, horizon: float, dt: float
     omega = np.empty((n + 1, 2))
     tip = np.empty((n + 1, 3))
     stop = np.zeros((n + 1, 2), dtype=np.int64)
+    coords = np.empty((n + 1, 2))            # (slew, extension)
+    rates = np.empty((n + 1, 2))             # (slew rate, extension rate)
+    stop2 = np.zeros((n + 1, 2), dtype=np.int64)
     p_a = np.zeros((n + 1, 2))
     p_b = np.zeros((n + 1, 2))
     flow_a = np.zeros((n + 1, 2))
     flow_b = np.zeros((n + 1, 2))
     spool = np.zeros((n + 1, 2))
 
-    def record(i: int, t: float, x: State4) -> None:
+    def record(i: int, t: float, x: State8) -> None:
         t_out[i] = t
         for j in (LIFT, TILT):
             if pred.held[j]:
@@ -1294,17 +1649,27 @@ def _run(crane: Any, state: Any, inputs: Any, horizon: float, dt: float
                 cyl = cylinders[j]
                 strokes[i, j] = min(max(model.joint_stroke(j, x[j]), cyl.stroke_min), cyl.stroke_max)
             stop[i, j] = model.stop_flag[j][pred.stop[j]] if pred.stop[j] != 0 else 0
+        for k, j in enumerate((SLEW, EXTENSION)):
+            lower, upper = model.angle_limits[j]
+            if pred.held[j]:
+                coords[i, k] = strokes0[j]
+            elif pred.stop[j] != 0:
+                coords[i, k] = lower if pred.stop[j] < 0 else upper
+            else:
+                coords[i, k] = x[j]
+            rates[i, k] = x[4 + j]
+            stop2[i, k] = model.stop_flag[j][pred.stop[j]] if pred.stop[j] != 0 else 0
         theta[i] = (x[0], x[1])
-        omega[i] = (x[2], x[3])
-        tip[i] = model.tip((x[0], x[1]), slew)
+        omega[i] = (x[4], x[5])
+        tip[i] = model.tip((x[0], x[1]), coords[i, 0], coords[i, 1])
         for j in (LIFT, TILT):
             drive = pred.drives[j]
             if drive is None:
                 continue
             if pred.valve[j]:
-                y = x[8 + j] if drive.tau > 0.0 else drive.lever(t)
-                p_a[i, j], p_b[i, j] = x[4 + 2 * j], x[5 + 2 * j]
-                flow_a[i, j], flow_b[i, j] = drive.flows(y, x[4 + 2 * j], x[5 + 2 * j])
+                y = x[HYD + 4 + j] if drive.tau > 0.0 else drive.lever(t)
+                p_a[i, j], p_b[i, j] = x[HYD + 2 * j], x[HYD + 1 + 2 * j]
+                flow_a[i, j], flow_b[i, j] = drive.flows(y, x[HYD + 2 * j], x[HYD + 1 + 2 * j])
                 spool[i, j] = y
             else:
                 p_a[i, j], p_b[i, j] = drive.pressures(t)
@@ -1315,18 +1680,19 @@ def _run(crane: Any, state: Any, inputs: Any, horizon: float, dt: float
         t = k * dt
         last = k == n - 1
         h = horizon - t if last else dt
-        if pred.hydraulic:
-            # docs/model.md "Hydraulics": n equal substeps, each a full step of the scheme
-            n_sub = pred.substeps(x, h)
+        # docs/model.md "Hydraulics" and "Four joints" (the extension's friction): n equal
+        # substeps, each a full step of the scheme, the last ending at the step's end time
+        n_sub = pred.substeps(x, h) if pred.hydraulic or not pred.held[EXTENSION] else 1
+        if n_sub == 1:
+            pred.release(t, x)
+            x = pred.step(t, x, h)
+        else:
             sub = h / n_sub
             for i in range(n_sub):
                 t_sub = t + i * sub
                 pred.release(t_sub, x)
                 x = pred.step(t_sub, x, (horizon if last else (k + 1) * dt) - t_sub
                               if i == n_sub - 1 else sub)
-        else:
-            pred.release(t, x)
-            x = pred.step(t, x, h)
         if not all(math.isfinite(v) for v in x):
             raise ValueError(f"the prediction diverged at t = {t:g} s (the state is no longer finite): "
                              "check the crane's parameters for absurd values")
@@ -1334,7 +1700,9 @@ def _run(crane: Any, state: Any, inputs: Any, horizon: float, dt: float
 
     out = {"t": t_out, "strokes": strokes, "theta": theta, "omega": omega, "tip": tip,
            "stop": stop, "p_a": p_a, "p_b": p_b, "flow_a": flow_a, "flow_b": flow_b,
-           "spool": spool}
+           "spool": spool, "slew": coords[:, 0].copy(), "extension": coords[:, 1].copy(),
+           "slew_rate": rates[:, 0].copy(), "extension_rate": rates[:, 1].copy(),
+           "slew_stop": stop2[:, 0].copy(), "extension_stop": stop2[:, 1].copy()}
     return out, pred.events
 
 
@@ -1346,7 +1714,9 @@ def simulate(crane: Any, state: Any, inputs: Any, horizon: float, dt: float) -> 
     stroke_max, 0 otherwise; for the tilt, stroke_max is the lower angle limit), with
     N = n + 1 samples.  Inputs are assumed validated by the API layer.
     """
-    return _run(crane, state, inputs, horizon, dt)[0]
+    arrays = _run(crane, state, inputs, horizon, dt)[0]
+    # the slew's and the extension's histories stay out until the API carries them (issue 11)
+    return {name: a for name, a in arrays.items() if name not in FOUR_JOINT_ARRAYS}
 
 
 def points(crane: Any, extension: float, slew: float, theta_array: Any) -> np.ndarray:
