@@ -15,8 +15,8 @@
     profile (low, flash accelerator model, high; without --profile only instructions);
   * stack: the depth measured by painting for every entry point the board called, next to the
     static worst case of tools/footprint.py (--footprint: its output; else it is run on
-    csrc/build-m4); measured > static fails, and so does an entry point without a static figure
-    unless it is listed in NO_STATIC_YET.
+    csrc/build-m4 or --footprint-build); measured > static fails, and so does an entry point
+    without a static figure.
 
 Exit status 0 if all checks pass, 1 otherwise; the last line is "board-check: N passed, N failed".
 """
@@ -33,8 +33,6 @@ CLOCK_HZ = 168e6               # the Cortex-M4F of the issue (e.g. STM32F407 at 
 INSNS_PER_TICK = 40            # 1 ns per instruction (-icount shift=0) at the 25 MHz timer clock
 DEFAULT_SCENARIO = "paper-dt2ms"   # the Python API's default step (cranepredict.api.DEFAULT_DT)
 RATIO_GOAL = 100.0
-# Entry points that tools/footprint.py does not analyse yet: measured, reported, not compared.
-NO_STATIC_YET = {"crane_sample_count_every", "crane_predict_many"}
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 CSRC = os.path.dirname(HERE)
@@ -74,13 +72,15 @@ def real(hexbits):
     return struct.unpack(">d", bytes.fromhex(hexbits))[0]
 
 
-def static_stack(footprint_log):
+def static_stack(footprint_log, build="build-m4"):
+    """Entry point -> worst-case stack from tools/footprint.py's output (its exit status, which
+    says whether the budget is kept, does not matter here)."""
     if footprint_log:
         text = open(footprint_log).read()
     else:
         r = subprocess.run([sys.executable, os.path.join(os.path.dirname(CSRC), "tools",
                                                          "footprint.py"),
-                            "--build", os.path.join(CSRC, "build-m4")],
+                            "--build", os.path.join(CSRC, build)],
                            capture_output=True, text=True)
         text = r.stdout
     section = text.split("worst-case stack depth", 1)[-1].split("\n\n", 1)[0]
@@ -112,6 +112,10 @@ def main(argv=None):
     ap.add_argument("--host", required=True)
     ap.add_argument("--footprint", help="output of tools/footprint.py (default: run it)")
     ap.add_argument("--profile", help="output of board_profile.py (the CPI range)")
+    ap.add_argument("--profiled", default=DEFAULT_SCENARIO,
+                    help="the scenario whose prediction --profile is of")
+    ap.add_argument("--footprint-build", default="build-m4",
+                    help="the core's build in csrc/ that the board links (for tools/footprint.py)")
     a = ap.parse_args(argv)
     board, host = parse_run(a.board), parse_run(a.host)
     results = []
@@ -154,7 +158,7 @@ def main(argv=None):
     for k, t in board["ticks"].items():
         print(f"  {k:<40}{t * INSNS_PER_TICK:>12,}")
     cpi, profiled = read_profile(a.profile) if a.profile else (None, None)
-    key = f"crane_predict[{DEFAULT_SCENARIO}]"
+    key = f"crane_predict[{a.profiled}]"
     insns = board["ticks"][key] * INSNS_PER_TICK
     if profiled is not None:
         # Two independent counts of one call: the timer (+-1 tick, plus the few instructions of
@@ -162,9 +166,9 @@ def main(argv=None):
         check("instructions vs profile", abs(profiled - insns) <= 2 * INSNS_PER_TICK + 20,
               f"timer {insns:,}, execution log {profiled:,}")
     if cpi:
-        # The CPI comes from the profile of DEFAULT_SCENARIO; the other scenarios use it too (their
+        # The CPI comes from the profile of --profiled; the other scenarios use it too (their
         # mix differs: an approximation, said so in the output).
-        print(f"\ntime at {CLOCK_HZ / 1e6:g} MHz with the CPI of {DEFAULT_SCENARIO}'s profile "
+        print(f"\ntime at {CLOCK_HZ / 1e6:g} MHz with the CPI of {a.profiled}'s profile "
               f"(low {cpi[0]:.2f}, flash accelerator model {cpi[2]:.2f}, high {cpi[1]:.2f}); "
               f"goal {RATIO_GOAL:g}x for {DEFAULT_SCENARIO}:")
         for name in board["count"]:
@@ -175,10 +179,10 @@ def main(argv=None):
                   f"{t_hi * 1e3:.1f} ms = {h / t_lo:.0f}x / {h / t_art:.0f}x / {h / t_hi:.0f}x "
                   f"faster than real time")
     else:
-        print(f"\n{DEFAULT_SCENARIO}: {insns:,} instructions (no --profile: no CPI range)")
+        print(f"\n{a.profiled}: {insns:,} instructions (no --profile: no CPI range)")
 
     # ---- stack ----
-    static = static_stack(a.footprint)
+    static = static_stack(a.footprint, a.footprint_build)
     print("\nstack (bytes): measured by painting on the board vs tools/footprint.py's worst case")
     for k, used in board["stack"].items():
         entry = k.split("[")[0]
@@ -188,8 +192,6 @@ def main(argv=None):
         elif entry in static:
             check(f"stack {k}", used <= static[entry],
                   f"measured {used}, static worst case {static[entry]}")
-        elif entry in NO_STATIC_YET:
-            print(f"note  stack {k}: measured {used} (tools/footprint.py has no figure for it)")
         else:
             check(f"stack {k}", False, f"measured {used}, no static figure from tools/footprint.py")
 

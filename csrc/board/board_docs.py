@@ -1,10 +1,11 @@
 #!/usr/bin/env python3
 """Writes the board's measured figures into docs/embedding.md (`make -C csrc/board docs`).
 
-    python3 board_docs.py --board board.txt --profile profile.txt [--docs docs/embedding.md]
+    python3 board_docs.py --board board.txt --profile profile.txt --board-hyd board.txt \
+                          --profile-hyd profile.txt [--docs docs/embedding.md]
 
 Replaces the text between the markers <!-- board:NAME --> and <!-- /board:NAME --> (NAME = speed,
-profile, stack) with tables made from the board's output (main.c), board_profile.py's output and
+profile, stack, hydraulics) with tables made from the board's output (main.c), board_profile.py's output and
 tools/footprint.py's static worst case, so that the docs carry the numbers of one run and nothing
 is copied by hand. Run it after `make -C csrc/board check` has passed.
 """
@@ -61,17 +62,23 @@ def parse_profile(path):
     return funcs, mix, art
 
 
-def speed(board, cpi, profiled):
+def speed_rows(board, cpi, profiled_name):
     rows = []
     for name in board["count"]:
         n = board["ticks"][f"crane_predict[{name}]"] * bc.INSNS_PER_TICK
         h = bc.real(board["samples"][name][-1][0])
         dt = bc.real(board["samples"][name][1][0])
         t = [n * c / bc.CLOCK_HZ for c in (cpi[0], cpi[2], cpi[1])]
-        label = f"dt = {dt * 1e3:g} ms" + (" (the default)" if name == bc.DEFAULT_SCENARIO else "")
-        rows.append(f"| {name}: {label} | {n:,} | {cpi[0]:.2f} / {cpi[2]:.2f} / {cpi[1]:.2f} | "
+        label = f"dt = {dt * 1e3:g} ms" + (", profiled" if name == profiled_name else "")
+        rows.append(f"| {name} ({label}) | {n:,} | {cpi[0]:.2f} / {cpi[2]:.2f} / {cpi[1]:.2f} | "
                     f"{t[0] * 1e3:.1f} / {t[1] * 1e3:.1f} / {t[2] * 1e3:.1f} ms | "
                     f"**{h / t[0]:.0f}x** / **{h / t[1]:.0f}x** / **{h / t[2]:.0f}x** |")
+    return ["| 2-s prediction | instructions | CPI | time | faster than real time |",
+            "|---|---|---|---|---|"] + rows
+
+
+def speed(board, cpi, profiled):
+    rows = speed_rows(board, cpi, bc.DEFAULT_SCENARIO)
     if "crane_guard" in board["ticks"]:
         g = board["ticks"]["crane_guard"] * bc.INSNS_PER_TICK
         t = [g * c / bc.CLOCK_HZ for c in (cpi[0], cpi[2], cpi[1])]
@@ -83,12 +90,22 @@ def speed(board, cpi, profiled):
         wrap(f"A 2-s prediction of the paper scenario at the default step executes **{n:,} "
              f"instructions** on the board (the timer; QEMU's execution log counts {profiled:,}). "
              f"Times on a {bc.CLOCK_HZ / 1e6:g} MHz Cortex-M4F, as low bound / flash estimate / "
-             f"high bound (the CPI of the default scenario's profile serves for both rows):"),
+             f"high bound, with the CPI of the default scenario's profile for both rows:"),
         "",
-        "| 2-s prediction of the paper scenario | instructions | CPI | time | faster than real "
-        "time |",
-        "|---|---|---|---|---|",
     ] + rows)
+
+
+def hydraulics(board, cpi, profiled, art, static):
+    name = "lever-open"
+    n = board["ticks"][f"crane_predict[{name}]"] * bc.INSNS_PER_TICK
+    return "\n".join([
+        wrap(f"With the valve-driven scenario (`make -C csrc/board HYD=1`: the same core, "
+             f"`lever-open` added), a 2-s prediction of `{name}` executes **{n:,} "
+             f"instructions** (QEMU's execution log: {profiled:,}). Its own profile gives the CPI "
+             f"below, which serves for all rows; the code it executes spans {art['lines']:,} "
+             f"flash lines ({16 * art['lines'] / 1024:.0f} kB):"),
+        "",
+    ] + speed_rows(board, cpi, name) + ["", "Stack with that scenario:", "", stack(board, static)])
 
 
 def profile(funcs, mix, art):
@@ -140,13 +157,21 @@ def main(argv=None):
     ap.add_argument("--board", required=True)
     ap.add_argument("--profile", required=True)
     ap.add_argument("--footprint", help="output of tools/footprint.py (default: run it)")
+    ap.add_argument("--footprint-build", default="build-m4")
+    ap.add_argument("--board-hyd", required=True, help="the board's output with HYD=1")
+    ap.add_argument("--profile-hyd", required=True)
+    ap.add_argument("--footprint-build-hyd", default="build-m4")
     ap.add_argument("--docs", default=DOCS)
     a = ap.parse_args(argv)
-    board = bc.parse_run(a.board)
+    board, board_hyd = bc.parse_run(a.board), bc.parse_run(a.board_hyd)
     cpi, profiled = bc.read_profile(a.profile)
+    cpi_hyd, profiled_hyd = bc.read_profile(a.profile_hyd)
     funcs, mix, art = parse_profile(a.profile)
+    art_hyd = parse_profile(a.profile_hyd)[2]
     blocks = {"speed": speed(board, cpi, profiled), "profile": profile(funcs, mix, art),
-              "stack": stack(board, bc.static_stack(a.footprint))}
+              "stack": stack(board, bc.static_stack(a.footprint, a.footprint_build)),
+              "hydraulics": hydraulics(board_hyd, cpi_hyd, profiled_hyd, art_hyd,
+                                       bc.static_stack(None, a.footprint_build_hyd))}
     text = open(a.docs).read()
     for name, body in blocks.items():
         pattern = re.compile(rf"(<!-- board:{name} -->\n)(?:.*?\n)?(<!-- /board:{name} -->)", re.S)

@@ -36,12 +36,15 @@ enum { CAPACITY = 2001 };           /* the largest scenario: 2 s at 1 ms */
 static crane_sample out[CAPACITY];  /* 48 B a sample in float: static memory, not the stack */
 
 #ifdef BOARD_PROFILE
-/* The profile build (board_profile.py): one prediction of the first scenario, nothing else, so
- * that QEMU's execution log stays small. */
+/* The profile build (board_profile.py): one prediction of scenario BOARD_PROFILE_SCENARIO (an
+ * index into scenarios.c's list), nothing else, so that QEMU's execution log stays small. */
+#ifndef BOARD_PROFILE_SCENARIO
+#define BOARD_PROFILE_SCENARIO 0
+#endif
 int main(void)
 {
     size_t n_sc, n = 0;
-    const board_scenario *sc = board_scenarios(&n_sc);
+    const board_scenario *sc = board_scenarios(&n_sc) + BOARD_PROFILE_SCENARIO;
 
     board_crane(sc, &crane);
     return crane_predict(&crane, &sc->state0, &sc->inputs, sc->horizon, sc->dt, out, CAPACITY,

@@ -3,7 +3,8 @@
  * The board's scenarios (scenarios.h). The paper's Figure 4 from the generated header
  * example/crane_scenarios.h (src/cranepredict/scenarios/paper-fig4.toml: lift at 175 bar on the
  * bore side, tilt held, from rest, 2 s; its 200 kg load is also the crane header's) at the Python
- * API's default step of 2 ms and at the C example's 1 ms.
+ * API's default step of 2 ms and at the C example's 1 ms; with BOARD_VALVES (make HYD=1) also
+ * lever-open: the paper's pose at rest on closed valves, the lift lever fully open, at 2 ms.
  */
 #include <string.h>
 #include "crane_scenarios.h"
@@ -17,6 +18,11 @@ static const board_scenario scenarios[] = {
      CRANE_SCENARIO_PAPER_FIG4_STATE, CRANE_SCENARIO_PAPER_FIG4_INPUTS},
     {"paper-dt1ms", CRANE_SCENARIO_PAPER_FIG4_HORIZON, R(1e-3), CRANE_SCENARIO_PAPER_FIG4_LOAD_MASS,
      CRANE_SCENARIO_PAPER_FIG4_STATE, CRANE_SCENARIO_PAPER_FIG4_INPUTS},
+#ifdef BOARD_VALVES
+    /* Valve-driven: needs the core built with its hydraulics (CRANE_HYDRAULICS, the default). */
+    {"lever-open", CRANE_SCENARIO_LEVER_OPEN_HORIZON, R(2e-3), CRANE_SCENARIO_LEVER_OPEN_LOAD_MASS,
+     CRANE_SCENARIO_LEVER_OPEN_STATE, CRANE_SCENARIO_LEVER_OPEN_INPUTS},
+#endif
 };
 static const crane_params crane = CRANE_PATU655_INIT;
 
@@ -93,6 +99,10 @@ void board_format_sample(char *line, const char *name, size_t k, const crane_sam
     p = put_real(p, s->stroke[CRANE_TILT]);
     p = put_real(p, s->theta[CRANE_LIFT]);
     p = put_real(p, s->theta[CRANE_TILT]);
+    p = put_real(p, s->p_a[CRANE_LIFT]);
+    p = put_real(p, s->p_b[CRANE_LIFT]);
+    p = put_real(p, s->p_a[CRANE_TILT]);
+    p = put_real(p, s->p_b[CRANE_TILT]);
     p = put_stop(p, s->stop[CRANE_LIFT]);
     p = put_stop(p, s->stop[CRANE_TILT]);
     (void)board_put_str(p, "\n");

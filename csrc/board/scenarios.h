@@ -26,8 +26,8 @@ void board_crane(const board_scenario *sc, crane_params *params);
 /* Longest line board_format_sample writes, NUL included. */
 enum { BOARD_LINE_MAX = 200 };
 
-/* "sample NAME K t tip_x tip_y tip_z stroke_lift stroke_tilt theta_lift theta_tilt stop_lift
- * stop_tilt\n": every crane_real as the hex digits of its bits (exact, and needs no printf with
+/* "sample NAME K t tip_x tip_y tip_z stroke_lift stroke_tilt theta_lift theta_tilt p_a_lift
+ * p_b_lift p_a_tilt p_b_tilt stop_lift stop_tilt\n": every crane_real as the hex digits of its bits (exact, and needs no printf with
  * floating point on the board), the stop flags as -1, 0 or 1. */
 void board_format_sample(char *line, const char *name, size_t k, const crane_sample *s);
 
