@@ -840,22 +840,36 @@ static long first_stop(const crane_sample *out, size_t n, int joint)
  * from the twin's, so flags are compared away from the twin's first stop only. */
 static void test_golden_vectors(void)
 {
-    /* measured: double 5e-15 m, 2e-15 rad, 5e-15 rad/s; float (gcc 12, x86-64) 4e-5 m, 9e-6 rad,
-     * 1e-5 rad/s, first stops on the twin's sample */
-    const double tol_len = tol(1e-9, 5e-4), tol_theta = tol(1e-9, 1e-4), tol_omega = tol(1e-7, 2e-4);
+    /* Tolerances per precision and per class: [0] pressure-driven or held, [1] valve-driven (the oil
+     * spring makes the chamber pressures stiff, so float round-off shows most there). Measured
+     * (gcc 12, x86-64): double 9e-15 m, 4e-15 rad, 3e-14 rad/s, 4e-7 Pa over all; float [0] 4.5e-5 m,
+     * 2.5e-5 rad, 1e-5 rad/s, 0.5 Pa; float [1] 6e-5 m, 3e-5 rad, 1.3e-3 rad/s, 1.3e4 Pa (0.13 bar of
+     * about 100); first stops on the twin's sample. The float tolerances keep a margin of about 10. */
+    static const double tol_f[2][4] = {{5e-4, 2.5e-4, 2e-4, 200}, {5e-4, 2.5e-4, 1.5e-2, 1.5e5}};
+    static const double tol_d[4] = {1e-9, 1e-9, 1e-7, 1e-3};
+    static const char *const what_class[2] = {"pressure-driven", "valve-driven"};
+    static const char *const what_qty[4] = {"strokes and tip", "angles", "angular velocities",
+                                             "chamber pressures"};
     const double tol_t = tol(1e-12, 1e-6);
     const long slack = is_float ? 2 : 0;
-    double worst_len = 0, worst_theta = 0, worst_omega = 0;
+    double worst[2][4] = {{0, 0, 0, 0}, {0, 0, 0, 0}};
     long worst_stop_shift = 0;
-    int i, flags_ok = 1, counts_ok = 1, times_ok = 1;
+    int i, c, q, flags_ok = 1, counts_ok = 1, times_ok = 1;
 
     for (i = 0; i < GOLDEN_N_SCENARIOS; ++i) {
         const golden_scenario *g = &golden_scenarios[i];
+        double *w = worst[g->valves ? 1 : 0];
         crane_params p = patu();
         size_t n = 0, k;
         int j;
         char what[96];
 
+#if defined(CRANE_HYDRAULICS) && !CRANE_HYDRAULICS
+        if (g->valves) {
+            printf("  (golden %s: valve-driven, not in this build)\n", g->name);
+            continue;
+        }
+#endif
         p.load_mass = g->load_mass;
         snprintf(what, sizeof what, "golden %s: prediction runs", g->name);
         check_status(crane_predict(&p, &g->state, &g->inputs, g->horizon, R(GOLDEN_DT), golden_out,
@@ -872,10 +886,12 @@ static void test_golden_vectors(void)
             const crane_sample *got = &golden_out[idx];
             if (!(fabs(D(got->t) - want->t) <= tol_t))
                 times_ok = 0;
-            worst_len = max_abs_diff(want->stroke, got->stroke, 2, worst_len);
-            worst_len = max_abs_diff(want->tip, got->tip, 3, worst_len);
-            worst_theta = max_abs_diff(want->theta, got->theta, 2, worst_theta);
-            worst_omega = max_abs_diff(want->omega, got->omega, 2, worst_omega);
+            w[0] = max_abs_diff(want->stroke, got->stroke, 2, w[0]);
+            w[0] = max_abs_diff(want->tip, got->tip, 3, w[0]);
+            w[1] = max_abs_diff(want->theta, got->theta, 2, w[1]);
+            w[2] = max_abs_diff(want->omega, got->omega, 2, w[2]);
+            w[3] = max_abs_diff(want->p_a, got->p_a, 2, w[3]);
+            w[3] = max_abs_diff(want->p_b, got->p_b, 2, w[3]);
             for (j = 0; j < 2; ++j) {
                 const long near = g->first_stop[j] < 0 ? slack + 1 : labs((long)idx - g->first_stop[j]);
                 if (got->stop[j] != want->stop[j] && near > slack) {
@@ -892,14 +908,20 @@ static void test_golden_vectors(void)
                 worst_stop_shift = shift;
         }
     }
-    printf("  golden vectors (%d scenarios): max |diff| %.2g m, %.2g rad, %.2g rad/s; first stops "
-           "shifted by <= %ld samples\n", GOLDEN_N_SCENARIOS, worst_len, worst_theta, worst_omega,
-           worst_stop_shift);
+    for (c = 0; c < 2; ++c) {
+        printf("  golden vectors, %s: max |diff| %.2g m, %.2g rad, %.2g rad/s, %.2g Pa\n",
+               what_class[c], worst[c][0], worst[c][1], worst[c][2], worst[c][3]);
+        for (q = 0; q < 4; ++q) {
+            char what[96];
+            snprintf(what, sizeof what, "golden, %s: %s within tolerance of the twin", what_class[c],
+                     what_qty[q]);
+            check(worst[c][q] <= (is_float ? tol_f[c][q] : tol_d[q]), what);
+        }
+    }
+    printf("  golden vectors (%d scenarios): first stops shifted by <= %ld samples\n",
+           GOLDEN_N_SCENARIOS, worst_stop_shift);
     check(counts_ok, "golden: as many samples as the twin");
     check(times_ok, "golden: sample times are the twin's");
-    check(worst_len <= tol_len, "golden: strokes and tip within tolerance of the twin");
-    check(worst_theta <= tol_theta, "golden: angles within tolerance of the twin");
-    check(worst_omega <= tol_omega, "golden: angular velocities within tolerance of the twin");
     check(worst_stop_shift <= slack, "golden: first end-stop samples are the twin's");
     check(flags_ok, "golden: stop flags are the twin's");
 }
