@@ -8,7 +8,8 @@
 # 2. checks the generated crane header against the crane file, and the board's scenarios against
 #    the scenario files (python3 >= 3.11 with the cranepredict package);
 # 3. builds and tests with gcc and clang, double and float, warnings as errors;
-# 4. the footprint on a Cortex-M4F (float, -Os) against the budget (FOOTPRINT_ENFORCE=0: report only);
+# 4. the footprint on a Cortex-M4F (float, -Os, valves in; also without them) against the budget
+#    (FOOTPRINT_ENFORCE=0: report only);
 #    the core on an emulated Cortex-M4F board (csrc/board, QEMU mps2-an386, no OS): its samples vs
 #    the host float build, its instruction count and profile, its stack measured by painting vs
 #    the footprint's static worst case; MISRA C:2012 with cppcheck's addon (csrc/misra);
@@ -91,6 +92,8 @@ footprint() {
 }
 step footprint footprint
 [ "${FAILED_STEPS[*]:-}" = "${FAILED_STEPS[*]/footprint/}" ] && sed -n '/^cranepredict core/,$p' "$LOG/footprint.log"
+# the build without valve-driven cylinders (-DCRANE_HYDRAULICS=0) compiles and keeps the budget too
+step m4-no-hydraulics make footprint-no-hydraulics WERROR=-Werror
 
 # ---- 4b. the emulated Cortex-M4F board, MISRA C ----
 step board make -C board check WERROR=-Werror

@@ -300,20 +300,15 @@ typedef struct {
  * crane_model_init, read-only after. The struct is public so that a C caller can own it (on the
  * stack, in static memory); its fields are the core's, not an interface: the Python binding
  * declares it opaque (only its size is known there), so its layout may change. It keeps only the
- * parameters that predictions and the queries read (not a copy of crane_params).
- * Copied from crane_params (p): */
+ * parameters that predictions and the queries read (not a copy of crane_params), and refers to
+ * the params for those it reads unchanged: keep params alive and unchanged while the model is used
+ * (crane_model_init). A model is held on the stack by crane_predict and crane_predict_many, whose
+ * budget on a small target (docs/embedding.md) is why it refers rather than copies. */
 typedef struct {
-    crane_real gravity;                    /* g = p.gravity */
-    crane_vec2 lift_pivot;                 /* O1 = p.lift_pivot */
-    crane_vec2 lift_cylinder_base;         /* B1 = p.lift_cylinder_base */
-    crane_vec2 lift_cylinder_rod;          /* E1 = p.lift_cylinder_rod */
-    crane_vec2 tilt_cylinder_base;         /* B2 = p.tilt_cylinder_base */
-    crane_vec2 link1_pivot;                /* P1 = p.link1_pivot */
-    crane_vec2 tilt_pivot;                 /* O2 = p.tilt_pivot */
-    crane_vec2 link2_attach;               /* p.link2_attach (A in the outer boom frame) */
-    crane_vec2 extension_mount;            /* p.extension_mount */
-    crane_real length_retracted[2], stroke_min[2], stroke_max[2]; /* p.cylinder[i] */
-    crane_friction friction[2];            /* p.cylinder[i].friction */
+    const crane_params *params;            /* p: gravity, the points O1, B1, E1, B2, P1, O2, the
+                                              link2_attach A and extension_mount, each cylinder's
+                                              length_retracted and friction are read from it */
+    crane_real stroke_min[2], stroke_max[2]; /* p.cylinder[i] */
     crane_real extension;                  /* e, the argument of crane_model_init */
     /* Lift triangle: */
     crane_real lift_db;                    /* db = |B1 - O1| */
@@ -332,18 +327,19 @@ typedef struct {
     crane_real area_a[2];                  /* pi bore^2 / 4 (bore side) */
     crane_real area_b[2];                  /* pi (bore^2 - rod^2) / 4 (rod side) */
     /* Bodies (body 2 lumped at e: docs/model.md, "Bodies and the lumped outer boom"): */
-    crane_real m1, m2;                     /* m1 = lift_boom.mass; m2 = m_ob + m_ext + m_load */
-    crane_real i1, i2;                     /* I1 = lift_boom.izz; I2 about c2 (parallel axes) */
-    crane_vec2 c1, c2;                     /* c1 = lift_boom.com; c2 = (m_ob c_ob + m_ext x_ext +
-                                              m_load x_tip) / m2, outer boom frame */
+    crane_real m2;                         /* m2 = m_ob + m_ext + m_load (m1 = p.lift_boom.mass) */
+    crane_real i2;                         /* I2 about c2, parallel axes (I1 = p.lift_boom.izz) */
+    crane_vec2 c2;                         /* c2 = (m_ob c_ob + m_ext x_ext + m_load x_tip) / m2,
+                                              outer boom frame (c1 = p.lift_boom.com) */
     crane_real theta_min[2], theta_max[2]; /* angle limits: theta at the two stroke limits,
                                               ordered (docs/model.md, "End stops") */
     crane_real lift_cos_off, lift_sin_off; /* cos, sin of (eps - beta) */
     crane_real j1, j2, m2_o2sq;            /* I1 + m1 |c1|^2, I2 + m2 |c2|^2, m2 |O2|^2 */
     crane_vec2 tip;                        /* x_tip = extension_mount + (e + tip_distance, 0) */
     int links;                             /* 1 if a side link has mass or inertia, else 0 */
-    crane_real link_m[2], link_i[2];       /* side links 1, 2: mass, Izz */
-    crane_real link_ca[2], link_cb[2];     /* com = ca v + cb perp(v) with v = link_pin (link 1),
+    crane_real link_ca[2], link_cb[2];     /* side links 1, 2 (their mass and Izz: p.side_link1,
+                                              p.side_link2): com = ca v + cb perp(v) with
+                                              v = link_pin (link 1),
                                               link2_end (link 2): ca = com.v / |v|^2,
                                               cb = cross(v, com) / |v|^2 */
     const crane_hydraulics *hyd[2];        /* the params' circuits (NULL: none), not copied */
@@ -363,8 +359,9 @@ const char *crane_field_rule(crane_field field);
 
 /* crane_params_check, then the extension against [extension_min, extension_max], then derives
  * the model constants. On an error *model is left untouched. */
-/* A model of a crane with hydraulics refers to params->cylinder[i].hydraulics (so that a model
- * on a small stack stays small): keep params alive and unchanged while the model is used. */
+/* The model refers to *params (the parameters it reads unchanged, the cylinders' hydraulics),
+ * so that a model on a small stack stays small: keep params alive and unchanged while the model is
+ * used. */
 crane_status crane_model_init(crane_model *model, const crane_params *params, crane_real extension);
 
 /* Number of samples a prediction writes: ceil(horizon/dt - 1e-9) + 1. */

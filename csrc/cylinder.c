@@ -35,7 +35,7 @@ crane_real crane__cylinder_force(const crane_model *m, int joint, crane_real p_a
                                  crane_real v)
 {
     return p_a * m->area_a[joint] - p_b * m->area_b[joint] -
-           crane__friction(&m->friction[joint], v);
+           crane__friction(&m->params->cylinder[joint].friction, v);
 }
 
 crane_status crane_cylinder_force(const crane_model *model, int joint, crane_real p_a,

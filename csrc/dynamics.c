@@ -42,7 +42,8 @@ void crane__inverse_dynamics(const crane_model *m, crane_vec2 C1, crane_vec2 C2,
     /* Backward: force and moment of each parent on its child at the joint. */
     const crane_vec2 f2 = crane__scale(m->m2, acc_c2);
     const crane_real n2 = m->i2 * a2 + crane__cross(C2, f2);
-    const crane_real n1 = m->i1 * a1 + crane__cross(C1, crane__scale(m->m1, acc_c1)) +
+    const crane_body *const b1 = &m->params->lift_boom;
+    const crane_real n1 = b1->izz * a1 + crane__cross(C1, crane__scale(b1->mass, acc_c1)) +
                           crane__cross(r12, f2) + n2;
     tau[0] = n1;
     tau[1] = n2;
@@ -55,7 +56,7 @@ void crane__inverse_dynamics(const crane_model *m, crane_vec2 C1, crane_vec2 C2,
 void crane__mass_matrix(const crane_model *m, crane_real c1, crane_real s1,
                         const crane__tilt_kin *tk, crane_real M[3])
 {
-    const crane_real k = m->m2 * crane__dot(m->tilt_pivot, crane__rot(c1, s1, m->c2));
+    const crane_real k = m->m2 * crane__dot(m->params->tilt_pivot, crane__rot(c1, s1, m->c2));
     M[0] = m->j1 + m->m2_o2sq + m->j2 + 2 * k;
     M[1] = m->j2 + k;
     M[2] = m->j2;
@@ -91,9 +92,10 @@ crane_status crane_inverse_dynamics(const crane_model *model, const crane_real t
         crane__sincos(theta[1], &s1, &c1);
         crane__tilt_kinematics(model, c1, s1, &tk);
     }
-    crane__inverse_dynamics(model, crane__rot(c0, s0, model->c1), crane__rot(c01, s01, model->c2),
-                            crane__rot(c0, s0, model->tilt_pivot), c0, s0,
-                            model->links ? &tk : NULL, omega, alpha, model->gravity, t);
+    crane__inverse_dynamics(model, crane__rot(c0, s0, model->params->lift_boom.com),
+                            crane__rot(c01, s01, model->c2),
+                            crane__rot(c0, s0, model->params->tilt_pivot), c0, s0,
+                            model->links ? &tk : NULL, omega, alpha, model->params->gravity, t);
     /* omega^2 overflows for rates near the square root of the largest real (1e160 rad/s). */
     if (!crane__finite(t[0]) || !crane__finite(t[1]))
         return CRANE_E_OVERFLOW;

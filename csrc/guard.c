@@ -32,16 +32,16 @@ static crane_vec2 plane_point(const crane_model *m, const pose *p, crane_anchor 
         v = crane__add(p->q, v);
         break;
     case CRANE_FRAME_OUTER:
-        v = crane__add(m->tilt_pivot, crane__rot(p->c1, p->s1, v));
+        v = crane__add(m->params->tilt_pivot, crane__rot(p->c1, p->s1, v));
         break;
     case CRANE_FRAME_EXTENSION:
-        v = crane__add(crane__add(m->extension_mount, crane__v2(m->extension, 0)), v);
-        v = crane__add(m->tilt_pivot, crane__rot(p->c1, p->s1, v));
+        v = crane__add(crane__add(m->params->extension_mount, crane__v2(m->extension, 0)), v);
+        v = crane__add(m->params->tilt_pivot, crane__rot(p->c1, p->s1, v));
         break;
     default: /* CRANE_FRAME_LIFT */
         break;
     }
-    return crane__add(m->lift_pivot, crane__rot(p->c0, p->s0, v));
+    return crane__add(m->params->lift_pivot, crane__rot(p->c0, p->s0, v));
 }
 
 static crane__v3 to_world(crane_vec2 v, crane_real cpsi, crane_real spsi)
@@ -89,17 +89,17 @@ static void anchor_rates(const crane_model *m, crane_anchor an, crane_real k[3])
         k[0] = r;
         break;
     case CRANE_FRAME_LINK_PIN:
-        k[0] = crane__norm(m->link1_pivot) + m->tilt_l1 + r;
+        k[0] = crane__norm(m->params->link1_pivot) + m->tilt_l1 + r;
         k[2] = m->tilt_l1;
         break;
     case CRANE_FRAME_OUTER:
-        k[0] = crane__norm(m->tilt_pivot) + r;
+        k[0] = crane__norm(m->params->tilt_pivot) + r;
         k[1] = r;
         break;
     case CRANE_FRAME_EXTENSION: {
         const crane_real re = crane__norm(crane__add(
-            crane__add(m->extension_mount, crane__v2(m->extension, 0)), an.at));
-        k[0] = crane__norm(m->tilt_pivot) + re;
+            crane__add(m->params->extension_mount, crane__v2(m->extension, 0)), an.at));
+        k[0] = crane__norm(m->params->tilt_pivot) + re;
         k[1] = re;
         break;
     }
@@ -124,7 +124,7 @@ static void part_rates(const crane_model *m, const crane_part *pt, crane_real k[
 /* The angle side link 1 turns between two poses. */
 static crane_real link_turn(const crane_model *m, const pose *a, const pose *b)
 {
-    const crane_vec2 u = crane__sub(a->q, m->link1_pivot), v = crane__sub(b->q, m->link1_pivot);
+    const crane_vec2 u = crane__sub(a->q, m->params->link1_pivot), v = crane__sub(b->q, m->params->link1_pivot);
     return crane__fabs(crane__atan2(crane__cross(u, v), crane__dot(u, v)));
 }
 

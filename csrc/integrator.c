@@ -47,7 +47,7 @@ typedef struct {
 } ctx_t;
 
 /* Joint i is valve-driven (never in a build without CRANE_HYDRAULICS, whose validation refuses
- * valve drives; the fields are left out there to keep the stack of docs/embedding.md). */
+ * valve drives; the fields are left out there, to keep its stack smaller). */
 static inline int is_valve(const ctx_t *c, int i)
 {
 #if CRANE_HYDRAULICS
@@ -147,11 +147,13 @@ static void valve_rates(ctx_t *c, crane_real t, const xstate *x, int i, crane_re
 #endif
 
 /* Mass matrix M (M00, M01, M11) and the net joint torques b = tau - h at (t, theta, omega);
- * cylinder torques only for the joints in act[] (a locked joint's own torque is not needed to
- * move the crane, only to decide whether it leaves its stop). With dh, also the valve-driven
- * joints' chamber and spool rates. */
-static void forces(ctx_t *c, crane_real t, const xstate *x, const int act[2], crane_real M[3],
-                   crane_real b[2], crane_real *dh)
+ * cylinder torques only for the joints that are not locked (lk[i] = 0: a locked joint's own
+ * torque is not needed to move the crane, only to decide whether it leaves its stop). With sv, also the valve-driven
+ * joints' strokes (sv[i]) and stroke rates (sv[2 + i]), for their chamber rates: the caller
+ * evaluates those after this returns, so that the valve's frames do not stack on this one's
+ * (the stack budget of docs/embedding.md). */
+static void forces(ctx_t *c, crane_real t, const xstate *x, const int lk[2], crane_real M[3],
+                   crane_real b[2], crane_real *sv)
 {
     const crane_model *m = c->m;
     static const crane_real zero[2] = {0, 0};
@@ -174,23 +176,25 @@ static void forces(ctx_t *c, crane_real t, const xstate *x, const int act[2], cr
     }
     c01 = c0 * c1 - s0 * s1;
     s01 = s0 * c1 + c0 * s1;
-    C1 = crane__rot(c0, s0, m->c1);
+    C1 = crane__rot(c0, s0, m->params->lift_boom.com);
     C2 = crane__rot(c01, s01, m->c2);
-    r12 = crane__rot(c0, s0, m->tilt_pivot);
+    r12 = crane__rot(c0, s0, m->params->tilt_pivot);
     /* The four-bar is needed for the side links and for a driven tilt cylinder's ds/dtheta. */
-    if (m->links || act[CRANE_TILT])
+    if (m->links || !lk[CRANE_TILT])
         tk = tilt_kin(c, x->th[1], c1, s1);
     crane__inverse_dynamics(m, C1, C2, r12, c0, s0, m->links ? tk : NULL, x->w, zero,
-                            m->gravity, h);
+                            m->params->gravity, h);
     crane__mass_matrix(m, c1, s1, m->links ? tk : NULL, M);
 
     for (i = 0; i < 2; ++i) {
         crane_real ds, p_a, p_b, stroke = 0;
         b[i] = -h[i];
-        if (!act[i]) {
+        if (lk[i]) {
 #if CRANE_HYDRAULICS
-            if (dh && c->valve[i])
-                valve_rates(c, t, x, i, stop_stroke(c, i), 0, dh);
+            if (sv && c->valve[i]) {
+                sv[i] = stop_stroke(c, i);
+                sv[2 + i] = 0;
+            }
 #endif
             continue;
         }
@@ -208,13 +212,15 @@ static void forces(ctx_t *c, crane_real t, const xstate *x, const int act[2], cr
         if (c->valve[i]) {
             p_a = x->p[2 * i];
             p_b = x->p[2 * i + 1];
-            if (dh)
-                valve_rates(c, t, x, i, stroke, ds * x->w[i], dh);
+            if (sv) {
+                sv[i] = stroke;
+                sv[2 + i] = ds * x->w[i];
+            }
         } else
 #endif
         {
             (void)stroke;
-            (void)dh;
+            (void)sv;
             pressures(c, i, t, &p_a, &p_b);
         }
         b[i] += crane__cylinder_force(m, i, p_a, p_b, ds * x->w[i]) * ds;
@@ -244,23 +250,34 @@ static void solve(const crane_real M[3], const crane_real b[2], const int lk[2],
 static void accel(ctx_t *c, crane_real t, const xstate *x, const int lk[2], crane_real alpha[2],
                   crane_real *dh)
 {
-    const int act[2] = {!lk[0], !lk[1]};
     crane_real M[3], b[2];
+#if CRANE_HYDRAULICS
+    crane_real sv[4]; /* the valve-driven joints' strokes and stroke rates */
+    int i;
 
     if (lk[0] && lk[1]) {
         alpha[0] = alpha[1] = 0;
-#if CRANE_HYDRAULICS
-        if (dh) {
-            int i;
-            for (i = 0; i < 2; ++i)
-                if (c->valve[i])
-                    valve_rates(c, t, x, i, stop_stroke(c, i), 0, dh);
+        for (i = 0; i < 2; ++i) {
+            sv[i] = c->valve[i] ? stop_stroke(c, i) : 0;
+            sv[2 + i] = 0;
         }
-#endif
+    } else {
+        forces(c, t, x, lk, M, b, dh ? sv : NULL);
+        solve(M, b, lk, alpha);
+    }
+    if (dh)
+        for (i = 0; i < 2; ++i)
+            if (c->valve[i])
+                valve_rates(c, t, x, i, sv[i], sv[2 + i], dh);
+#else
+    (void)dh;
+    if (lk[0] && lk[1]) {
+        alpha[0] = alpha[1] = 0;
         return;
     }
-    forces(c, t, x, act, M, b, dh);
+    forces(c, t, x, lk, M, b, NULL);
     solve(M, b, lk, alpha);
+#endif
 }
 
 static void lock_mask(const ctx_t *c, int lk[2])
@@ -269,39 +286,42 @@ static void lock_mask(const ctx_t *c, int lk[2])
     lk[1] = c->mode[1] != CRANE__FREE;
 }
 
-/* x + h * (dtheta, domega) (and the pressures and spools + h * dh, with valves) */
-static xstate axpy(const xstate *x, crane_real h, const crane_real dth[2], const crane_real dw[2],
-                   const crane_real *dh)
+/* y = x + h * (dtheta, domega) (and the pressures and spools + h * dh, with valves), written in
+ * place: dth may be y->w (each rate is read before its entry is written), which spares RK4 a
+ * second stage state (the stack). Without dh, y's pressures and spools are left as they are. */
+static void axpy(const xstate *x, crane_real h, const crane_real *dth, const crane_real dw[2],
+                 const crane_real *dh, xstate *y)
 {
-    xstate y;
-    y.th[0] = x->th[0] + h * dth[0];
-    y.th[1] = x->th[1] + h * dth[1];
-    y.w[0] = x->w[0] + h * dw[0];
-    y.w[1] = x->w[1] + h * dw[1];
+    y->th[0] = x->th[0] + h * dth[0];
+    y->th[1] = x->th[1] + h * dth[1];
+    y->w[0] = x->w[0] + h * dw[0];
+    y->w[1] = x->w[1] + h * dw[1];
 #if CRANE_HYDRAULICS
-    {
+    /* without rates (no valve-driven joint) the pressures and spools stay those of x, which RK4's
+     * stage state already holds */
+    if (dh) {
         int k;
         for (k = 0; k < 4; ++k)
-            y.p[k] = dh ? x->p[k] + h * dh[k] : x->p[k];
+            y->p[k] = x->p[k] + h * dh[k];
         for (k = 0; k < 2; ++k)
-            y.y[k] = dh ? x->y[k] + h * dh[4 + k] : x->y[k];
+            y->y[k] = x->y[k] + h * dh[4 + k];
     }
 #else
     (void)dh;
 #endif
-    return y;
 }
 
 /* Classic RK4, its four stages in one loop so that accel (forces and all) has one call site and
- * is inlined once. The stage sums are accumulated as the stages go (one stage state, one
- * acceleration), in the order ((k1 + 2 k2) + 2 k3) + k4, which is the textbook expression's. */
+ * is inlined once. The stage sums are accumulated in *y as the stages go (one stage state, one
+ * acceleration, no sums of their own: the stack), in the order ((k1 + 2 k2) + 2 k3) + k4, which is
+ * the textbook expression's; so y must not be x. */
 static void rk4(ctx_t *c, crane_real t, const xstate *x, crane_real h, xstate *y)
 {
     const crane_real h2 = h / 2, h6 = h / 6;
-    crane_real a[2], sw[2], sa[2];
+    crane_real a[2];
 #if CRANE_HYDRAULICS
     /* the rates of joints that are not valve-driven stay 0: their entries of the state too */
-    crane_real dh[6] = {0, 0, 0, 0, 0, 0}, sh[6];
+    crane_real dh[6] = {0, 0, 0, 0, 0, 0};
     crane_real *const pdh = c->hyd ? dh : NULL;
 #else
     crane_real *const pdh = NULL;
@@ -315,32 +335,30 @@ static void rk4(ctx_t *c, crane_real t, const xstate *x, crane_real h, xstate *y
 #if CRANE_HYDRAULICS
         if (pdh) {
             for (i = 0; i < 6; ++i) {
+                crane_real *const sum = i < 4 ? &y->p[i] : &y->y[i - 4];
                 if (k == 0)
-                    sh[i] = dh[i];
+                    *sum = dh[i];
                 else if (k < 3)
-                    sh[i] = sh[i] + 2 * dh[i];
-                else if (i < 4)
-                    y->p[i] = x->p[i] + h6 * (sh[i] + dh[i]);
+                    *sum = *sum + 2 * dh[i];
                 else
-                    y->y[i - 4] = x->y[i - 4] + h6 * (sh[i] + dh[i]);
+                    *sum = (i < 4 ? x->p[i] : x->y[i - 4]) + h6 * (*sum + dh[i]);
             }
         }
 #endif
         for (i = 0; i < 2; ++i) {
             if (k == 0) {
-                sw[i] = xs.w[i];
-                sa[i] = a[i];
+                y->th[i] = xs.w[i];
+                y->w[i] = a[i];
             } else if (k < 3) {
-                sw[i] = sw[i] + 2 * xs.w[i];
-                sa[i] = sa[i] + 2 * a[i];
+                y->th[i] = y->th[i] + 2 * xs.w[i];
+                y->w[i] = y->w[i] + 2 * a[i];
             } else {
-                /* y may be x: joint i's values are read here for the last time */
-                y->th[i] = x->th[i] + h6 * (sw[i] + xs.w[i]);
-                y->w[i] = x->w[i] + h6 * (sa[i] + a[i]);
+                y->th[i] = x->th[i] + h6 * (y->th[i] + xs.w[i]);
+                y->w[i] = x->w[i] + h6 * (y->w[i] + a[i]);
             }
         }
         if (k < 3)
-            xs = axpy(x, k == 2 ? h : h2, xs.w, a, pdh);
+            axpy(x, k == 2 ? h : h2, xs.w, a, pdh, &xs);
     }
 #if CRANE_HYDRAULICS
     if (!pdh) {
@@ -408,16 +426,15 @@ static void stop_joint(ctx_t *c, xstate *x, int i, int upper)
  * keeps a joint from being released when only the other's being locked makes it want to leave. */
 static int release_set(ctx_t *c, crane_real t, const xstate *x)
 {
-    int held[2], act[2], cand, i;
+    int held[2], cand, i;
     crane_real M[3], b[2];
 
     if (c->mode[0] < CRANE__STOP_LO && c->mode[1] < CRANE__STOP_LO)
         return 0;
-    for (i = 0; i < 2; ++i) {
+    for (i = 0; i < 2; ++i)
         held[i] = c->mode[i] == CRANE__HELD;
-        act[i] = !held[i];
-    }
-    forces(c, t, x, act, M, b, NULL);
+    /* the stopped joints' cylinder torques decide their release: only held joints are locked */
+    forces(c, t, x, held, M, b, NULL);
     for (cand = 0; cand < 4; ++cand) {
         int lk[2], ok = 1;
         crane_real alpha[2];
@@ -460,22 +477,22 @@ static void release(ctx_t *c, crane_real t, const xstate *x)
 /* Release inside a piece (docs/model.md, "Release inside a step"): the piece from (t, x) over
  * size h ended with a STOPPED joint that the release rule would let go of. Bisects the piece size
  * (lo: an RK4 step of that size ends where the rule releases nothing; hi: where it releases
- * something), advances to hi and releases there; returns hi. */
-static crane_real release_in_piece(ctx_t *c, crane_real t, xstate *x, crane_real h)
+ * something), advances to hi and releases there; returns hi. y is scratch for the search. */
+static crane_real release_in_piece(ctx_t *c, crane_real t, xstate *x, crane_real h, xstate *y)
 {
     crane_real lo = 0, hi = h;
-    xstate y;
     int k;
 
     for (k = 0; k < RELEASE_BISECTIONS; ++k) {
         const crane_real mid = (lo + hi) / 2;
-        rk4(c, t, x, mid, &y);
-        if (release_set(c, t + mid, &y))
+        rk4(c, t, x, mid, y);
+        if (release_set(c, t + mid, y))
             hi = mid;
         else
             lo = mid;
     }
-    rk4(c, t, x, hi, x);
+    rk4(c, t, x, hi, y);
+    *x = *y;
     release(c, t + hi, x);
     return hi;
 }
@@ -518,7 +535,8 @@ static void step(ctx_t *c, crane_real t, xstate *x, crane_real h, crane_real t_e
             if (piece < MAX_PIECES - 1 &&
                 (c->mode[0] >= CRANE__STOP_LO || c->mode[1] >= CRANE__STOP_LO)) {
                 if (release_set(c, t_end, &x1)) {
-                    const crane_real hi = release_in_piece(c, t, x, rem);
+                    /* x1 is free again: the search's scratch (the stack) */
+                    const crane_real hi = release_in_piece(c, t, x, rem, &x1);
                     t += hi;
                     rem -= hi;
                     continue;
@@ -544,7 +562,8 @@ static void step(ctx_t *c, crane_real t, xstate *x, crane_real h, crane_real t_e
                     tmin = tau;
             }
         }
-        rk4(c, t, x, tmin, x);
+        rk4(c, t, x, tmin, &x1); /* x1 is free again: rk4 cannot write over its x */
+        *x = x1;
         t += tmin;
         rem -= tmin;
         /* In joint order, every free joint at or beyond a limit goes onto it. */
@@ -569,8 +588,9 @@ static void put_sample(ctx_t *c, crane_real t, const xstate *x, crane_real cpsi,
 
     crane__sincos(x->th[0], &s0, &c0);
     crane__sincos(x->th[1], &s1, &c1);
-    tip = crane__add(m->lift_pivot,
-                     crane__rot(c0, s0, crane__add(m->tilt_pivot, crane__rot(c1, s1, m->tip))));
+    tip = crane__add(m->params->lift_pivot,
+                     crane__rot(c0, s0,
+                                crane__add(m->params->tilt_pivot, crane__rot(c1, s1, m->tip))));
 
     c->kin_valid = 1;
     c->kin_th[0] = x->th[0];
@@ -632,27 +652,32 @@ static void put_sample(ctx_t *c, crane_real t, const xstate *x, crane_real cpsi,
     o->tip[2] = tip.y;
 }
 
-/* theta and omega (and the pressures and spools) are all finite. */
-static int finite_state(const xstate *x)
+/* theta and omega (and the pressures and spools, which stay 0 without valve-driven joints) are
+ * all finite. */
+static int finite_state(const ctx_t *c, const xstate *x)
 {
 #if CRANE_HYDRAULICS
     int k;
-    for (k = 0; k < 4; ++k)
+    for (k = 0; c->hyd && k < 4; ++k)
         if (!crane__finite(x->p[k]))
             return 0;
-    if (!crane__finite(x->y[0]) || !crane__finite(x->y[1]))
+    if (c->hyd && (!crane__finite(x->y[0]) || !crane__finite(x->y[1])))
         return 0;
+#else
+    (void)c;
 #endif
     return crane__finite(x->th[0]) && crane__finite(x->th[1]) && crane__finite(x->w[0]) &&
            crane__finite(x->w[1]);
 }
 
 #if CRANE_HYDRAULICS
-/* The strokes of the valve-driven joints at the state x (a stopped joint's is its stop's), for
- * the substep count. */
-static void valve_strokes(ctx_t *c, const xstate *x, crane_real stroke[2])
+/* The substep count of a step of size h from the state x (docs/model.md, "Hydraulics"), from the
+ * strokes of the valve-driven joints (a stopped joint's is its stop's). Out of line, so that its
+ * locals are not in crane__integrate's frame under the step (the stack budget). */
+static CRANE__NOINLINE long substeps(ctx_t *c, const xstate *x, crane_real h)
 {
-    crane_real s1, c1;
+    const int valve[2] = {c->valve[0], c->valve[1]};
+    crane_real stroke[2], s1, c1;
     int i;
 
     for (i = 0; i < 2; ++i) {
@@ -670,6 +695,7 @@ static void valve_strokes(ctx_t *c, const xstate *x, crane_real stroke[2])
             stroke[i] = tilt_kin(c, x->th[1], c1, s1)->stroke;
         }
     }
+    return crane__substeps(c->m, stroke, valve, h);
 }
 #endif
 
@@ -736,7 +762,7 @@ crane_status crane__integrate(const crane_model *m, const crane_state *s0, const
     /* A state that stops being finite (only with absurd parameters, e.g. gravity 1e135) ends
      * the prediction with CRANE_E_DIVERGED and the samples written before it, all finite. */
     *n_written = 0;
-    if (!finite_state(&x))
+    if (!finite_state(&c, &x))
         return CRANE_E_DIVERGED;
     put_sample(&c, 0, &x, cpsi, spsi, &out[0]);
     /* Samples after every sample_every-th step and after the last one. The kinematic cache is
@@ -754,12 +780,7 @@ crane_status crane__integrate(const crane_model *m, const crane_state *s0, const
         /* docs/model.md "Hydraulics": with valve-driven joints, n equal substeps, each a full
          * step of the scheme (one call site of step, so that it stays inlined: the stack). */
         if (c.hyd && h > 0) {
-            crane_real stroke[2];
-            valve_strokes(&c, &x, stroke);
-            {
-                const int valve[2] = {c.valve[0], c.valve[1]};
-                n_sub = crane__substeps(m, stroke, valve, h);
-            }
+            n_sub = substeps(&c, &x, h);
             sub = h / (crane_real)n_sub;
         }
         for (j = 0; j < n_sub; ++j) {
@@ -777,7 +798,7 @@ crane_status crane__integrate(const crane_model *m, const crane_state *s0, const
         if (h > 0)
             step(&c, t, &x, h, t_end);
 #endif
-        if (!finite_state(&x)) {
+        if (!finite_state(&c, &x)) {
             *n_written = next;
             return CRANE_E_DIVERGED;
         }

@@ -48,7 +48,7 @@ void crane__lift_from_stroke(const crane_model *m, crane_real stroke, crane_real
                              crane_real *ds)
 {
     const crane_real db = m->lift_db, dr = m->lift_dr;
-    const crane_real L = m->length_retracted[CRANE_LIFT] + stroke;
+    const crane_real L = m->params->cylinder[CRANE_LIFT].length_retracted + stroke;
     crane_real cg = (db * db + dr * dr - L * L) / (2 * db * dr);
     crane_real gamma;
 
@@ -73,13 +73,13 @@ void crane__lift_from_angle(const crane_model *m, crane_real c0, crane_real s0,
     const crane_real L = crane__sqrt(L2 > 0 ? L2 : 0);
 
     if (stroke)
-        *stroke = L - m->length_retracted[CRANE_LIFT];
+        *stroke = L - m->params->cylinder[CRANE_LIFT].length_retracted;
     if (ds)
         *ds = db * dr * sg / L;
 }
 
 /* ds/dtheta1 by virtual velocities: A turns about O2, Q about P1, and QA is rigid. */
-static crane_real tilt_ds(const crane_model *p, crane_vec2 q, crane_vec2 a, crane_real L)
+static crane_real tilt_ds(const crane_params *p, crane_vec2 q, crane_vec2 a, crane_real L)
 {
     const crane_vec2 qp = crane__sub(q, p->link1_pivot);
     const crane_vec2 qa = crane__sub(q, a);
@@ -91,8 +91,8 @@ static crane_real tilt_ds(const crane_model *p, crane_vec2 q, crane_vec2 a, cran
 int crane__tilt_from_stroke(const crane_model *m, crane_real stroke, crane_real *theta,
                             crane_real *ds, crane_vec2 *q, crane_vec2 *a)
 {
-    const crane_model *p = m;
-    const crane_real L = p->length_retracted[CRANE_TILT] + stroke;
+    const crane_params *p = m->params;
+    const crane_real L = p->cylinder[CRANE_TILT].length_retracted + stroke;
     crane_vec2 Q, A, oa;
     int ok = 1;
 
@@ -113,7 +113,7 @@ int crane__tilt_from_stroke(const crane_model *m, crane_real stroke, crane_real 
 void crane__tilt_from_angle(const crane_model *m, crane_real c1, crane_real s1,
                             crane_real *stroke, crane_real *ds, crane_vec2 *q, crane_vec2 *a)
 {
-    const crane_model *p = m;
+    const crane_params *p = m->params;
     const crane_vec2 A = crane__add(p->tilt_pivot, crane__rot(c1, s1, p->link2_attach));
     crane_vec2 Q;
     crane_real L;
@@ -121,7 +121,7 @@ void crane__tilt_from_angle(const crane_model *m, crane_real c1, crane_real s1,
     (void)circle(p->link1_pivot, m->tilt_l1, A, m->tilt_l2, m->tilt_branch, &Q);
     L = crane__norm(crane__sub(Q, p->tilt_cylinder_base));
     if (stroke)
-        *stroke = L - p->length_retracted[CRANE_TILT];
+        *stroke = L - p->cylinder[CRANE_TILT].length_retracted;
     if (ds)
         *ds = tilt_ds(p, Q, A, L);
     if (q)
@@ -140,7 +140,7 @@ void crane__tilt_from_angle(const crane_model *m, crane_real c1, crane_real s1,
  * crane__tilt_kin) and the sums over both links that the inverse dynamics needs. */
 static void side_links(const crane_model *m, crane__tilt_kin *tk)
 {
-    const crane_model *p = m;
+    const crane_params *p = m->params;
     const crane_vec2 qp = crane__sub(tk->q, p->link1_pivot);
     const crane_vec2 aq = crane__sub(tk->a, tk->q);
     const crane_vec2 ra = crane__sub(tk->a, p->tilt_pivot);
@@ -165,7 +165,8 @@ static void side_links(const crane_model *m, crane__tilt_kin *tk)
     const crane_vec2 w2 =
         crane__add(crane__sub(crane__scale(g1, crane__perp(qp)), crane__scale(k1 * k1, qp)),
                    crane__sub(crane__scale(g2, crane__perp(e2)), crane__scale(k2 * k2, e2)));
-    const crane_real m1 = m->link_m[0], i1 = m->link_i[0], m2 = m->link_m[1], i2 = m->link_i[1];
+    const crane_body *const l1 = &m->params->side_link1, *const l2 = &m->params->side_link2;
+    const crane_real m1 = l1->mass, i1 = l1->izz, m2 = l2->mass, i2 = l2->izz;
 
     /* M's columns ID(theta, 0, e_j, 0), by virtual work (cross(d, perp(d)) = |d|^2,
      * cross(d, v) = perp(d).v), and the velocity-dependent and gravity sums. */
@@ -182,14 +183,14 @@ static void side_links(const crane_model *m, crane__tilt_kin *tk)
 void crane__tilt_kinematics(const crane_model *m, crane_real c1, crane_real s1,
                             crane__tilt_kin *tk)
 {
-    const crane_model *p = m;
+    const crane_params *p = m->params;
     crane_real L;
 
     /* The same arithmetic as crane__tilt_from_angle, so stroke and ds are the same bits. */
     tk->a = crane__add(p->tilt_pivot, crane__rot(c1, s1, p->link2_attach));
     (void)circle(p->link1_pivot, m->tilt_l1, tk->a, m->tilt_l2, m->tilt_branch, &tk->q);
     L = crane__norm(crane__sub(tk->q, p->tilt_cylinder_base));
-    tk->stroke = L - p->length_retracted[CRANE_TILT];
+    tk->stroke = L - p->cylinder[CRANE_TILT].length_retracted;
     tk->ds = tilt_ds(p, tk->q, tk->a, L);
     if (m->links)
         side_links(m, tk);
@@ -219,9 +220,9 @@ static crane_real fourbar_d(const crane_model *m, crane_vec2 u, crane_real psi)
     crane_real s, c;
 
     crane__sincos(psi, &s, &c);
-    q = crane__add(m->link1_pivot, crane__scale(m->tilt_l1, crane__rot(c, -s, u)));
-    (void)circle(m->tilt_pivot, m->tilt_ra, q, m->tilt_l2, -1, &a);
-    return crane__cross(crane__sub(q, m->link1_pivot), crane__sub(a, q));
+    q = crane__add(m->params->link1_pivot, crane__scale(m->tilt_l1, crane__rot(c, -s, u)));
+    (void)circle(m->params->tilt_pivot, m->tilt_ra, q, m->tilt_l2, -1, &a);
+    return crane__cross(crane__sub(q, m->params->link1_pivot), crane__sub(a, q));
 }
 
 /* docs/model.md, "Tilt kinematics": the exact validity of the four-bar over the tilt stroke.
@@ -240,11 +241,11 @@ crane_field crane__fourbar_check(crane_model *m)
 {
     const crane_real lo = -3 * crane__pi() / 2, hi = crane__pi() / 2;
     const crane_real l1 = m->tilt_l1, l2 = m->tilt_l2, ra = m->tilt_ra;
-    const crane_vec2 b = crane__sub(m->tilt_cylinder_base, m->link1_pivot);
-    const crane_vec2 cv = crane__sub(m->link1_pivot, m->tilt_pivot);
+    const crane_vec2 b = crane__sub(m->params->tilt_cylinder_base, m->params->link1_pivot);
+    const crane_vec2 cv = crane__sub(m->params->link1_pivot, m->params->tilt_pivot);
     const crane_real d = crane__norm(b), c = crane__norm(cv);
-    const crane_real len[2] = {m->length_retracted[CRANE_TILT] + m->stroke_min[CRANE_TILT],
-                               m->length_retracted[CRANE_TILT] + m->stroke_max[CRANE_TILT]};
+    const crane_real l0 = m->params->cylinder[CRANE_TILT].length_retracted;
+    const crane_real len[2] = {l0 + m->stroke_min[CRANE_TILT], l0 + m->stroke_max[CRANE_TILT]};
     const crane_field end_field[2] = {CRANE_FIELD_TILT_CYLINDER_STROKE_MIN,
                                       CRANE_FIELD_TILT_CYLINDER_STROKE_MAX};
     crane_real psi[2], e[2], pts[6], theta[2], ds[2], sign = 0, psi_c, e_lo, e_hi;
@@ -387,7 +388,7 @@ static void put_world(crane_real *dst, crane_vec2 v, crane_real cpsi, crane_real
 crane_status crane_points(const crane_model *model, crane_real slew, size_t n,
                           const crane_real *theta, crane_real *xyz)
 {
-    const crane_model *p;
+    const crane_params *p;
     crane_real cpsi, spsi;
     size_t k;
 
@@ -413,7 +414,7 @@ crane_status crane_points(const crane_model *model, crane_real slew, size_t n,
                 return CRANE_E_ANGLE;
     }
 
-    p = model;
+    p = model->params;
     crane__sincos(slew, &spsi, &cpsi);
     for (k = 0; k < n; ++k) {
         const crane_vec2 o1 = p->lift_pivot;

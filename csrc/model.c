@@ -216,8 +216,8 @@ const char *crane_field_rule(crane_field field)
 static crane_field lift_triangle_check(const crane_model *m)
 {
     const crane_real db = m->lift_db, dr = m->lift_dr;
-    const crane_real ends[2] = {m->length_retracted[CRANE_LIFT] + m->stroke_min[CRANE_LIFT],
-                                m->length_retracted[CRANE_LIFT] + m->stroke_max[CRANE_LIFT]};
+    const crane_real l0 = m->params->cylinder[CRANE_LIFT].length_retracted;
+    const crane_real ends[2] = {l0 + m->stroke_min[CRANE_LIFT], l0 + m->stroke_max[CRANE_LIFT]};
     int k;
 
     if (!(db > 0))
@@ -249,20 +249,10 @@ crane_status crane__model_derive(crane_model *m, const crane_params *params, cra
     if (extension < p->extension_min || extension > p->extension_max)
         return CRANE_E_EXTENSION;
 
-    m->gravity = p->gravity;
-    m->lift_pivot = p->lift_pivot;
-    m->lift_cylinder_base = p->lift_cylinder_base;
-    m->lift_cylinder_rod = p->lift_cylinder_rod;
-    m->tilt_cylinder_base = p->tilt_cylinder_base;
-    m->link1_pivot = p->link1_pivot;
-    m->tilt_pivot = p->tilt_pivot;
-    m->link2_attach = p->link2_attach;
-    m->extension_mount = p->extension_mount;
+    m->params = p;
     for (i = 0; i < 2; ++i) {
-        m->length_retracted[i] = p->cylinder[i].length_retracted;
         m->stroke_min[i] = p->cylinder[i].stroke_min;
         m->stroke_max[i] = p->cylinder[i].stroke_max;
-        m->friction[i] = p->cylinder[i].friction;
         m->hyd[i] = p->cylinder[i].hydraulics.valve != CRANE_VALVE_NONE
                         ? &p->cylinder[i].hydraulics
                         : NULL;
@@ -296,9 +286,6 @@ crane_status crane__model_derive(crane_model *m, const crane_params *params, cra
     mount_e = crane__add(p->extension_mount, crane__v2(extension, 0));
     x_ext = crane__add(mount_e, p->extension_boom.com);
     x_tip = crane__add(mount_e, crane__v2(p->tip_distance, 0));
-    m->m1 = p->lift_boom.mass;
-    m->c1 = p->lift_boom.com;
-    m->i1 = p->lift_boom.izz;
     m->m2 = m_ob + m_ext + m_load;
     m->c2 = crane__scale(1 / m->m2,
                         crane__add(crane__add(crane__scale(m_ob, p->outer_boom.com),
@@ -308,7 +295,7 @@ crane_status crane__model_derive(crane_model *m, const crane_params *params, cra
            p->extension_boom.izz + m_ext * crane__norm2(crane__sub(x_ext, m->c2)) +
            m_load * crane__norm2(crane__sub(x_tip, m->c2));
     m->tip = x_tip;
-    m->j1 = m->i1 + m->m1 * crane__norm2(m->c1);
+    m->j1 = p->lift_boom.izz + p->lift_boom.mass * crane__norm2(p->lift_boom.com);
     m->j2 = m->i2 + m->m2 * crane__norm2(m->c2);
     m->m2_o2sq = m->m2 * crane__norm2(p->tilt_pivot);
 
@@ -323,8 +310,6 @@ crane_status crane__model_derive(crane_model *m, const crane_params *params, cra
         m->links = 0;
         for (i = 0; i < 2; ++i) {
             const crane_real n2 = crane__norm2(v[i]);
-            m->link_m[i] = link[i]->mass;
-            m->link_i[i] = link[i]->izz;
             m->link_ca[i] = n2 > 0 ? crane__dot(link[i]->com, v[i]) / n2 : 0;
             m->link_cb[i] = n2 > 0 ? crane__cross(v[i], link[i]->com) / n2 : 0;
             if (link[i]->mass > 0 || link[i]->izz > 0)

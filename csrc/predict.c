@@ -259,6 +259,52 @@ crane_status crane_sample_count_every(crane_real horizon, crane_real dt, size_t 
     return CRANE_OK;
 }
 
+/* The checks of crane_predict_many's futures, every one before the first is integrated, with
+ * *model as scratch (out of line, so that the checks' locals are not in the entry point's frame
+ * during the integration: the stack budget of docs/embedding.md). The model depends on the
+ * extension only through the lumped outer boom, so it is derived again only when the extension
+ * changes. On an error *failed is the future at fault. */
+static CRANE__NOINLINE crane_status check_futures(crane_model *model, const crane_params *params,
+                                                  size_t n_futures, const crane_state *states,
+                                                  const crane_inputs *inputs, crane_real horizon,
+                                                  crane_real dt, long n_steps, size_t *failed)
+{
+    crane_field field;
+    crane_status st;
+    size_t k;
+#if CRANE_HYDRAULICS
+    long total = 0;   /* RK4 steps of the futures validated so far, their substeps included */
+#else
+    (void)dt;
+    (void)n_steps;
+#endif
+
+    for (k = 0; k < n_futures; ++k) {
+        const crane_state *s = &states[k];
+        if (k == 0 || !(s->extension == states[k - 1].extension)) {
+            /* straight into the caller's model: crane_model_init's own copy would add its size
+             * to the entry point's stack */
+            st = crane__model_derive(model, params, s->extension, &field);
+            if (st != CRANE_OK) {
+                *failed = k;
+                return st;
+            }
+        }
+        st = check_future(model, s, &inputs[k], horizon);
+#if CRANE_HYDRAULICS
+        /* the substeps of valve-driven futures count against the bounds too (CRANE_E_BATCH
+         * here names the future that takes the batch over) */
+        if (st == CRANE_OK)
+            st = check_work(model, &inputs[k], dt, n_steps, &total);
+#endif
+        if (st != CRANE_OK) {
+            *failed = k;
+            return st;
+        }
+    }
+    return CRANE_OK;
+}
+
 crane_status crane_predict_many(const crane_params *params, size_t n_futures,
                                 const crane_state *states, const crane_inputs *inputs,
                                 crane_real horizon, crane_real dt, size_t sample_every,
@@ -269,9 +315,6 @@ crane_status crane_predict_many(const crane_params *params, size_t n_futures,
     crane_status st;
     size_t k, count;
     long n_steps;
-#if CRANE_HYDRAULICS
-    long total = 0;   /* RK4 steps of the futures validated so far, their substeps included */
-#endif
 
     if (!failed)
         return CRANE_E_NULL;
@@ -293,31 +336,10 @@ crane_status crane_predict_many(const crane_params *params, size_t n_futures,
     if (count > stride || (n_futures > 0 && stride > SIZE_MAX / n_futures))
         return CRANE_E_CAPACITY;
 
-    /* Validate every future before the first write. The model depends on the extension only
-     * through the lumped outer boom, so it is derived again only when the extension changes. */
-    for (k = 0; k < n_futures; ++k) {
-        const crane_state *s = &states[k];
-        if (k == 0 || !(s->extension == states[k - 1].extension)) {
-            /* straight into this frame's model: crane_model_init's own copy would add its size
-             * to this entry point's stack (the budget of docs/embedding.md) */
-            st = crane__model_derive(&model, params, s->extension, &field);
-            if (st != CRANE_OK) {
-                *failed = k;
-                return st;
-            }
-        }
-        st = check_future(&model, s, &inputs[k], horizon);
-#if CRANE_HYDRAULICS
-        /* the substeps of valve-driven futures count against the bounds too (CRANE_E_BATCH
-         * here names the future that takes the batch over) */
-        if (st == CRANE_OK)
-            st = check_work(&model, &inputs[k], dt, n_steps, &total);
-#endif
-        if (st != CRANE_OK) {
-            *failed = k;
-            return st;
-        }
-    }
+    /* Validate every future before the first write. */
+    st = check_futures(&model, params, n_futures, states, inputs, horizon, dt, n_steps, failed);
+    if (st != CRANE_OK)
+        return st;
     for (k = 0; k < n_futures; ++k) {
         if (k == 0 || !(states[k].extension == states[k - 1].extension))
             (void)crane__model_derive(&model, params, states[k].extension, &field);

@@ -198,6 +198,9 @@ def main(argv=None):
     ap.add_argument("--cflags", default="-mcpu=cortex-m4 -mthumb -mfpu=fpv4-sp-d16 "
                                         "-mfloat-abi=hard -Os")
     ap.add_argument("--float", dest="flt", action="store_true", default=True)
+    ap.add_argument("--callees", metavar="FUNC", action="append", default=[],
+                    help="also print FUNC's frame and the depth under each function it calls "
+                         "(what takes the stack, when a path is over budget)")
     a = ap.parse_args(argv)
     csrc = os.path.join(os.path.dirname(os.path.dirname(os.path.abspath(__file__))), "csrc")
     objs = sorted(p for p in glob.glob(os.path.join(a.build, "*.o")))
@@ -285,6 +288,13 @@ def main(argv=None):
             stack, worst = d, (e, path)
     if worst is not None:
         print(f"    deepest: {worst[0]}: " + " -> ".join(f"{n} ({fr})" for n, fr in worst[1]))
+    for name in a.callees:
+        if name not in funcs:
+            print(f"  --callees {name}: no such function in the probe")
+            continue
+        print(f"  {name} (frame {frame(name)[0]}) calls: " +
+              ", ".join(f"{c} {depth(c)[0]}" for c in
+                        sorted(funcs[name]["calls"], key=lambda c: -depth(c)[0])))
     mism = [(n, su[n][0], funcs[n]["frame"]) for n in su if n in funcs and
             su[n][0] != funcs[n]["frame"]]
     if mism:

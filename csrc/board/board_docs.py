@@ -99,13 +99,13 @@ def hydraulics(board, cpi, profiled, art, static):
     name = "lever-open"
     n = board["ticks"][f"crane_predict[{name}]"] * bc.INSNS_PER_TICK
     return "\n".join([
-        wrap(f"With the valve-driven cylinders compiled in (`make -C csrc/board HYD=1`: the core "
-             f"of `make -C csrc m4-hydraulics`), a 2-s prediction of `{name}` executes **{n:,} "
+        wrap(f"With the valve-driven scenario (`make -C csrc/board HYD=1`: the same core, "
+             f"`lever-open` added), a 2-s prediction of `{name}` executes **{n:,} "
              f"instructions** (QEMU's execution log: {profiled:,}). Its own profile gives the CPI "
              f"below, which serves for all rows; the code it executes spans {art['lines']:,} "
              f"flash lines ({16 * art['lines'] / 1024:.0f} kB):"),
         "",
-    ] + speed_rows(board, cpi, name) + ["", "Stack of that build:", "", stack(board, static)])
+    ] + speed_rows(board, cpi, name) + ["", "Stack with that scenario:", "", stack(board, static)])
 
 
 def profile(funcs, mix, art):
@@ -160,7 +160,7 @@ def main(argv=None):
     ap.add_argument("--footprint-build", default="build-m4")
     ap.add_argument("--board-hyd", required=True, help="the board's output with HYD=1")
     ap.add_argument("--profile-hyd", required=True)
-    ap.add_argument("--footprint-build-hyd", default="build-m4-hyd")
+    ap.add_argument("--footprint-build-hyd", default="build-m4")
     ap.add_argument("--docs", default=DOCS)
     a = ap.parse_args(argv)
     board, board_hyd = bc.parse_run(a.board), bc.parse_run(a.board_hyd)
