@@ -162,11 +162,17 @@ def _cached(crane: "Crane", extension: float) -> Tuple[Any, Any]:
     key: Any = extension if extension != 0.0 else ("-0" if math.copysign(1.0, extension) < 0 else "+0")
     m = models.get(key)
     if m is None:
-        m = ffi.new("crane_model *")
+        m = _keep_params(ffi.new("crane_model *"), prm)
         ensure(lib.crane_model_init(m, prm, extension), "crane")
         if len(models) < _CACHE_MAX:
             models[key] = m
     return prm, m
+
+
+def _keep_params(m: Any, prm: Any) -> Any:
+    """The model, holding its params alive: a crane_model points into its crane_params (crane.h),
+    so a model handed out must outlive a cache clear that drops the params' other reference."""
+    return ffi.gc(m, lambda _model, _params=prm: None)
 
 
 def params(crane: "Crane") -> Any:
