@@ -76,8 +76,26 @@ static CRANE__ALWAYS_INLINE const crane__tilt_kin *tilt_kin(ctx_t *c, crane_real
     return &c->tk;
 }
 
-/* Pressures of a pressure-driven joint at time t: linear interpolation, with a cursor that walks
- * from the last segment (RK4 stage times move forward, redone event steps go back a little). */
+/* The segment [t_j, t_j+1] of joint i's sampled drive that holds time t, and t's fraction of it in
+ * [0, 1]. The cursor walks from the last segment: RK4 stage times move forward, redone event steps
+ * go back a little. Validation guarantees n >= 2 and t[0] <= 0 < horizon <= t[n-1]. */
+static CRANE__ALWAYS_INLINE crane_real segment(ctx_t *c, int i, crane_real t, size_t *jp)
+{
+    const crane_drive *d = &c->in->drive[i];
+    size_t j = c->cursor[i], n = d->n_samples;
+    crane_real s;
+
+    while (j + 2 < n && t > d->t[j + 1])
+        ++j;
+    while (j > 0 && t < d->t[j])
+        --j;
+    c->cursor[i] = j;
+    *jp = j;
+    s = (t - d->t[j]) / (d->t[j + 1] - d->t[j]);
+    return s < 0 ? 0 : s > 1 ? 1 : s;
+}
+
+/* Pressures of a pressure-driven joint at time t: linear interpolation. */
 static void pressures(ctx_t *c, int i, crane_real t, crane_real *p_a, crane_real *p_b)
 {
     const crane_drive *d = &c->in->drive[i];
@@ -89,24 +107,13 @@ static void pressures(ctx_t *c, int i, crane_real t, crane_real *p_a, crane_real
         *p_b = d->p_b;
         return;
     }
-    /* Validation guarantees n >= 2 and t[0] <= 0 < horizon <= t[n-1]. */
-    j = c->cursor[i];
-    while (j + 2 < n && t > d->t[j + 1])
-        ++j;
-    while (j > 0 && t < d->t[j])
-        --j;
-    c->cursor[i] = j;
-    s = (t - d->t[j]) / (d->t[j + 1] - d->t[j]);
-    if (s < 0)
-        s = 0;
-    else if (s > 1)
-        s = 1;
+    s = segment(c, i, t, &j);
     *p_a = d->p_a_samples[j] + s * (d->p_a_samples[j + 1] - d->p_a_samples[j]);
     *p_b = d->p_b_samples[j] + s * (d->p_b_samples[j + 1] - d->p_b_samples[j]);
 }
 
 #if CRANE_HYDRAULICS
-/* The lever of a valve-driven joint at time t: linear interpolation with the pressures' cursor. */
+/* The lever of a valve-driven joint at time t: linear interpolation (the same segment search). */
 static crane_real lever(ctx_t *c, int i, crane_real t)
 {
     const crane_drive *d = &c->in->drive[i];
@@ -115,13 +122,7 @@ static crane_real lever(ctx_t *c, int i, crane_real t)
 
     if (n == 0)
         return d->u;
-    j = c->cursor[i];
-    while (j + 2 < n && t > d->t[j + 1])
-        ++j;
-    while (j > 0 && t < d->t[j])
-        --j;
-    c->cursor[i] = j;
-    s = (t - d->t[j]) / (d->t[j + 1] - d->t[j]);
+    s = segment(c, i, t, &j);
     return d->u_samples[j] + s * (d->u_samples[j + 1] - d->u_samples[j]);
 }
 

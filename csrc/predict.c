@@ -55,6 +55,20 @@ static int pressure_ok(crane_real p)
 
 static int lever_ok(crane_real u) { return u >= -1 && u <= 1; }
 
+/* The sample times of a sampled drive (pressures or a lever): strictly increasing, covering
+ * [0, horizon], so that interpolation never extrapolates. */
+static crane_status check_times(const crane_real *t, size_t n, crane_real horizon)
+{
+    size_t k;
+
+    if (n < 2)
+        return CRANE_E_SAMPLES;
+    for (k = 1; k < n; ++k)
+        if (!(t[k] > t[k - 1]))
+            return CRANE_E_SAMPLES;
+    return t[0] <= 0 && t[n - 1] >= horizon ? CRANE_OK : CRANE_E_SAMPLES;
+}
+
 static int chamber_ok(crane_real p)
 {
     return p >= (crane_real)CRANE_CHAMBER_PRESSURE_MIN && p <= (crane_real)CRANE_PRESSURE_MAX;
@@ -87,14 +101,7 @@ static crane_status check_valve(const crane_model *model, int i, const crane_sta
     for (k = 0; k < d->n_samples; ++k)
         if (!lever_ok(d->u_samples[k]))
             return CRANE_E_VALVE;
-    if (d->n_samples < 2)
-        return CRANE_E_SAMPLES;
-    for (k = 1; k < d->n_samples; ++k)
-        if (!(d->t[k] > d->t[k - 1]))
-            return CRANE_E_SAMPLES;
-    if (!(d->t[0] <= 0) || !(d->t[d->n_samples - 1] >= horizon))
-        return CRANE_E_SAMPLES;
-    return CRANE_OK;
+    return check_times(d->t, d->n_samples, horizon);
 }
 
 static crane_status check_drive(const crane_drive *d, crane_real stroke_rate, crane_real horizon)
@@ -120,12 +127,7 @@ static crane_status check_drive(const crane_drive *d, crane_real stroke_rate, cr
     for (k = 0; k < d->n_samples; ++k)
         if (!pressure_ok(d->p_a_samples[k]) || !pressure_ok(d->p_b_samples[k]))
             return CRANE_E_PRESSURE;
-    for (k = 1; k < d->n_samples; ++k)
-        if (!(d->t[k] > d->t[k - 1]))
-            return CRANE_E_SAMPLES;
-    if (!(d->t[0] <= 0) || !(d->t[d->n_samples - 1] >= horizon))
-        return CRANE_E_SAMPLES;
-    return CRANE_OK;
+    return check_times(d->t, d->n_samples, horizon);
 }
 
 /* The checks of one future against a model that holds its extension (docs/model.md, "Bad input"),
