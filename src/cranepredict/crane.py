@@ -39,6 +39,23 @@ def _disc_area(diameter: float) -> float:
     return math.pi * diameter**2 / 4.0
 
 
+class _PistonAreas:
+    """The two piston areas of a double-acting cylinder; the subclass has ``bore`` and ``rod`` (m)."""
+
+    bore: float
+    rod: float
+
+    @property
+    def area_a(self) -> float:
+        """Bore-side piston area, m^2."""
+        return _disc_area(self.bore)
+
+    @property
+    def area_b(self) -> float:
+        """Rod-side annulus area, m^2."""
+        return _disc_area(self.bore) - _disc_area(self.rod)
+
+
 @dataclass(frozen=True)
 class Body:
     """A rigid body: mass (kg), centre of mass in its own frame (m), Izz about the centre (kg m^2).
@@ -99,7 +116,7 @@ class Hydraulics:
 
 
 @dataclass(frozen=True)
-class Cylinder:
+class Cylinder(_PistonAreas):
     """A double-acting hydraulic cylinder: diameters, pin-to-pin length at stroke 0, stroke range (m)."""
 
     bore: float
@@ -109,16 +126,6 @@ class Cylinder:
     stroke_max: float
     friction: Friction
     hydraulics: Optional[Hydraulics] = None   #: None: the cylinder cannot be valve-driven
-
-    @property
-    def area_a(self) -> float:
-        """Bore-side piston area, m^2."""
-        return _disc_area(self.bore)
-
-    @property
-    def area_b(self) -> float:
-        """Rod-side annulus area, m^2."""
-        return _disc_area(self.bore) - _disc_area(self.rod)
 
 
 @dataclass(frozen=True)
@@ -145,23 +152,13 @@ class SlewDrive:
 
 
 @dataclass(frozen=True)
-class ExtensionCylinder:
+class ExtensionCylinder(_PistonAreas):
     """The telescope's cylinder inside the outer boom: its stroke is the extension minus
     ``geometry.extension_min`` (m), bore side extending (docs/model.md, "Four joints")."""
 
     bore: float
     rod: float
     friction: Friction
-
-    @property
-    def area_a(self) -> float:
-        """Bore-side piston area, m^2."""
-        return _disc_area(self.bore)
-
-    @property
-    def area_b(self) -> float:
-        """Rod-side annulus area, m^2."""
-        return _disc_area(self.bore) - _disc_area(self.rod)
 
 
 @dataclass(frozen=True)

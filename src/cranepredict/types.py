@@ -115,14 +115,21 @@ class Pressure:
         return None
 
 
-def _float_array(value: Any, name: str) -> np.ndarray:
-    """A copy of a sampled signal as a float array; a huge int or a non-number names the field."""
+def _signal(value: Any, name: str) -> np.ndarray:
+    """A read-only float copy of a sampled signal: 1-D, at least 2 samples, finite; a huge int,
+    a non-number or a bad shape names the field."""
     try:
-        return np.array(value, dtype=float, copy=True)
+        a = np.array(value, dtype=float, copy=True)
     except OverflowError:
         raise ValueError(f"{name} must be finite: it holds an int too large for a float") from None
     except (TypeError, ValueError):
         raise TypeError(f"{name} must be a sequence of numbers") from None
+    if a.ndim != 1 or a.size < 2:
+        raise ValueError(f"{name} must be 1-D with at least 2 samples, got shape {a.shape}")
+    if not np.all(np.isfinite(a)):
+        raise ValueError(f"{name} must be finite")
+    a.setflags(write=False)
+    return a
 
 
 @dataclass(frozen=True)
@@ -138,14 +145,7 @@ class PressureSeries:
     def __post_init__(self) -> None:
         arrays = {}
         for name in ("t", "p_a", "p_b"):
-            a = _float_array(getattr(self, name), f"PressureSeries.{name}")
-            if a.ndim != 1 or a.size < 2:
-                raise ValueError(f"PressureSeries.{name} must be 1-D with at least 2 samples, "
-                                 f"got shape {a.shape}")
-            if not np.all(np.isfinite(a)):
-                raise ValueError(f"PressureSeries.{name} must be finite")
-            a.setflags(write=False)
-            arrays[name] = a
+            arrays[name] = _signal(getattr(self, name), f"PressureSeries.{name}")
         if not (arrays["t"].size == arrays["p_a"].size == arrays["p_b"].size):
             raise ValueError("PressureSeries.t, p_a and p_b must have the same length, got "
                              f"{arrays['t'].size}, {arrays['p_a'].size}, {arrays['p_b'].size}")
@@ -220,14 +220,7 @@ class ValveSeries:
     def __post_init__(self) -> None:
         arrays = {}
         for name in ("t", "u"):
-            a = _float_array(getattr(self, name), f"ValveSeries.{name}")
-            if a.ndim != 1 or a.size < 2:
-                raise ValueError(f"ValveSeries.{name} must be 1-D with at least 2 samples, "
-                                 f"got shape {a.shape}")
-            if not np.all(np.isfinite(a)):
-                raise ValueError(f"ValveSeries.{name} must be finite")
-            a.setflags(write=False)
-            arrays[name] = a
+            arrays[name] = _signal(getattr(self, name), f"ValveSeries.{name}")
         if arrays["t"].size != arrays["u"].size:
             raise ValueError("ValveSeries.t and u must have the same length, got "
                              f"{arrays['t'].size} and {arrays['u'].size}")
