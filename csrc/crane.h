@@ -1,7 +1,9 @@
 /* SPDX-License-Identifier: MIT */
 /*
- * cranepredict C core: faster-than-real-time prediction of a hydraulic crane's lift and
- * outer boom (2-DOF Newton-Euler, fixed-step RK4). The model is specified in docs/model.md.
+ * cranepredict C core: faster-than-real-time prediction of a hydraulic loader crane: lift, tilt
+ * (planar Newton-Euler), and with a slew or extension drive also the slew and the telescope
+ * (four-joint spatial dynamics); fixed-step RK4 with end stops. The model is specified in
+ * docs/model.md.
  *
  * C99, libm only, no heap, no mutable globals, no I/O. The caller owns every struct and buffer.
  * Every entry point returns a crane_status and never aborts; on an error nothing is written to
@@ -37,7 +39,8 @@ typedef enum {
     CRANE_E_STROKE = 9,         /* an initial stroke outside [stroke_min, stroke_max] */
     CRANE_E_EXTENSION = 10,     /* extension outside [extension_min, extension_max] */
     CRANE_E_STROKE_RATE = 11,   /* a held cylinder given a nonzero stroke rate */
-    CRANE_E_DRIVE = 12,         /* drive mode unknown */
+    CRANE_E_DRIVE = 12,         /* drive mode unknown, or a valve drive on the slew or extension
+                                 * (not supported yet) */
     CRANE_E_PRESSURE = 13,      /* a pressure outside [0, CRANE_PRESSURE_MAX] */
     CRANE_E_SAMPLES = 14,       /* pressure sample times not increasing or not covering [0, horizon] */
     CRANE_E_DT = 15,            /* dt <= 0 or dt > horizon */
@@ -56,6 +59,8 @@ typedef enum {
     CRANE_E_VALVE = 27,         /* a lever outside [-1, 1], a valve drive without hydraulics (or
                                  * in a build without CRANE_HYDRAULICS), or a chamber pressure /
                                  * spool of the state out of range */
+    CRANE_E_ACTUATOR = 28,      /* a slew or extension drive (not a hold) on a crane without a
+                                 * slew drive / extension cylinder */
     /* the collision guard (docs/guard.md) */
     CRANE_E_SOLID = 40,         /* a solid (obstacle) is not valid, or a pair of two planes */
     CRANE_E_PART = 41,          /* a crane part is not valid */
@@ -543,6 +548,16 @@ crane_status crane_points(const crane_model *model, crane_real slew, size_t n,
 crane_status crane_inverse_dynamics(const crane_model *model, const crane_real theta[2],
                                     const crane_real omega[2], const crane_real alpha[2],
                                     crane_real tau[2]);
+
+/* Four-joint inverse dynamics (docs/model.md, "Four joints"): the generalized forces over
+ * [lift, tilt, slew, extension] (N m, N m, N m, N) for q = (theta0, theta1, psi, e), rates qd and
+ * accelerations qdd, gravity included; the slew's row is J_z qdd_s + Jdot_z omega_s (the mass matrix
+ * is block diagonal). The model's own extension is not used: e is q[3]. theta within the angle
+ * limits (CRANE_E_ANGLE), e within [extension_min, extension_max] (CRANE_E_EXTENSION); psi any
+ * finite value (nothing depends on it); forces too large to be finite give CRANE_E_OVERFLOW. */
+crane_status crane_inverse_dynamics4(const crane_model *model, const crane_real q[4],
+                                     const crane_real qd[4], const crane_real qdd[4],
+                                     crane_real tau[4]);
 
 /* Cylinder force along its axis (positive extends) at pressures p_a, p_b and stroke rate v;
  * CRANE_E_OVERFLOW if it is not finite (a stroke rate near the largest real). */

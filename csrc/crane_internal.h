@@ -90,6 +90,85 @@ static CRANE__ALWAYS_INLINE crane_vec2 crane__rot(crane_real c, crane_real s, cr
 
 enum { CRANE__FREE = 0, CRANE__HELD = 1, CRANE__STOP_LO = 2, CRANE__STOP_HI = 3 };
 
+/* ---- drives and events, shared by the planar and the four-joint integrators ---- */
+
+enum { CRANE__BISECTIONS = 60, CRANE__RELEASE_BISECTIONS = 40, CRANE__MAX_PIECES = 8 };
+
+/* The segment [t_j, t_j+1] of a sampled drive that holds time t, and t's fraction of it in [0, 1].
+ * The cursor walks from the last segment: RK4 stage times move forward, redone event steps go back
+ * a little. Validation guarantees n >= 2 and t[0] <= 0 < horizon <= t[n-1]. */
+static CRANE__ALWAYS_INLINE crane_real crane__drive_segment(const crane_drive *d, size_t *cursor,
+                                                            crane_real t, size_t *jp)
+{
+    size_t j = *cursor, n = d->n_samples;
+    crane_real s;
+
+    while (j + 2 < n && t > d->t[j + 1])
+        ++j;
+    while (j > 0 && t < d->t[j])
+        --j;
+    *cursor = j;
+    *jp = j;
+    s = (t - d->t[j]) / (d->t[j + 1] - d->t[j]);
+    return s < 0 ? 0 : s > 1 ? 1 : s;
+}
+
+/* Pressures of a pressure drive at time t: constant, or linear interpolation of the samples. */
+static CRANE__ALWAYS_INLINE void crane__drive_pressures(const crane_drive *d, size_t *cursor,
+                                                        crane_real t, crane_real *p_a,
+                                                        crane_real *p_b)
+{
+    size_t j;
+    crane_real s;
+
+    if (d->n_samples == 0) {
+        *p_a = d->p_a;
+        *p_b = d->p_b;
+        return;
+    }
+    s = crane__drive_segment(d, cursor, t, &j);
+    *p_a = d->p_a_samples[j] + s * (d->p_a_samples[j + 1] - d->p_a_samples[j]);
+    *p_b = d->p_b_samples[j] + s * (d->p_b_samples[j + 1] - d->p_b_samples[j]);
+}
+
+/* The lever of a valve drive at time t (the same interpolation). */
+static CRANE__ALWAYS_INLINE crane_real crane__drive_lever(const crane_drive *d, size_t *cursor,
+                                                          crane_real t)
+{
+    size_t j;
+    crane_real s;
+
+    if (d->n_samples == 0)
+        return d->u;
+    s = crane__drive_segment(d, cursor, t, &j);
+    return d->u_samples[j] + s * (d->u_samples[j + 1] - d->u_samples[j]);
+}
+
+/* Time in (0, h] at which the cubic Hermite interpolant of a joint coordinate on a step (q and
+ * its rate at both ends) first reaches the limit (docs/model.md, "End stops"): 60 bisections
+ * keeping lo inside and hi outside; the answer is hi. Bisecting s = tau/h in [0, 1] is the same
+ * search without a division in the loop (its dependency chain is the cost of an event). */
+static inline crane_real crane__crossing_time(crane_real th0, crane_real w0, crane_real th1,
+                                              crane_real w1, crane_real h, crane_real limit,
+                                              int upper)
+{
+    const crane_real hw0 = h * w0, hw1 = h * w1;
+    crane_real lo = 0, hi = 1;
+    int k;
+
+    for (k = 0; k < CRANE__BISECTIONS; ++k) {
+        const crane_real s = (lo + hi) / 2, s2 = s * s, s3 = s2 * s;
+        const crane_real H = (2 * s3 - 3 * s2 + 1) * th0 + (s3 - 2 * s2 + s) * hw0 +
+                             (-2 * s3 + 3 * s2) * th1 + (s3 - s2) * hw1;
+        const int outside = upper ? H > limit : H < limit;
+        if (outside)
+            hi = s;
+        else
+            lo = s;
+    }
+    return hi * h;
+}
+
 /* ---- kinematics.c ---- */
 
 /* Lift: stroke -> (theta0, ds/dtheta0); the stroke must be in range (or the acos is clamped). */
@@ -129,6 +208,19 @@ typedef struct {
 void crane__tilt_kinematics(const crane_model *m, crane_real c1, crane_real s1,
                             crane__tilt_kin *tk);
 
+/* Per side link k (0, 1), in the lift boom frame: its centre of mass d from O1, that centre's
+ * velocity relative to the lift boom per unit tilt rate v, its turn rate per unit tilt rate k, and
+ * cos c, sin s of its turn phi relative to the lift boom (docs/model.md, "Side links"). The
+ * four-joint model needs them one by one (centripetal loads, the slew inertia), the planar one
+ * only their sums (crane__tilt_kin). */
+typedef struct {
+    crane_vec2 d[2], v[2];
+    crane_real k[2], c[2], s[2];
+} crane__link_poses;
+
+/* The side links' poses at the four-bar *tk (computed by crane__tilt_kinematics). */
+void crane__side_link_poses(const crane_model *m, const crane__tilt_kin *tk, crane__link_poses *lp);
+
 /* The exact validity of the tilt four-bar over the tilt stroke (docs/model.md, "Tilt kinematics")
  * on a model whose lengths are derived: the field at fault, or CRANE_FIELD_NONE; sets tilt_branch. */
 crane_field crane__fourbar_check(crane_model *m);
@@ -146,10 +238,56 @@ void crane__inverse_dynamics(const crane_model *m, crane_vec2 C1, crane_vec2 C2,
                              const crane_real omega[2], const crane_real alpha[2], crane_real g,
                              crane_real tau[2]);
 
+/* The side links' share of (tau0, tau1) (docs/model.md, "Side links"), added to tau: the planar
+ * terms, which the four-joint model shares. */
+void crane__side_link_torques(const crane__tilt_kin *tk, crane_real c0, crane_real s0,
+                              const crane_real omega[2], const crane_real alpha[2], crane_real g,
+                              crane_real tau[2]);
+
 /* Mass matrix (M00, M01, M11) from cos/sin of theta1 alone (it does not depend on theta0), with
  * the side links' share from tk (NULL when the model has no side links). */
 void crane__mass_matrix(const crane_model *m, crane_real c1, crane_real s1,
                         const crane__tilt_kin *tk, crane_real M[3]);
+
+/* ---- dynamics4.c (docs/model.md, "Four joints") ---- */
+
+/* The four-joint model's constants of one crane (independent of the extension): body 3 = the
+ * extension boom + the load, lumped in the extension boom frame (mass, centre, izz, in-plane tensor
+ * ixx, iyy, ixy), and the pillar's share of the slew inertia m com.x^2 + iyy. */
+typedef struct {
+    crane_real m3, izz3, t3[3], jp;
+    crane_vec2 c3;
+} crane__bodies4;
+
+void crane__bodies4_init(const crane_params *p, crane__bodies4 *b);
+
+/* Everything about one configuration (theta0, theta1, e) that the four-joint inverse dynamics
+ * reads, computed once for the bias and the mass matrix: trig of theta0 and theta0 + theta1, the
+ * rotated vectors C1 = R(th0) c1, C2 = R(th0 + th1) c_ob, C3 = R(th0 + th1) (mount + (e, 0) + c3),
+ * r12 = R(th0) O2, the four-bar and (with side links) the links' poses. */
+typedef struct {
+    crane_real c0, s0, c01, s01;
+    crane_vec2 C1, C2, C3, r12;
+    crane__tilt_kin tk;
+    crane__link_poses lp;
+} crane__conf4;
+
+void crane__conf4_at(const crane_model *m, const crane__bodies4 *b, crane_real th0, crane_real th1,
+                     crane_real e, crane__conf4 *cf);
+
+/* Generalized forces [lift, tilt, slew, extension] for rates qd and accelerations qdd, gravity g. */
+void crane__id4(const crane_model *m, const crane__bodies4 *b, const crane__conf4 *cf,
+                const crane_real qd[4], const crane_real qdd[4], crane_real g, crane_real tau[4]);
+
+/* The slew inertia J_z and its rate of change Jdot_z at the rates qd. */
+void crane__slew_inertia(const crane_model *m, const crane__bodies4 *b, const crane__conf4 *cf,
+                         const crane_real qd[4], crane_real *jz, crane_real *jdot);
+
+/* The in-plane mass matrix over (lift, tilt, extension), symmetric, row-major upper triangle
+ * Mp = (M00, M01, M0e, M11, M1e, Mee), in closed form (the columns ID(q, 0, e_j, 0) of crane__id4
+ * worked by hand; tests compare them); the slew's entry is J_z alone (block diagonal). */
+void crane__mass4(const crane_model *m, const crane__bodies4 *b, const crane__conf4 *cf,
+                  crane_real Mp[6]);
 
 /* ---- cylinder.c ---- */
 
@@ -199,6 +337,32 @@ crane_status crane__model_derive(crane_model *m, const crane_params *params, cra
 crane_status crane__integrate(const crane_model *m, const crane_state *s0, const crane_inputs *in,
                               crane_real horizon, crane_real dt, long n_steps, long sample_every,
                               crane_sample *out, size_t *n_written);
+
+/* The four-joint prediction (integrator4.c; docs/model.md, "Four joints"), for inputs that drive
+ * the slew or the extension; otherwise as crane__integrate. */
+crane_status crane__integrate4(const crane_model *m, const crane_state *s0, const crane_inputs *in,
+                               crane_real horizon, crane_real dt, long n_steps, long sample_every,
+                               crane_sample *out, size_t *n_written);
+
+/* The extension's friction rate bound of docs/model.md ("Four joints", substeps), 1/s:
+ * lambda_e = G_f (M^-1)_ee with (M^-1)_ee taken at most 4 / m_ext (the extension boom's own mass;
+ * the PATU 655 stays below 1.1 / m_ext unloaded and 0.25 / m_ext with 500 kg), so that the work
+ * of a call has a bound (crane.h): G_f = k (4 F_C + 16/9 (F_S - F_C)) / v_S + sigma tanh(4), the
+ * friction law's steepest slope. Returns 0 for a crane without an extension cylinder. */
+static inline crane_real crane__extension_friction_slope(const crane_params *p)
+{
+    const crane_friction *f = &p->extension_cylinder.friction;
+    if (!p->extension_cylinder.present)
+        return 0;
+    return f->factor * (4 * f->coulomb + (crane_real)16 / 9 * (f->static_ - f->coulomb)) /
+               f->stribeck_velocity +
+           f->viscous * crane__tanh(4);
+}
+
+static inline crane_real crane__extension_rate_bound(const crane_params *p)
+{
+    return crane__extension_friction_slope(p) * 4 / p->extension_boom.mass;
+}
 
 /* Samples written for n_steps steps, keeping every sample_every-th step and the last. */
 static inline size_t crane__decimated_count(long n_steps, long sample_every)

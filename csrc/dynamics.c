@@ -24,6 +24,13 @@ static void side_links(const crane__tilt_kin *tk, crane_real c0, crane_real s0,
               tk->dv * w1 * w1;
 }
 
+void crane__side_link_torques(const crane__tilt_kin *tk, crane_real c0, crane_real s0,
+                              const crane_real omega[2], const crane_real alpha[2], crane_real g,
+                              crane_real tau[2])
+{
+    side_links(tk, c0, s0, omega, alpha, g, tau);
+}
+
 void crane__inverse_dynamics(const crane_model *m, crane_vec2 C1, crane_vec2 C2, crane_vec2 r12,
                              crane_real c0, crane_real s0, const crane__tilt_kin *tk,
                              const crane_real omega[2], const crane_real alpha[2], crane_real g,

@@ -5,7 +5,7 @@
  */
 #include "crane_internal.h"
 
-enum { BISECTIONS = 60, RELEASE_BISECTIONS = 40 };
+enum { RELEASE_BISECTIONS = CRANE__RELEASE_BISECTIONS };
 
 /* theta, omega; with valve-driven cylinders also (p_a, p_b) of each joint and the spools (the
  * entries of joints that are not valve-driven stay 0). */
@@ -76,54 +76,17 @@ static CRANE__ALWAYS_INLINE const crane__tilt_kin *tilt_kin(ctx_t *c, crane_real
     return &c->tk;
 }
 
-/* The segment [t_j, t_j+1] of joint i's sampled drive that holds time t, and t's fraction of it in
- * [0, 1]. The cursor walks from the last segment: RK4 stage times move forward, redone event steps
- * go back a little. Validation guarantees n >= 2 and t[0] <= 0 < horizon <= t[n-1]. */
-static CRANE__ALWAYS_INLINE crane_real segment(ctx_t *c, int i, crane_real t, size_t *jp)
-{
-    const crane_drive *d = &c->in->drive[i];
-    size_t j = c->cursor[i], n = d->n_samples;
-    crane_real s;
-
-    while (j + 2 < n && t > d->t[j + 1])
-        ++j;
-    while (j > 0 && t < d->t[j])
-        --j;
-    c->cursor[i] = j;
-    *jp = j;
-    s = (t - d->t[j]) / (d->t[j + 1] - d->t[j]);
-    return s < 0 ? 0 : s > 1 ? 1 : s;
-}
-
-/* Pressures of a pressure-driven joint at time t: linear interpolation. */
+/* Pressures of a pressure-driven joint at time t (crane__drive_pressures). */
 static void pressures(ctx_t *c, int i, crane_real t, crane_real *p_a, crane_real *p_b)
 {
-    const crane_drive *d = &c->in->drive[i];
-    size_t j, n = d->n_samples;
-    crane_real s;
-
-    if (n == 0) {
-        *p_a = d->p_a;
-        *p_b = d->p_b;
-        return;
-    }
-    s = segment(c, i, t, &j);
-    *p_a = d->p_a_samples[j] + s * (d->p_a_samples[j + 1] - d->p_a_samples[j]);
-    *p_b = d->p_b_samples[j] + s * (d->p_b_samples[j + 1] - d->p_b_samples[j]);
+    crane__drive_pressures(&c->in->drive[i], &c->cursor[i], t, p_a, p_b);
 }
 
 #if CRANE_HYDRAULICS
-/* The lever of a valve-driven joint at time t: linear interpolation (the same segment search). */
+/* The lever of a valve-driven joint at time t (crane__drive_lever). */
 static crane_real lever(ctx_t *c, int i, crane_real t)
 {
-    const crane_drive *d = &c->in->drive[i];
-    size_t j, n = d->n_samples;
-    crane_real s;
-
-    if (n == 0)
-        return d->u;
-    s = segment(c, i, t, &j);
-    return d->u_samples[j] + s * (d->u_samples[j + 1] - d->u_samples[j]);
+    return crane__drive_lever(&c->in->drive[i], &c->cursor[i], t);
 }
 
 /* The stroke of a locked (stopped) valve-driven joint: its stop's. */
@@ -371,30 +334,6 @@ static void rk4(ctx_t *c, crane_real t, const xstate *x, crane_real h, xstate *y
 #endif
 }
 
-/* Time in (0, h] at which the cubic Hermite interpolant of theta on the step first reaches the
- * limit: 60 bisections keeping lo inside and hi outside; the answer is hi. */
-static crane_real crossing_time(crane_real th0, crane_real w0, crane_real th1, crane_real w1,
-                                crane_real h, crane_real limit, int upper)
-{
-    /* Bisecting s = tau/h in [0, 1] is the same search without a division in the loop (this
-     * loop's dependency chain is the cost of an event). Hermite basis with the h's folded in. */
-    const crane_real hw0 = h * w0, hw1 = h * w1;
-    crane_real lo = 0, hi = 1;
-    int k;
-
-    for (k = 0; k < BISECTIONS; ++k) {
-        const crane_real s = (lo + hi) / 2, s2 = s * s, s3 = s2 * s;
-        const crane_real H = (2 * s3 - 3 * s2 + 1) * th0 + (s3 - 2 * s2 + s) * hw0 +
-                             (-2 * s3 + 3 * s2) * th1 + (s3 - s2) * hw1;
-        const int outside = upper ? H > limit : H < limit;
-        if (outside)
-            hi = s;
-        else
-            lo = s;
-    }
-    return hi * h;
-}
-
 /* Plastic impact on joint i: an impulse on joint i alone takes omega_i to 0, which conserves the
  * other joint's generalized momentum when it is free. */
 static void impact(ctx_t *c, xstate *x, int i)
@@ -504,7 +443,7 @@ static crane_real release_in_piece(ctx_t *c, crane_real t, xstate *x, crane_real
  * again a hair later (as the specification reads). MAX_PIECES only bounds that in pathological
  * cases: the last piece takes the whole rest, puts any joint that overshot on its limit and does
  * no release search. */
-enum { MAX_PIECES = 8 };
+enum { MAX_PIECES = CRANE__MAX_PIECES };
 
 static void step(ctx_t *c, crane_real t, xstate *x, crane_real h, crane_real t_end)
 {
@@ -557,7 +496,7 @@ static void step(ctx_t *c, crane_real t, xstate *x, crane_real h, crane_real t_e
         for (i = 0; i < 2; ++i) {
             if ((out >> i) & 1) {
                 const int up = (upper >> i) & 1;
-                const crane_real tau = crossing_time(x->th[i], x->w[i], x1.th[i], x1.w[i], rem,
+                const crane_real tau = crane__crossing_time(x->th[i], x->w[i], x1.th[i], x1.w[i], rem,
                                                      up ? m->theta_max[i] : m->theta_min[i], up);
                 if (tau < tmin)
                     tmin = tau;

@@ -501,7 +501,7 @@ const char *crane_status_message(crane_status status)
     case CRANE_E_STROKE: return "an initial stroke is outside [stroke_min, stroke_max]";
     case CRANE_E_EXTENSION: return "the extension is outside [extension_min, extension_max]";
     case CRANE_E_STROKE_RATE: return "a held cylinder was given a nonzero stroke rate";
-    case CRANE_E_DRIVE: return "unknown drive mode (or, until the C core moves them, a slew or extension drive that is not a hold)";
+    case CRANE_E_DRIVE: return "unknown drive mode (or a valve drive on the slew or the extension, which the C core does not run yet)";
     case CRANE_E_PRESSURE: return "a pressure is outside [0, 1e8] Pa";
     case CRANE_E_SAMPLES: return "pressure sample times are not strictly increasing or do not cover [0, horizon]";
     case CRANE_E_DT: return "dt <= 0 or dt > horizon";
@@ -517,6 +517,7 @@ const char *crane_status_message(crane_status status)
     case CRANE_E_BATCH: return "futures x steps over CRANE_MAX_BATCH_STEPS (8388608) in one call: split the futures into several calls";
     case CRANE_E_HYDRAULICS: return "a hydraulic parameter is out of range (docs/model.md, Hydraulics)";
     case CRANE_E_VALVE: return "a valve drive is invalid: lever outside [-1, 1], no hydraulics for the cylinder, or a chamber pressure/spool of the state out of range";
+    case CRANE_E_ACTUATOR: return "a slew or extension drive on a crane without a slew drive / extension cylinder (its joint can only be held)";
     case CRANE_E_SOLID:
     case CRANE_E_PART:
     case CRANE_E_GUARD: return crane__guard_status_message(status);

@@ -130,6 +130,30 @@ static crane_status check_drive(const crane_drive *d, crane_real stroke_rate, cr
     return check_times(d->t, d->n_samples, horizon);
 }
 
+/* The slew's or the extension's drive (docs/model.md, "Four joints", "Bad input"): a hold, or a
+ * pressure drive on a crane that has the actuator; the slew within its range when the crane has a
+ * slew drive (the extension's range is the model's check). Valve drives on them: not yet. */
+static crane_status check_joint4(const crane_model *model, int j, const crane_state *s,
+                                 const crane_drive *d, crane_real horizon)
+{
+    const crane_params *p = model->params;
+    const crane_real rate = j == CRANE_SLEW ? s->slew_rate : s->extension_rate;
+    const int present = j == CRANE_SLEW ? p->slew_drive.present : p->extension_cylinder.present;
+
+    if (j == CRANE_SLEW && present &&
+        (s->slew < p->slew_drive.slew_min || s->slew > p->slew_drive.slew_max))
+        return CRANE_E_ANGLE;
+    if (d->mode == CRANE_DRIVE_HOLD)
+        return rate != 0 ? CRANE_E_STROKE_RATE : CRANE_OK;
+    if (d->mode != CRANE_DRIVE_PRESSURE && d->mode != CRANE_DRIVE_VALVE)
+        return CRANE_E_DRIVE;
+    if (!present)
+        return CRANE_E_ACTUATOR;
+    if (d->mode == CRANE_DRIVE_VALVE)
+        return CRANE_E_DRIVE;
+    return check_drive(d, rate, horizon);
+}
+
 /* The checks of one future against a model that holds its extension (docs/model.md, "Bad input"),
  * in the order crane_predict has always made them. */
 static crane_status check_future(const crane_model *model, const crane_state *state0,
@@ -155,34 +179,42 @@ static crane_status check_future(const crane_model *model, const crane_state *st
         if (st != CRANE_OK)
             return st;
     }
-    /* The slew and the extension stay where they are until the core moves them (issue 11): only
-     * a hold is accepted on them, and a held joint has no rate. */
-    for (i = CRANE_SLEW; i <= CRANE_EXTENSION; ++i)
-        if (inputs->drive[i].mode != CRANE_DRIVE_HOLD)
-            return CRANE_E_DRIVE;
-    if (state0->slew_rate != 0 || state0->extension_rate != 0)
-        return CRANE_E_STROKE_RATE;
+    for (i = CRANE_SLEW; i <= CRANE_EXTENSION; ++i) {
+        st = check_joint4(model, i, state0, &inputs->drive[i], horizon);
+        if (st != CRANE_OK)
+            return st;
+    }
     return CRANE_OK;
 }
 
-#if CRANE_HYDRAULICS
-/* Bounded work with valve-driven cylinders (docs/model.md, "Hydraulics", "Bad input"): every step
- * may be cut into substeps, at most as many as at the stroke ends (where the chambers are
- * smallest; the last step may be up to 1.25 dt long), and those count against CRANE_MAX_STEPS
+/* Bounded work with valve-driven cylinders or a moving extension (docs/model.md, "Hydraulics",
+ * "Four joints", "Bad input"): every step may be cut into substeps, at most as many as at the
+ * stroke ends (where the chambers are smallest; the last step may be up to 1.25 dt long) or at
+ * the extension friction's rate bound, and those count against CRANE_MAX_STEPS
  * (CRANE_E_STEPS) and, with total (the batch's RK4 steps so far, updated), against
  * CRANE_MAX_BATCH_STEPS (CRANE_E_BATCH). Integer arithmetic without overflow on a 32-bit long. */
 static crane_status check_work(const crane_model *m, const crane_inputs *in, crane_real dt,
                                long n_steps, long *total)
 {
+    const crane_real h = dt * (crane_real)1.25;
+    long n_max = 1;
+#if CRANE_HYDRAULICS
     const int valve[2] = {in->drive[0].mode == CRANE_DRIVE_VALVE,
                           in->drive[1].mode == CRANE_DRIVE_VALVE};
-    long n_max = 1;
 
     if (valve[0] || valve[1]) {
-        const crane_real h = dt * (crane_real)1.25;
         const long a = crane__substeps(m, m->stroke_min, valve, h);
         const long b = crane__substeps(m, m->stroke_max, valve, h);
         n_max = a > b ? a : b;
+    }
+#endif
+    /* docs/model.md "Four joints": a moving extension's friction substeps, at their bound */
+    if (in->drive[CRANE_EXTENSION].mode != CRANE_DRIVE_HOLD) {
+        const crane_real ne = crane__ceil(h * crane__extension_rate_bound(m->params) / (crane_real)2.5);
+        if (!(ne <= (crane_real)CRANE_MAX_STEPS))
+            return CRANE_E_STEPS;
+        if ((long)ne > n_max)
+            n_max = (long)ne;
     }
     if (n_max > (long)CRANE_MAX_STEPS / n_steps)
         return CRANE_E_STEPS;
@@ -193,7 +225,19 @@ static crane_status check_work(const crane_model *m, const crane_inputs *in, cra
     }
     return CRANE_OK;
 }
-#endif
+
+/* A validated prediction: the planar integrator with the slew and the extension held (its
+ * results are those of the two-joint model, bit for bit), else the four-joint one. */
+static CRANE__ALWAYS_INLINE crane_status integrate(const crane_model *m, const crane_state *s0,
+                                                   const crane_inputs *in, crane_real horizon,
+                                                   crane_real dt, long n_steps, long sample_every,
+                                                   crane_sample *out, size_t *n_written)
+{
+    if (in->drive[CRANE_SLEW].mode == CRANE_DRIVE_HOLD &&
+        in->drive[CRANE_EXTENSION].mode == CRANE_DRIVE_HOLD)
+        return crane__integrate(m, s0, in, horizon, dt, n_steps, sample_every, out, n_written);
+    return crane__integrate4(m, s0, in, horizon, dt, n_steps, sample_every, out, n_written);
+}
 
 /* crane_predict_model after its NULL checks. Both entry points call it, so that crane_predict
  * does not add crane_predict_model's frame to its stack. */
@@ -216,15 +260,13 @@ static CRANE__ALWAYS_INLINE crane_status predict(const crane_model *model,
     st = check_future(model, state0, inputs, horizon);
     if (st != CRANE_OK)
         return st;
-#if CRANE_HYDRAULICS
     st = check_work(model, inputs, dt, n_steps, NULL);
     if (st != CRANE_OK)
         return st;
-#endif
     if ((size_t)n_steps + 1 > capacity)
         return CRANE_E_CAPACITY;
 
-    return crane__integrate(model, state0, inputs, horizon, dt, n_steps, 1, out, n_written);
+    return integrate(model, state0, inputs, horizon, dt, n_steps, 1, out, n_written);
 }
 
 crane_status crane_predict(const crane_params *params, const crane_state *state0,
@@ -282,12 +324,7 @@ static CRANE__NOINLINE crane_status check_futures(crane_model *model, const cran
     crane_field field;
     crane_status st;
     size_t k;
-#if CRANE_HYDRAULICS
     long total = 0;   /* RK4 steps of the futures validated so far, their substeps included */
-#else
-    (void)dt;
-    (void)n_steps;
-#endif
 
     for (k = 0; k < n_futures; ++k) {
         const crane_state *s = &states[k];
@@ -301,12 +338,10 @@ static CRANE__NOINLINE crane_status check_futures(crane_model *model, const cran
             }
         }
         st = check_future(model, s, &inputs[k], horizon);
-#if CRANE_HYDRAULICS
-        /* the substeps of valve-driven futures count against the bounds too (CRANE_E_BATCH
+        /* the substeps of valve-driven and extension-driven futures count against the bounds too (CRANE_E_BATCH
          * here names the future that takes the batch over) */
         if (st == CRANE_OK)
             st = check_work(model, &inputs[k], dt, n_steps, &total);
-#endif
         if (st != CRANE_OK) {
             *failed = k;
             return st;
@@ -353,8 +388,8 @@ crane_status crane_predict_many(const crane_params *params, size_t n_futures,
     for (k = 0; k < n_futures; ++k) {
         if (k == 0 || !(states[k].extension == states[k - 1].extension))
             (void)crane__model_derive(&model, params, states[k].extension, &field);
-        st = crane__integrate(&model, &states[k], &inputs[k], horizon, dt, n_steps,
-                              (long)sample_every, out + k * stride, &count);
+        st = integrate(&model, &states[k], &inputs[k], horizon, dt, n_steps, (long)sample_every,
+                       out + k * stride, &count);
         if (st != CRANE_OK) {
             *failed = k;
             return st;

@@ -1340,7 +1340,11 @@ class _Prediction:
             # the planar model's impact (its closed-form M^-1, the C core's arithmetic)
             other = 1 - joint
             if other in free:
-                minv = self.model.inverse_mass_matrix(q[:2])
+                # at the current extension (a stopped extension need not be the model's)
+                (m00, m01), (m10, m11) = self.model._mass_matrix(
+                    self.model._configuration((q[0], q[1]), q[3]))
+                det = m00 * m11 - m01 * m10
+                minv = ((m11 / det, -m01 / det), (-m10 / det, m00 / det))
                 scale = w[joint] / minv[joint][joint]
                 w[0] -= minv[0][joint] * scale
                 w[1] -= minv[1][joint] * scale
@@ -1391,7 +1395,8 @@ class _Prediction:
         mass = self.model._mass_matrix4(self._conf(x), free)
         i = free.index(EXTENSION)
         col = _solve(mass, [1.0 if k == i else 0.0 for k in range(len(free))])
-        return self.model.friction_slope(EXTENSION) * col[i]
+        # (M^-1)_ee taken at most 4 / m_ext: the bound on the work of a call (spec)
+        return self.model.friction_slope(EXTENSION) * min(col[i], 4.0 / self.model._m_ext)
 
     def release(self, t: float, x: State8) -> None:
         """Let go of the STOPPED joints that the release rule frees at (t, x)."""

@@ -1,0 +1,229 @@
+/* SPDX-License-Identifier: MIT */
+/*
+ * Four-joint inverse dynamics (docs/model.md, "Four joints"): the three in-plane bodies (lift boom,
+ * outer boom, body 3 = extension boom + load sliding along the outer boom) with the slew's
+ * centripetal and gyroscopic loads, the side links, and the slew equation J_z alpha_s + Jdot_z
+ * omega_s. The mass matrix is block diagonal: the slew decouples from the in-plane joints.
+ */
+#include "crane_internal.h"
+
+void crane__bodies4_init(const crane_params *p, crane__bodies4 *b)
+{
+    const crane_body *ext = &p->extension_boom;
+    const crane_real m_ext = ext->mass, m_load = p->load_mass;
+    const crane_vec2 tip = crane__v2(p->tip_distance, 0);
+    crane_vec2 d_ext, d_tip;
+
+    /* The extension boom and the load slide together: one body, lumped by parallel axes. */
+    b->m3 = m_ext + m_load;
+    b->c3 = crane__scale(1 / b->m3, crane__add(crane__scale(m_ext, ext->com), crane__scale(m_load, tip)));
+    d_ext = crane__sub(ext->com, b->c3);
+    d_tip = crane__sub(tip, b->c3);
+    b->izz3 = ext->izz + m_ext * crane__norm2(d_ext) + m_load * crane__norm2(d_tip);
+    b->t3[0] = ext->ixx + m_ext * d_ext.y * d_ext.y + m_load * d_tip.y * d_tip.y;
+    b->t3[1] = ext->iyy + m_ext * d_ext.x * d_ext.x + m_load * d_tip.x * d_tip.x;
+    b->t3[2] = ext->ixy - m_ext * d_ext.x * d_ext.y - m_load * d_tip.x * d_tip.y;
+    /* The pillar turns with the slew about the vertical axis at its distance com.x from it. */
+    b->jp = p->pillar.mass * p->pillar.com.x * p->pillar.com.x + p->pillar.iyy;
+}
+
+void crane__conf4_at(const crane_model *m, const crane__bodies4 *b, crane_real th0, crane_real th1,
+                     crane_real e, crane__conf4 *cf)
+{
+    const crane_params *p = m->params;
+    crane_real c1, s1;
+
+    crane__sincos(th0, &cf->s0, &cf->c0);
+    crane__sincos(th1, &s1, &c1);
+    cf->c01 = cf->c0 * c1 - cf->s0 * s1;
+    cf->s01 = cf->s0 * c1 + cf->c0 * s1;
+    cf->C1 = crane__rot(cf->c0, cf->s0, p->lift_boom.com);
+    cf->C2 = crane__rot(cf->c01, cf->s01, p->outer_boom.com);
+    cf->C3 = crane__rot(cf->c01, cf->s01,
+                        crane__add(p->extension_mount, crane__add(crane__v2(e, 0), b->c3)));
+    cf->r12 = crane__rot(cf->c0, cf->s0, p->tilt_pivot);
+    crane__tilt_kinematics(m, c1, s1, &cf->tk);
+    if (m->links)
+        crane__side_link_poses(m, &cf->tk, &cf->lp);
+}
+
+/* A body's inertia about a vertical axis through its centre when turned by phi in the boom plane,
+ * J_v = ixx s^2 + 2 ixy s c + iyy c^2 (c, s = cos, sin phi), and its derivative by phi. */
+static CRANE__ALWAYS_INLINE crane_real jv(crane_real ixx, crane_real iyy, crane_real ixy,
+                                          crane_real c, crane_real s)
+{
+    return ixx * s * s + 2 * ixy * s * c + iyy * c * c;
+}
+
+static CRANE__ALWAYS_INLINE crane_real jv_prime(crane_real ixx, crane_real iyy, crane_real ixy,
+                                                crane_real c, crane_real s)
+{
+    return (ixx - iyy) * 2 * s * c + 2 * ixy * (c * c - s * s);
+}
+
+static CRANE__ALWAYS_INLINE crane_real body_jv_prime(const crane_body *b, crane_real c, crane_real s)
+{
+    return jv_prime(b->ixx, b->iyy, b->ixy, c, s);
+}
+
+void crane__id4(const crane_model *m, const crane__bodies4 *b, const crane__conf4 *cf,
+                const crane_real qd[4], const crane_real qdd[4], crane_real g, crane_real tau[4])
+{
+    const crane_params *p = m->params;
+    const crane_real w1 = qd[0], w2 = qd[0] + qd[1], ws = qd[2], ve = qd[3];
+    const crane_real a1 = qdd[0], a2 = qdd[0] + qdd[1], ae = qdd[3];
+    const crane_real s2 = ws * ws;
+    const crane_real x0 = p->lift_pivot.x, x2 = x0 + cf->r12.x;   /* O1's and O2's distance from the slew axis */
+    const crane_vec2 C1 = cf->C1, C2 = cf->C2, C3 = cf->C3, r12 = cf->r12;
+    const crane_vec2 u = crane__v2(cf->c01, cf->s01);             /* the extension's direction */
+    const crane_real m1 = p->lift_boom.mass, m2 = p->outer_boom.mass;
+    crane_real n_g1 = 0, n_g23 = 0, cor, n1, n2;
+    crane_vec2 acc_c1, acc_o2, acc_c2, acc_c3, f3, f2c, f2;
+
+    /* The slew's gyroscopic moment on each body, -1/2 omega_s^2 J_v'(phi) (Euler's w x J w). */
+    if (s2 != 0) {
+        n_g1 = (crane_real)-0.5 * s2 * body_jv_prime(&p->lift_boom, cf->c0, cf->s0);
+        n_g23 = (crane_real)-0.5 * s2 *
+                (body_jv_prime(&p->outer_boom, cf->c01, cf->s01) +
+                 jv_prime(b->t3[0], b->t3[1], b->t3[2], cf->c01, cf->s01));
+    }
+    /* Forward: base acceleration (0, g) for gravity; every centre of mass also carries the slew's
+     * centripetal acceleration (-omega_s^2 x, 0), x its distance from the slew axis. */
+    acc_c1 = crane__v2(-a1 * C1.y - w1 * w1 * C1.x - s2 * (x0 + C1.x), g + a1 * C1.x - w1 * w1 * C1.y);
+    acc_o2 = crane__v2(-a1 * r12.y - w1 * w1 * r12.x, g + a1 * r12.x - w1 * w1 * r12.y);
+    acc_c2 = crane__v2(acc_o2.x - a2 * C2.y - w2 * w2 * C2.x - s2 * (x2 + C2.x),
+                       acc_o2.y + a2 * C2.x - w2 * w2 * C2.y);
+    /* Body 3 slides along u: its relative acceleration a_e u and the Coriolis 2 w2 v_e perp(u). */
+    cor = 2 * w2 * ve;
+    acc_c3 = crane__v2(acc_o2.x - a2 * C3.y - w2 * w2 * C3.x - cor * u.y + ae * u.x - s2 * (x2 + C3.x),
+                       acc_o2.y + a2 * C3.x - w2 * w2 * C3.y + cor * u.x + ae * u.y);
+    /* Backward: forces and moments about each joint. */
+    f3 = crane__scale(b->m3, acc_c3);
+    tau[3] = crane__dot(f3, u);
+    f2c = crane__scale(m2, acc_c2);
+    n2 = (p->outer_boom.izz + b->izz3) * a2 + n_g23 + crane__cross(C2, f2c) + crane__cross(C3, f3);
+    f2 = crane__add(f2c, f3);
+    n1 = p->lift_boom.izz * a1 + n_g1 + crane__cross(C1, crane__scale(m1, acc_c1)) +
+         crane__cross(r12, f2) + n2;
+    tau[0] = n1;
+    tau[1] = n2;
+    if (m->links) {
+        const crane_real w[2] = {qd[0], qd[1]}, a[2] = {qdd[0], qdd[1]};
+        int k;
+        crane__side_link_torques(&cf->tk, cf->c0, cf->s0, w, a, g, tau);
+        /* The slew's share on the links: the centripetal force along the boom plane's x and the
+         * gyroscopic moment, by virtual work like the rest of their loads. */
+        for (k = 0; s2 != 0 && k < 2; ++k) {
+            const crane_body *lb = k == 0 ? &p->side_link1 : &p->side_link2;
+            const crane_vec2 D = crane__rot(cf->c0, cf->s0, cf->lp.d[k]);
+            const crane_vec2 J = crane__rot(cf->c0, cf->s0, cf->lp.v[k]);
+            const crane_real cp = cf->c0 * cf->lp.c[k] - cf->s0 * cf->lp.s[k];
+            const crane_real sp = cf->s0 * cf->lp.c[k] + cf->c0 * cf->lp.s[k];
+            const crane_real fx = -lb->mass * s2 * (x0 + D.x);
+            const crane_real ng = (crane_real)-0.5 * s2 * body_jv_prime(lb, cp, sp);
+            tau[0] += -D.y * fx + ng;
+            tau[1] += fx * J.x + ng * cf->lp.k[k];
+        }
+    }
+    tau[2] = 0;
+    if (ws != 0 || qdd[2] != 0) {
+        crane_real jz, jdot;
+        crane__slew_inertia(m, b, cf, qd, &jz, &jdot);
+        tau[2] = jz * qdd[2] + jdot * ws;
+    }
+}
+
+void crane__slew_inertia(const crane_model *m, const crane__bodies4 *b, const crane__conf4 *cf,
+                         const crane_real qd[4], crane_real *jz, crane_real *jdot)
+{
+    const crane_params *p = m->params;
+    const crane_real w1 = qd[0], w2 = qd[0] + qd[1], ve = qd[3];
+    const crane_real x0 = p->lift_pivot.x, x2 = x0 + cf->r12.x;
+    const crane_body *lb = &p->lift_boom, *ob = &p->outer_boom;
+    /* J_z = J_P + sum m x^2 + J_v(phi); Jdot_z = sum 2 m x xdot + J_v'(phi) phidot: x is a centre
+     * of mass's distance from the slew axis, xdot its rate (docs/model.md, "Four joints"). */
+    const crane_real x_1 = x0 + cf->C1.x, xd_1 = -w1 * cf->C1.y;
+    const crane_real x_2 = x2 + cf->C2.x, xd_2 = -w1 * cf->r12.y - w2 * cf->C2.y;
+    const crane_real x_3 = x2 + cf->C3.x, xd_3 = -w1 * cf->r12.y - w2 * cf->C3.y + ve * cf->c01;
+    crane_real j = b->jp, jd = 0;
+    int k;
+
+    j += lb->mass * x_1 * x_1 + jv(lb->ixx, lb->iyy, lb->ixy, cf->c0, cf->s0);
+    jd += 2 * lb->mass * x_1 * xd_1 + body_jv_prime(lb, cf->c0, cf->s0) * w1;
+    j += ob->mass * x_2 * x_2 + jv(ob->ixx, ob->iyy, ob->ixy, cf->c01, cf->s01);
+    jd += 2 * ob->mass * x_2 * xd_2 + body_jv_prime(ob, cf->c01, cf->s01) * w2;
+    j += b->m3 * x_3 * x_3 + jv(b->t3[0], b->t3[1], b->t3[2], cf->c01, cf->s01);
+    jd += 2 * b->m3 * x_3 * xd_3 + jv_prime(b->t3[0], b->t3[1], b->t3[2], cf->c01, cf->s01) * w2;
+    for (k = 0; m->links && k < 2; ++k) {
+        const crane_body *l = k == 0 ? &p->side_link1 : &p->side_link2;
+        const crane_vec2 D = crane__rot(cf->c0, cf->s0, cf->lp.d[k]);
+        const crane_vec2 J = crane__rot(cf->c0, cf->s0, cf->lp.v[k]);
+        const crane_real cp = cf->c0 * cf->lp.c[k] - cf->s0 * cf->lp.s[k];
+        const crane_real sp = cf->s0 * cf->lp.c[k] + cf->c0 * cf->lp.s[k];
+        const crane_real x = x0 + D.x, xd = qd[1] * J.x - w1 * D.y;
+        j += l->mass * x * x + jv(l->ixx, l->iyy, l->ixy, cp, sp);
+        jd += 2 * l->mass * x * xd + body_jv_prime(l, cp, sp) * (w1 + cf->lp.k[k] * qd[1]);
+    }
+    *jz = j;
+    *jdot = jd;
+}
+
+void crane__mass4(const crane_model *m, const crane__bodies4 *b, const crane__conf4 *cf,
+                  crane_real Mp[6])
+{
+    const crane_params *p = m->params;
+    const crane_real m2 = p->outer_boom.mass, m3 = b->m3;
+    const crane_vec2 u = crane__v2(cf->c01, cf->s01);
+    const crane_vec2 R2 = crane__add(cf->r12, cf->C2), R3 = crane__add(cf->r12, cf->C3);
+    const crane_real i23 = p->outer_boom.izz + b->izz3;
+    const crane_real j1 = p->lift_boom.izz + p->lift_boom.mass * crane__norm2(cf->C1);
+
+    /* crane__id4's recursion at zero rates and gravity with a unit acceleration of one joint,
+     * worked by hand (cross(a, perp(b)) = a.b; R2, R3: the centres of bodies 2 and 3 from O1):
+     * lift: body b accelerates by perp(R_b); tilt: by perp(C_b); extension: body 3 by u. */
+    Mp[0] = j1 + i23 + m2 * crane__norm2(R2) + m3 * crane__norm2(R3);
+    Mp[1] = i23 + m2 * crane__dot(cf->C2, R2) + m3 * crane__dot(cf->C3, R3);
+    Mp[2] = m3 * crane__cross(R3, u);
+    Mp[3] = i23 + m2 * crane__norm2(cf->C2) + m3 * crane__norm2(cf->C3);
+    Mp[4] = m3 * crane__cross(cf->C3, u);
+    Mp[5] = m3;
+    if (m->links) {
+        Mp[0] += cf->tk.M[0];
+        Mp[1] += cf->tk.M[1];
+        Mp[3] += cf->tk.M[2];
+    }
+}
+
+crane_status crane_inverse_dynamics4(const crane_model *model, const crane_real q[4],
+                                     const crane_real qd[4], const crane_real qdd[4],
+                                     crane_real tau[4])
+{
+    const crane_params *p;
+    crane__bodies4 b;
+    crane__conf4 cf;
+    crane_real t[4];
+    int i;
+
+    if (!model || !q || !qd || !qdd || !tau)
+        return CRANE_E_NULL;
+    p = model->params;
+    for (i = 0; i < 4; ++i)
+        if (!crane__finite(q[i]) || !crane__finite(qd[i]) || !crane__finite(qdd[i]))
+            return CRANE_E_NONFINITE;
+    /* Beyond the angle limits the four-bar may not close (as crane_inverse_dynamics). */
+    for (i = 0; i < 2; ++i)
+        if (q[i] < model->theta_min[i] || q[i] > model->theta_max[i])
+            return CRANE_E_ANGLE;
+    if (q[3] < p->extension_min || q[3] > p->extension_max)
+        return CRANE_E_EXTENSION;
+    crane__bodies4_init(p, &b);
+    crane__conf4_at(model, &b, q[0], q[1], q[3], &cf);
+    crane__id4(model, &b, &cf, qd, qdd, p->gravity, t);
+    /* squares of rates near 1e160 (double) overflow */
+    for (i = 0; i < 4; ++i)
+        if (!crane__finite(t[i]))
+            return CRANE_E_OVERFLOW;
+    for (i = 0; i < 4; ++i)
+        tau[i] = t[i];
+    return CRANE_OK;
+}
