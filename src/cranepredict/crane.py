@@ -139,11 +139,22 @@ class SlewDrive:
     slew_min: float
     slew_max: float
     friction: Friction
+    hydraulics: Optional[Hydraulics] = None   #: None: the slew cannot be valve-driven
 
     @property
     def area(self) -> float:
         """One cylinder's piston area, m^2 (both chambers of the equivalent cylinder)."""
         return _disc_area(self.bore)
+
+    @property
+    def area_a(self) -> float:
+        """Chamber a's area of the equivalent cylinder, m^2 (turns towards +slew): one bore."""
+        return self.area
+
+    @property
+    def area_b(self) -> float:
+        """Chamber b's area, m^2: the other cylinder's bore, the same."""
+        return self.area
 
     @property
     def displacement(self) -> float:
@@ -159,6 +170,7 @@ class ExtensionCylinder(_PistonAreas):
     bore: float
     rod: float
     friction: Friction
+    hydraulics: Optional[Hydraulics] = None   #: None: the telescope cannot be valve-driven
 
 
 @dataclass(frozen=True)
@@ -409,8 +421,9 @@ def _check_crane(c: Crane) -> None:
     from . import _core
     from ._cranepredict import ffi, lib
 
-    for cyl_name in ("lift_cylinder", "tilt_cylinder"):
-        hyd = getattr(c, cyl_name).hydraulics
+    for cyl_name in ("lift_cylinder", "tilt_cylinder", "slew_drive", "extension_cylinder"):
+        actuator = getattr(c, cyl_name)
+        hyd = None if actuator is None else actuator.hydraulics
         if hyd is not None and hyd.valve not in VALVES:   # a name: the C core gets its enum
             raise ValueError(f"{cyl_name}.hydraulics.valve must be one of {VALVES}, got {hyd.valve!r}")
     field = ffi.new("crane_field *")
