@@ -12,7 +12,7 @@ from ._checks import MAX_SAMPLES, MAX_STEPS, kept_samples, step_count
 from ._checks import number as _number
 from .crane import Crane
 from .statics import holding_forces
-from .types import (ARRAYS, JOINTS, POINT_NAMES, Hold, Inputs, PressureSeries, State, Trajectory,
+from .types import (ARRAYS, POINT_NAMES, Hold, Inputs, PressureSeries, State, Trajectory,
                     TrajectoryBatch, Valve, ValveSeries)
 
 __all__ = ["predict", "predict_many", "state_at_rest", "DEFAULT_DT", "BACKENDS", "MAX_STEPS",
@@ -40,32 +40,14 @@ BACKENDS = ("c", "python")
 
 # Trajectory array (types.ARRAYS) -> field of the core's crane_sample, where the names differ.
 _SAMPLE_FIELD = {"strokes": "stroke"}
-_FOUR_JOINT_SCALARS = ("slew", "extension", "slew_rate", "extension_rate")
 
 #: Batches smaller than this run in one thread (a thread costs more than it saves).
 MIN_FUTURES_PER_THREAD = 8
 
 
-def _sample_arrays(samples: np.ndarray, initials: Sequence[State]) -> dict:
-    """The Trajectory arrays as field views of the core's samples (shape (N,) or (F, N); no
-    copy). A core whose samples carry only [lift, tilt] (the slew and the extension held, as
-    api.py demands of it) gets the held slew and extension and zero columns for their actuators."""
-    names = samples.dtype.names or ()
-    out = {k: samples[_SAMPLE_FIELD.get(k, k)] for k in ARRAYS if _SAMPLE_FIELD.get(k, k) in names}
-    if "slew" not in out:
-        shape = samples.shape
-        lead = shape[:-1]                     # (F,) for a batch, () for one future
-        for name in _FOUR_JOINT_SCALARS:
-            held = np.array([0.0 if name.endswith("_rate") else float(getattr(x, name))
-                             for x in initials]).reshape(lead + (1,)) if lead else \
-                (0.0 if name.endswith("_rate") else float(getattr(initials[0], name)))
-            out[name] = np.broadcast_to(held, shape).copy()
-        for name in ("stop", "p_a", "p_b", "flow_a", "flow_b", "spool"):
-            two = out[name]
-            four = np.zeros(two.shape[:-1] + (len(JOINTS),), dtype=two.dtype)
-            four[..., :2] = two
-            out[name] = four
-    return out
+def _sample_arrays(samples: np.ndarray) -> dict:
+    """The Trajectory arrays as field views of the core's samples (shape (N,) or (F, N); no copy)."""
+    return {k: samples[_SAMPLE_FIELD.get(k, k)] for k in ARRAYS}
 
 
 def _check(crane: Crane, initial: State, inputs: Inputs, horizon: float, dt: float,
@@ -180,8 +162,7 @@ def predict(crane: Crane, initial: State, inputs: Inputs, horizon: float, *,
     if backend == "c":
         _check_core_can(inputs)
         _core = _core_module()
-        arrays = _sample_arrays(_core.predict(crane, initial, inputs, float(horizon), float(dt)),
-                                [initial])
+        arrays = _sample_arrays(_core.predict(crane, initial, inputs, float(horizon), float(dt)))
 
         def points(theta: np.ndarray, slew: np.ndarray, extension: np.ndarray) -> np.ndarray:
             return _poses(lambda e, s, th: _core.points(crane, e, s, th), theta, slew, extension)
@@ -333,8 +314,7 @@ def predict_many(crane: Crane, initials: Sequence[State], inputs_list: Sequence[
         raise ValueError(f"threads must be an int >= 1, got {threads!r}")
     _core = _core_module()
     arrays = _sample_arrays(_core.predict_many(crane, initials, inputs_list, float(horizon),
-                                               float(dt), int(sample_every), min(int(threads), max(f, 1))),
-                            initials)
+                                               float(dt), int(sample_every), min(int(threads), max(f, 1))))
     arrays["t"] = arrays["t"][0] if f else np.zeros(0)
     for a in arrays.values():
         a.setflags(write=False)
