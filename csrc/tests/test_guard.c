@@ -294,6 +294,26 @@ static void test_slew_and_telescope_alone(void)
     CHECK(res.approach[CRANE_EXTENSION] < 0 && res.gradient[CRANE_EXTENSION] < 0);
     CHECK(res.approach[CRANE_SLEW] == 0 && res.approach[CRANE_LIFT] == 0);
     printf("guard, telescope alone: contact at %.5f s, on paper %.5f s\n", (double)res.t, t_star);
+
+    /* a sample beyond the telescope's range, a slew rate that is not finite: nothing written */
+    {
+        crane_guard_config cfg;
+        crane_real clearance[1] = {77}, work[1 + CRANE_GUARD_PART_WORK];
+        memset(&cfg, 0, sizeof cfg);
+        cfg.cycle = (crane_real)0.01;
+        cfg.time_tolerance = (crane_real)1e-4;
+        memset(&res, 0x5a, sizeof res);
+        hand[1].extension = params.extension_max + (crane_real)0.01;
+        CHECK(crane_guard(&model, &load, 1, &ball, 1, hand, 3, &cfg, clearance, work,
+                          sizeof work / sizeof work[0], &res) == CRANE_E_EXTENSION);
+        hand[1].extension = (crane_real)0.5;
+        hand[1].slew_rate = (crane_real)NAN;
+        CHECK(crane_guard(&model, &load, 1, &ball, 1, hand, 3, &cfg, clearance, work,
+                          sizeof work / sizeof work[0], &res) == CRANE_E_NONFINITE);
+        CHECK(clearance[0] == 77 && res.signal == 0x5a5a5a5a);
+        CHECK(crane_part_solids(&model, &load, 1, 0, params.extension_max + 1, theta, &at0) ==
+              CRANE_E_EXTENSION);
+    }
 }
 
 int main(void)
