@@ -62,8 +62,12 @@ typedef enum {
     CRANE_E_GUARD = 42          /* a guard setting (margin, reaction, cycle, tolerances) out of range */
 } crane_status;
 
-enum { CRANE_LIFT = 0, CRANE_TILT = 1 };
-enum { CRANE_DRIVE_PRESSURE = 0, CRANE_DRIVE_HOLD = 1, CRANE_DRIVE_VALVE = 2 };
+/* The joints (docs/model.md, "Four joints"): four-entry arrays are [lift, tilt, slew, extension],
+ * two-entry arrays [lift, tilt]. */
+enum { CRANE_LIFT = 0, CRANE_TILT = 1, CRANE_SLEW = 2, CRANE_EXTENSION = 3 };
+/* A drive left zero is a hold: a caller that fills only the lift and tilt drives (or none) holds
+ * the slew and the extension, as docs/model.md says of a drive left out. */
+enum { CRANE_DRIVE_HOLD = 0, CRANE_DRIVE_PRESSURE = 1, CRANE_DRIVE_VALVE = 2 };
 enum { CRANE_VALVE_NONE = 0, CRANE_VALVE_ORIFICE = 1, CRANE_VALVE_COMPENSATED = 2 };
 enum { CRANE_N_POINTS = 11 };
 enum { CRANE_PRESSURE_MAX = 100000000 };   /* Pa (1000 bar): the largest pressure accepted */
@@ -94,6 +98,10 @@ typedef struct {
     crane_real mass;     /* kg */
     crane_vec2 com;      /* centre of mass in the body's frame, m */
     crane_real izz;      /* moment of inertia about the centre of mass, kg m^2 */
+    /* The in-plane entries of the inertia tensor about the centre of mass, in the body's frame
+     * (kg m^2; [S1]'s convention ixy = -integral(x y dm)): the slew inertia needs them (docs/model.md,
+     * "Four joints"). A body known only by izz: ixx = 0, iyy = izz, ixy = 0 (slender along x). */
+    crane_real ixx, iyy, ixy;
 } crane_body;
 
 typedef struct {
@@ -135,6 +143,28 @@ typedef struct {
     crane_hydraulics hydraulics;   /* .valve = CRANE_VALVE_NONE when the crane file has none */
 } crane_cylinder;
 
+/* The slew actuator (docs/model.md, "Four joints"): two cylinders of one bore on a rack turning a
+ * pinion on the pillar, the equivalent cylinder with A_a = A_b = pi bore^2 / 4 and the rack travel
+ * s = pinion_radius (psi - slew_min) as its stroke. */
+typedef struct {
+    int present;                   /* 1: the crane has one; 0: its slew can only be held (the
+                                      other fields are then not read) */
+    crane_real bore;               /* each rack cylinder's bore, m */
+    crane_real pinion_radius;      /* pitch radius, m: ds/dpsi */
+    crane_real slew_min, slew_max; /* the slew range, rad (the rack's travel) */
+    crane_friction friction;       /* at the rack's speed */
+    crane_hydraulics hydraulics;   /* chamber a turns towards +psi; .valve = CRANE_VALVE_NONE: none */
+} crane_slew_drive;
+
+/* The telescope's cylinder (docs/model.md, "Four joints"): bore side extending, its stroke is
+ * extension - extension_min, its range [0, extension_max - extension_min]. */
+typedef struct {
+    int present;                   /* 1: the crane has one; 0: its extension can only be held */
+    crane_real bore, rod;          /* m */
+    crane_friction friction;
+    crane_hydraulics hydraulics;   /* .valve = CRANE_VALVE_NONE: none */
+} crane_extension_cylinder;
+
 typedef struct {
     crane_real gravity;              /* m/s^2, along -y of the boom plane */
     crane_vec2 lift_pivot;           /* O1, boom plane */
@@ -157,13 +187,17 @@ typedef struct {
     crane_cylinder cylinder[2];      /* [CRANE_LIFT], [CRANE_TILT] */
     crane_body side_link1;           /* side link 1 frame (origin P1) */
     crane_body side_link2;           /* side link 2 frame (origin Q) */
+    crane_body pillar;               /* boom plane; turns with the slew only (all 0: none) */
+    crane_slew_drive slew_drive;
+    crane_extension_cylinder extension_cylinder;
 } crane_params;
 
 /* The crane file's fields, for crane_params_check to say which one breaks a rule. Each name is the
  * crane file's dotted name in capitals with '.' -> '_' (cylinder i = lift_cylinder, tilt_cylinder;
  * the Python layer maps the codes back to dotted names by that rule). A body's block is MASS, COM,
- * IZZ, and the tilt cylinder's block mirrors the lift cylinder's, in the same order (model.c
- * counts on both). To add a field: an enumerator here (in both cylinder blocks for a cylinder
+ * IZZ, IXX, IYY, IXY; the tilt cylinder's block mirrors the lift cylinder's, in the same order, and
+ * every FRICTION and HYDRAULICS block (the cylinders', the slew drive's, the extension cylinder's)
+ * has the lift cylinder's order (model.c counts on all three). To add a field: an enumerator here (in both cylinder blocks for a cylinder
  * field), its check in model.c (crane__check_params) and its rule in crane_field_rule. */
 typedef enum {
     CRANE_FIELD_NONE = 0,
@@ -185,18 +219,39 @@ typedef enum {
     CRANE_FIELD_LIFT_BOOM_MASS,
     CRANE_FIELD_LIFT_BOOM_COM,
     CRANE_FIELD_LIFT_BOOM_IZZ,
+    CRANE_FIELD_LIFT_BOOM_IXX,
+    CRANE_FIELD_LIFT_BOOM_IYY,
+    CRANE_FIELD_LIFT_BOOM_IXY,
     CRANE_FIELD_OUTER_BOOM_MASS,
     CRANE_FIELD_OUTER_BOOM_COM,
     CRANE_FIELD_OUTER_BOOM_IZZ,
+    CRANE_FIELD_OUTER_BOOM_IXX,
+    CRANE_FIELD_OUTER_BOOM_IYY,
+    CRANE_FIELD_OUTER_BOOM_IXY,
     CRANE_FIELD_EXTENSION_BOOM_MASS,
     CRANE_FIELD_EXTENSION_BOOM_COM,
     CRANE_FIELD_EXTENSION_BOOM_IZZ,
+    CRANE_FIELD_EXTENSION_BOOM_IXX,
+    CRANE_FIELD_EXTENSION_BOOM_IYY,
+    CRANE_FIELD_EXTENSION_BOOM_IXY,
     CRANE_FIELD_SIDE_LINK1_MASS,
     CRANE_FIELD_SIDE_LINK1_COM,
     CRANE_FIELD_SIDE_LINK1_IZZ,
+    CRANE_FIELD_SIDE_LINK1_IXX,
+    CRANE_FIELD_SIDE_LINK1_IYY,
+    CRANE_FIELD_SIDE_LINK1_IXY,
     CRANE_FIELD_SIDE_LINK2_MASS,
     CRANE_FIELD_SIDE_LINK2_COM,
     CRANE_FIELD_SIDE_LINK2_IZZ,
+    CRANE_FIELD_SIDE_LINK2_IXX,
+    CRANE_FIELD_SIDE_LINK2_IYY,
+    CRANE_FIELD_SIDE_LINK2_IXY,
+    CRANE_FIELD_PILLAR_MASS,
+    CRANE_FIELD_PILLAR_COM,
+    CRANE_FIELD_PILLAR_IZZ,
+    CRANE_FIELD_PILLAR_IXX,
+    CRANE_FIELD_PILLAR_IYY,
+    CRANE_FIELD_PILLAR_IXY,
     CRANE_FIELD_LIFT_CYLINDER_BORE,
     CRANE_FIELD_LIFT_CYLINDER_ROD,
     CRANE_FIELD_LIFT_CYLINDER_LENGTH_RETRACTED,
@@ -253,21 +308,76 @@ typedef enum {
     CRANE_FIELD_TILT_CYLINDER_HYDRAULICS_HOSE_BULK_MODULUS,
     CRANE_FIELD_TILT_CYLINDER_HYDRAULICS_CYLINDER_BULK_MODULUS,
     CRANE_FIELD_TILT_CYLINDER_HYDRAULICS_LEAKAGE,
+    CRANE_FIELD_SLEW_DRIVE_BORE,
+    CRANE_FIELD_SLEW_DRIVE_PINION_RADIUS,
+    CRANE_FIELD_SLEW_DRIVE_SLEW_MIN,
+    CRANE_FIELD_SLEW_DRIVE_SLEW_MAX,
+    CRANE_FIELD_SLEW_DRIVE_FRICTION_COULOMB,
+    CRANE_FIELD_SLEW_DRIVE_FRICTION_STATIC,
+    CRANE_FIELD_SLEW_DRIVE_FRICTION_VISCOUS,
+    CRANE_FIELD_SLEW_DRIVE_FRICTION_STRIBECK_VELOCITY,
+    CRANE_FIELD_SLEW_DRIVE_FRICTION_FACTOR,
+    CRANE_FIELD_SLEW_DRIVE_HYDRAULICS_VALVE,
+    CRANE_FIELD_SLEW_DRIVE_HYDRAULICS_SUPPLY_PRESSURE,
+    CRANE_FIELD_SLEW_DRIVE_HYDRAULICS_TANK_PRESSURE,
+    CRANE_FIELD_SLEW_DRIVE_HYDRAULICS_RELIEF_PRESSURE,
+    CRANE_FIELD_SLEW_DRIVE_HYDRAULICS_NOMINAL_FLOW,
+    CRANE_FIELD_SLEW_DRIVE_HYDRAULICS_NOMINAL_PRESSURE_DROP,
+    CRANE_FIELD_SLEW_DRIVE_HYDRAULICS_DEAD_BAND,
+    CRANE_FIELD_SLEW_DRIVE_HYDRAULICS_METER_OUT_FLOW,
+    CRANE_FIELD_SLEW_DRIVE_HYDRAULICS_METER_OUT_PRESSURE_DROP,
+    CRANE_FIELD_SLEW_DRIVE_HYDRAULICS_SPOOL_TIME_CONSTANT,
+    CRANE_FIELD_SLEW_DRIVE_HYDRAULICS_LAMINAR_PRESSURE_DROP,
+    CRANE_FIELD_SLEW_DRIVE_HYDRAULICS_CAVITATION_PRESSURE,
+    CRANE_FIELD_SLEW_DRIVE_HYDRAULICS_HOSE_VOLUME_A,
+    CRANE_FIELD_SLEW_DRIVE_HYDRAULICS_HOSE_VOLUME_B,
+    CRANE_FIELD_SLEW_DRIVE_HYDRAULICS_OIL_BULK_MODULUS,
+    CRANE_FIELD_SLEW_DRIVE_HYDRAULICS_HOSE_BULK_MODULUS,
+    CRANE_FIELD_SLEW_DRIVE_HYDRAULICS_CYLINDER_BULK_MODULUS,
+    CRANE_FIELD_SLEW_DRIVE_HYDRAULICS_LEAKAGE,
+    CRANE_FIELD_EXTENSION_CYLINDER_BORE,
+    CRANE_FIELD_EXTENSION_CYLINDER_ROD,
+    CRANE_FIELD_EXTENSION_CYLINDER_FRICTION_COULOMB,
+    CRANE_FIELD_EXTENSION_CYLINDER_FRICTION_STATIC,
+    CRANE_FIELD_EXTENSION_CYLINDER_FRICTION_VISCOUS,
+    CRANE_FIELD_EXTENSION_CYLINDER_FRICTION_STRIBECK_VELOCITY,
+    CRANE_FIELD_EXTENSION_CYLINDER_FRICTION_FACTOR,
+    CRANE_FIELD_EXTENSION_CYLINDER_HYDRAULICS_VALVE,
+    CRANE_FIELD_EXTENSION_CYLINDER_HYDRAULICS_SUPPLY_PRESSURE,
+    CRANE_FIELD_EXTENSION_CYLINDER_HYDRAULICS_TANK_PRESSURE,
+    CRANE_FIELD_EXTENSION_CYLINDER_HYDRAULICS_RELIEF_PRESSURE,
+    CRANE_FIELD_EXTENSION_CYLINDER_HYDRAULICS_NOMINAL_FLOW,
+    CRANE_FIELD_EXTENSION_CYLINDER_HYDRAULICS_NOMINAL_PRESSURE_DROP,
+    CRANE_FIELD_EXTENSION_CYLINDER_HYDRAULICS_DEAD_BAND,
+    CRANE_FIELD_EXTENSION_CYLINDER_HYDRAULICS_METER_OUT_FLOW,
+    CRANE_FIELD_EXTENSION_CYLINDER_HYDRAULICS_METER_OUT_PRESSURE_DROP,
+    CRANE_FIELD_EXTENSION_CYLINDER_HYDRAULICS_SPOOL_TIME_CONSTANT,
+    CRANE_FIELD_EXTENSION_CYLINDER_HYDRAULICS_LAMINAR_PRESSURE_DROP,
+    CRANE_FIELD_EXTENSION_CYLINDER_HYDRAULICS_CAVITATION_PRESSURE,
+    CRANE_FIELD_EXTENSION_CYLINDER_HYDRAULICS_HOSE_VOLUME_A,
+    CRANE_FIELD_EXTENSION_CYLINDER_HYDRAULICS_HOSE_VOLUME_B,
+    CRANE_FIELD_EXTENSION_CYLINDER_HYDRAULICS_OIL_BULK_MODULUS,
+    CRANE_FIELD_EXTENSION_CYLINDER_HYDRAULICS_HOSE_BULK_MODULUS,
+    CRANE_FIELD_EXTENSION_CYLINDER_HYDRAULICS_CYLINDER_BULK_MODULUS,
+    CRANE_FIELD_EXTENSION_CYLINDER_HYDRAULICS_LEAKAGE,
     CRANE_FIELD_COUNT
 } crane_field;
 
 typedef struct {
-    crane_real stroke[2];        /* m */
+    crane_real stroke[2];        /* m: [lift, tilt] */
     crane_real stroke_rate[2];   /* m/s; 0 = at rest; must be 0 for a held cylinder */
-    crane_real slew;             /* rad, about the vertical axis; constant during a prediction */
-    crane_real extension;        /* m; constant during a prediction */
-    /* A valve-driven cylinder's chamber pressures (Pa gauge, in [CRANE_CHAMBER_PRESSURE_MIN,
-     * CRANE_PRESSURE_MAX]) and spool position (in [-1, 1]; read only with a spool lag). */
-    crane_real p_a[2], p_b[2], spool[2];
+    crane_real slew;             /* psi, rad, about the vertical axis */
+    crane_real extension;        /* e, m */
+    crane_real slew_rate;        /* rad/s; must be 0 when the slew is held */
+    crane_real extension_rate;   /* m/s; must be 0 when the extension is held */
+    /* A valve-driven actuator's chamber pressures (Pa gauge, in [CRANE_CHAMBER_PRESSURE_MIN,
+     * CRANE_PRESSURE_MAX]) and spool position (in [-1, 1]; read only with a spool lag), per joint
+     * [lift, tilt, slew, extension]. */
+    crane_real p_a[4], p_b[4], spool[4];
 } crane_state;
 
 typedef struct {
-    int mode;                    /* CRANE_DRIVE_PRESSURE or CRANE_DRIVE_HOLD */
+    int mode;                    /* CRANE_DRIVE_HOLD (0), _PRESSURE or _VALVE */
     crane_real p_a;              /* bore-side pressure, Pa (used when n_samples == 0) */
     crane_real p_b;              /* rod-side pressure, Pa */
     const crane_real *t;         /* n_samples sample times, s, strictly increasing */
@@ -279,7 +389,8 @@ typedef struct {
 } crane_drive;
 
 typedef struct {
-    crane_drive drive[2];        /* [CRANE_LIFT], [CRANE_TILT] */
+    crane_drive drive[4];        /* [CRANE_LIFT], [CRANE_TILT], [CRANE_SLEW], [CRANE_EXTENSION];
+                                    a zero drive is a hold */
 } crane_inputs;
 
 typedef struct {
@@ -287,13 +398,19 @@ typedef struct {
     crane_real stroke[2];        /* m */
     crane_real theta[2];         /* rad: lift angle, tilt angle relative to the lift boom */
     crane_real omega[2];         /* rad/s */
+    crane_real slew;             /* psi, rad */
+    crane_real extension;        /* e, m */
+    crane_real slew_rate;        /* rad/s */
+    crane_real extension_rate;   /* m/s */
     crane_real tip[3];           /* world, m */
-    int stop[2];                 /* -1 at stroke_min, +1 at stroke_max, 0 otherwise (cylinder terms) */
-    crane_real p_a[2], p_b[2];   /* Pa: valve: the chamber pressures; pressure drive: the given
+    /* Per joint [lift, tilt, slew, extension]: */
+    int stop[4];                 /* -1 at the start of the actuator's range (stroke_min; slew_min;
+                                    extension_min), +1 at its end, 0 otherwise; held: 0 */
+    crane_real p_a[4], p_b[4];   /* Pa: valve: the chamber pressures; pressure drive: the given
                                   * ones at t; held: 0 */
-    crane_real flow_a[2];        /* m^3/s: the valve's flow into the bore side (0 unless valve) */
-    crane_real flow_b[2];        /* m^3/s: the valve's flow out of the rod side (0 unless valve) */
-    crane_real spool[2];         /* the spool position (0 unless valve-driven) */
+    crane_real flow_a[4];        /* m^3/s: the valve's flow into the bore side (0 unless valve) */
+    crane_real flow_b[4];        /* m^3/s: the valve's flow out of the rod side (0 unless valve) */
+    crane_real spool[4];         /* the spool position (0 unless valve-driven) */
 } crane_sample;
 
 /* Derived constants of one crane at one extension e (docs/model.md's symbols): filled by

@@ -648,6 +648,14 @@ static void put_sample(ctx_t *c, crane_real t, const xstate *x, crane_real cpsi,
                      : c->mode[i] == CRANE__STOP_HI ? -c->lo_flag[i]
                                                     : 0;
     }
+    /* The slew and the extension are held (crane_predict accepts nothing else yet). */
+    for (i = CRANE_SLEW; i <= CRANE_EXTENSION; ++i) {
+        o->stop[i] = 0;
+        o->p_a[i] = o->p_b[i] = o->flow_a[i] = o->flow_b[i] = o->spool[i] = 0;
+    }
+    o->slew = c->s0->slew;
+    o->extension = c->s0->extension;
+    o->slew_rate = o->extension_rate = 0;
     o->tip[0] = tip.x * cpsi;
     o->tip[1] = tip.x * spsi;
     o->tip[2] = tip.y;

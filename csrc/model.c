@@ -33,13 +33,18 @@ static void point_rule(verdict *v, crane_field f, crane_vec2 x)
     rule(v, f, x.y, 1, CRANE_OK);
 }
 
-/* A body's block of fields is MASS, COM, IZZ (crane.h). A side link may be massless (0 =
- * neglected, the paper's model), never negative; every other body has mass and inertia. */
+/* A body's block of fields is MASS, COM, IZZ, IXX, IYY, IXY (crane.h). A side link or the pillar
+ * may be massless (0 = neglected, the paper's model), never negative; every other body has mass
+ * and inertia. Of the in-plane tensor the diagonal is >= 0; ixy is only finite, since a crane file
+ * may give ixy and leave out ixx (taken as 0), and [S1]'s tensors are what they are. */
 static void body_rules(verdict *v, crane_field mass, const crane_body *b, int massless_ok)
 {
     rule(v, mass, b->mass, massless_ok ? b->mass >= 0 : b->mass > 0, CRANE_E_BODY);
     point_rule(v, (crane_field)(mass + 1), b->com);
     rule(v, (crane_field)(mass + 2), b->izz, massless_ok ? b->izz >= 0 : b->izz > 0, CRANE_E_BODY);
+    rule(v, (crane_field)(mass + 3), b->ixx, b->ixx >= 0, CRANE_E_BODY);
+    rule(v, (crane_field)(mass + 4), b->iyy, b->iyy >= 0, CRANE_E_BODY);
+    rule(v, (crane_field)(mass + 5), b->ixy, 1, CRANE_OK);
 }
 
 /* The field of cylinder i from the lift cylinder's (the tilt block mirrors the lift block). */
@@ -49,62 +54,86 @@ static crane_field cylinder_field(int i, crane_field lift)
                                          (int)CRANE_FIELD_LIFT_CYLINDER_BORE));
 }
 
-/* A cylinder's circuit (docs/model.md, "Hydraulics"), if it has one (valve != NONE). */
-static void hydraulics_rules(verdict *v, int i, const crane_hydraulics *h)
+/* In the FRICTION or HYDRAULICS block that starts at first, the field that is lift_field in the
+ * lift cylinder's block starting at lift_first (every such block has the lift cylinder's order:
+ * crane.h). */
+static crane_field block_field(crane_field first, crane_field lift_first, crane_field lift_field)
+{
+    return (crane_field)((int)first + ((int)lift_field - (int)lift_first));
+}
+
+/* An actuator's circuit (docs/model.md, "Hydraulics"), if it has one (valve != NONE); first is
+ * the block's HYDRAULICS_VALVE field. */
+static void hydraulics_rules(verdict *v, crane_field first, const crane_hydraulics *h)
 {
     const crane_real pmax = (crane_real)CRANE_PRESSURE_MAX;
     const int comp = h->valve == CRANE_VALVE_COMPENSATED;
     const crane_status bad = CRANE_E_HYDRAULICS;
+    const crane_field lift = CRANE_FIELD_LIFT_CYLINDER_HYDRAULICS_VALVE;
 
     if (h->valve == CRANE_VALVE_NONE)
         return;
-    rule(v, cylinder_field(i, CRANE_FIELD_LIFT_CYLINDER_HYDRAULICS_VALVE), 0,
+    rule(v, block_field(first, lift, CRANE_FIELD_LIFT_CYLINDER_HYDRAULICS_VALVE), 0,
          h->valve == CRANE_VALVE_ORIFICE || comp, bad);
-    rule(v, cylinder_field(i, CRANE_FIELD_LIFT_CYLINDER_HYDRAULICS_TANK_PRESSURE), h->tank_pressure,
+    rule(v, block_field(first, lift, CRANE_FIELD_LIFT_CYLINDER_HYDRAULICS_TANK_PRESSURE), h->tank_pressure,
          h->tank_pressure >= 0 && h->tank_pressure <= pmax, bad);
-    rule(v, cylinder_field(i, CRANE_FIELD_LIFT_CYLINDER_HYDRAULICS_SUPPLY_PRESSURE),
+    rule(v, block_field(first, lift, CRANE_FIELD_LIFT_CYLINDER_HYDRAULICS_SUPPLY_PRESSURE),
          h->supply_pressure, h->supply_pressure > h->tank_pressure && h->supply_pressure <= pmax, bad);
-    rule(v, cylinder_field(i, CRANE_FIELD_LIFT_CYLINDER_HYDRAULICS_RELIEF_PRESSURE),
+    rule(v, block_field(first, lift, CRANE_FIELD_LIFT_CYLINDER_HYDRAULICS_RELIEF_PRESSURE),
          h->relief_pressure, h->relief_pressure >= h->supply_pressure && h->relief_pressure <= pmax,
          bad);
-    rule(v, cylinder_field(i, CRANE_FIELD_LIFT_CYLINDER_HYDRAULICS_NOMINAL_FLOW), h->nominal_flow,
+    rule(v, block_field(first, lift, CRANE_FIELD_LIFT_CYLINDER_HYDRAULICS_NOMINAL_FLOW), h->nominal_flow,
          h->nominal_flow > 0, bad);
-    rule(v, cylinder_field(i, CRANE_FIELD_LIFT_CYLINDER_HYDRAULICS_NOMINAL_PRESSURE_DROP),
+    rule(v, block_field(first, lift, CRANE_FIELD_LIFT_CYLINDER_HYDRAULICS_NOMINAL_PRESSURE_DROP),
          h->nominal_pressure_drop, h->nominal_pressure_drop > 0, bad);
-    rule(v, cylinder_field(i, CRANE_FIELD_LIFT_CYLINDER_HYDRAULICS_DEAD_BAND), h->dead_band,
+    rule(v, block_field(first, lift, CRANE_FIELD_LIFT_CYLINDER_HYDRAULICS_DEAD_BAND), h->dead_band,
          comp ? h->dead_band >= 0 && h->dead_band <= (crane_real)0.99 : h->dead_band == 0, bad);
-    rule(v, cylinder_field(i, CRANE_FIELD_LIFT_CYLINDER_HYDRAULICS_METER_OUT_FLOW),
+    rule(v, block_field(first, lift, CRANE_FIELD_LIFT_CYLINDER_HYDRAULICS_METER_OUT_FLOW),
          h->meter_out_flow, comp ? h->meter_out_flow > 0 : h->meter_out_flow >= 0, bad);
-    rule(v, cylinder_field(i, CRANE_FIELD_LIFT_CYLINDER_HYDRAULICS_METER_OUT_PRESSURE_DROP),
+    rule(v, block_field(first, lift, CRANE_FIELD_LIFT_CYLINDER_HYDRAULICS_METER_OUT_PRESSURE_DROP),
          h->meter_out_pressure_drop,
          comp ? h->meter_out_pressure_drop > 0 : h->meter_out_pressure_drop >= 0, bad);
-    rule(v, cylinder_field(i, CRANE_FIELD_LIFT_CYLINDER_HYDRAULICS_SPOOL_TIME_CONSTANT),
+    rule(v, block_field(first, lift, CRANE_FIELD_LIFT_CYLINDER_HYDRAULICS_SPOOL_TIME_CONSTANT),
          h->spool_time_constant, h->spool_time_constant >= 0 && h->spool_time_constant <= 10, bad);
-    rule(v, cylinder_field(i, CRANE_FIELD_LIFT_CYLINDER_HYDRAULICS_LAMINAR_PRESSURE_DROP),
+    rule(v, block_field(first, lift, CRANE_FIELD_LIFT_CYLINDER_HYDRAULICS_LAMINAR_PRESSURE_DROP),
          h->laminar_pressure_drop, h->laminar_pressure_drop > 0, bad);
-    rule(v, cylinder_field(i, CRANE_FIELD_LIFT_CYLINDER_HYDRAULICS_CAVITATION_PRESSURE),
+    rule(v, block_field(first, lift, CRANE_FIELD_LIFT_CYLINDER_HYDRAULICS_CAVITATION_PRESSURE),
          h->cavitation_pressure,
          h->cavitation_pressure >= (crane_real)CRANE_CHAMBER_PRESSURE_MIN &&
              h->cavitation_pressure <= h->tank_pressure,
          bad);
-    rule(v, cylinder_field(i, CRANE_FIELD_LIFT_CYLINDER_HYDRAULICS_HOSE_VOLUME_A), h->hose_volume_a,
+    rule(v, block_field(first, lift, CRANE_FIELD_LIFT_CYLINDER_HYDRAULICS_HOSE_VOLUME_A), h->hose_volume_a,
          h->hose_volume_a > 0, bad);
-    rule(v, cylinder_field(i, CRANE_FIELD_LIFT_CYLINDER_HYDRAULICS_HOSE_VOLUME_B), h->hose_volume_b,
+    rule(v, block_field(first, lift, CRANE_FIELD_LIFT_CYLINDER_HYDRAULICS_HOSE_VOLUME_B), h->hose_volume_b,
          h->hose_volume_b > 0, bad);
-    rule(v, cylinder_field(i, CRANE_FIELD_LIFT_CYLINDER_HYDRAULICS_OIL_BULK_MODULUS),
+    rule(v, block_field(first, lift, CRANE_FIELD_LIFT_CYLINDER_HYDRAULICS_OIL_BULK_MODULUS),
          h->oil_bulk_modulus, h->oil_bulk_modulus > 0, bad);
-    rule(v, cylinder_field(i, CRANE_FIELD_LIFT_CYLINDER_HYDRAULICS_HOSE_BULK_MODULUS),
+    rule(v, block_field(first, lift, CRANE_FIELD_LIFT_CYLINDER_HYDRAULICS_HOSE_BULK_MODULUS),
          h->hose_bulk_modulus, h->hose_bulk_modulus > 0, bad);
-    rule(v, cylinder_field(i, CRANE_FIELD_LIFT_CYLINDER_HYDRAULICS_CYLINDER_BULK_MODULUS),
+    rule(v, block_field(first, lift, CRANE_FIELD_LIFT_CYLINDER_HYDRAULICS_CYLINDER_BULK_MODULUS),
          h->cylinder_bulk_modulus, h->cylinder_bulk_modulus > 0, bad);
-    rule(v, cylinder_field(i, CRANE_FIELD_LIFT_CYLINDER_HYDRAULICS_LEAKAGE), h->leakage,
+    rule(v, block_field(first, lift, CRANE_FIELD_LIFT_CYLINDER_HYDRAULICS_LEAKAGE), h->leakage,
          h->leakage >= 0 && h->leakage <= (crane_real)1e-6, bad);
+}
+
+/* A friction block (first: its COULOMB field). */
+static void friction_rules(verdict *v, crane_field first, const crane_friction *f)
+{
+    const crane_field lift = CRANE_FIELD_LIFT_CYLINDER_FRICTION_COULOMB;
+
+    rule(v, first, f->coulomb, f->coulomb >= 0, CRANE_E_FRICTION);
+    rule(v, block_field(first, lift, CRANE_FIELD_LIFT_CYLINDER_FRICTION_STATIC), f->static_,
+         f->static_ >= f->coulomb, CRANE_E_FRICTION);
+    rule(v, block_field(first, lift, CRANE_FIELD_LIFT_CYLINDER_FRICTION_VISCOUS), f->viscous,
+         f->viscous >= 0, CRANE_E_FRICTION);
+    rule(v, block_field(first, lift, CRANE_FIELD_LIFT_CYLINDER_FRICTION_STRIBECK_VELOCITY),
+         f->stribeck_velocity, f->stribeck_velocity > 0, CRANE_E_FRICTION);
+    rule(v, block_field(first, lift, CRANE_FIELD_LIFT_CYLINDER_FRICTION_FACTOR), f->factor,
+         f->factor >= 0, CRANE_E_FRICTION);
 }
 
 static void cylinder_rules(verdict *v, int i, const crane_cylinder *c)
 {
-    const crane_friction *f = &c->friction;
-
     /* stroke 0 is the fully retracted cylinder (length_retracted), so no stop lies below it; that
      * also keeps every pin-to-pin length positive, which the triangle and the four-bar need. */
     rule(v, cylinder_field(i, CRANE_FIELD_LIFT_CYLINDER_ROD), c->rod, c->rod > 0, CRANE_E_CYLINDER);
@@ -116,17 +145,32 @@ static void cylinder_rules(verdict *v, int i, const crane_cylinder *c)
          c->stroke_min >= 0, CRANE_E_CYLINDER);
     rule(v, cylinder_field(i, CRANE_FIELD_LIFT_CYLINDER_STROKE_MAX), c->stroke_max,
          c->stroke_max > c->stroke_min, CRANE_E_CYLINDER);
-    rule(v, cylinder_field(i, CRANE_FIELD_LIFT_CYLINDER_FRICTION_COULOMB), f->coulomb,
-         f->coulomb >= 0, CRANE_E_FRICTION);
-    rule(v, cylinder_field(i, CRANE_FIELD_LIFT_CYLINDER_FRICTION_STATIC), f->static_,
-         f->static_ >= f->coulomb, CRANE_E_FRICTION);
-    rule(v, cylinder_field(i, CRANE_FIELD_LIFT_CYLINDER_FRICTION_VISCOUS), f->viscous,
-         f->viscous >= 0, CRANE_E_FRICTION);
-    rule(v, cylinder_field(i, CRANE_FIELD_LIFT_CYLINDER_FRICTION_STRIBECK_VELOCITY),
-         f->stribeck_velocity, f->stribeck_velocity > 0, CRANE_E_FRICTION);
-    rule(v, cylinder_field(i, CRANE_FIELD_LIFT_CYLINDER_FRICTION_FACTOR), f->factor,
-         f->factor >= 0, CRANE_E_FRICTION);
-    hydraulics_rules(v, i, &c->hydraulics);
+    friction_rules(v, cylinder_field(i, CRANE_FIELD_LIFT_CYLINDER_FRICTION_COULOMB), &c->friction);
+    hydraulics_rules(v, cylinder_field(i, CRANE_FIELD_LIFT_CYLINDER_HYDRAULICS_VALVE), &c->hydraulics);
+}
+
+/* The slew drive and the extension cylinder, if the crane has them (docs/model.md, "Four joints"). */
+static void actuator_rules(verdict *v, const crane_params *p)
+{
+    const crane_slew_drive *sd = &p->slew_drive;
+    const crane_extension_cylinder *ec = &p->extension_cylinder;
+
+    if (sd->present) {
+        rule(v, CRANE_FIELD_SLEW_DRIVE_BORE, sd->bore, sd->bore > 0, CRANE_E_CYLINDER);
+        rule(v, CRANE_FIELD_SLEW_DRIVE_PINION_RADIUS, sd->pinion_radius, sd->pinion_radius > 0,
+             CRANE_E_CYLINDER);
+        rule(v, CRANE_FIELD_SLEW_DRIVE_SLEW_MIN, sd->slew_min, 1, CRANE_OK);
+        rule(v, CRANE_FIELD_SLEW_DRIVE_SLEW_MAX, sd->slew_max, sd->slew_max > sd->slew_min,
+             CRANE_E_CYLINDER);
+        friction_rules(v, CRANE_FIELD_SLEW_DRIVE_FRICTION_COULOMB, &sd->friction);
+        hydraulics_rules(v, CRANE_FIELD_SLEW_DRIVE_HYDRAULICS_VALVE, &sd->hydraulics);
+    }
+    if (ec->present) {
+        rule(v, CRANE_FIELD_EXTENSION_CYLINDER_ROD, ec->rod, ec->rod > 0, CRANE_E_CYLINDER);
+        rule(v, CRANE_FIELD_EXTENSION_CYLINDER_BORE, ec->bore, ec->bore > ec->rod, CRANE_E_CYLINDER);
+        friction_rules(v, CRANE_FIELD_EXTENSION_CYLINDER_FRICTION_COULOMB, &ec->friction);
+        hydraulics_rules(v, CRANE_FIELD_EXTENSION_CYLINDER_HYDRAULICS_VALVE, &ec->hydraulics);
+    }
 }
 
 crane_status crane__check_params(const crane_params *p, crane_field *field)
@@ -158,33 +202,68 @@ crane_status crane__check_params(const crane_params *p, crane_field *field)
     body_rules(&v, CRANE_FIELD_SIDE_LINK2_MASS, &p->side_link2, 1);
     for (i = 0; i < 2; ++i)
         cylinder_rules(&v, i, &p->cylinder[i]);
+    body_rules(&v, CRANE_FIELD_PILLAR_MASS, &p->pillar, 1);
+    actuator_rules(&v, p);
     *field = v.field;
     return v.status;
 }
 
+/* The rules of a FRICTION block (coulomb .. factor) and a HYDRAULICS block (valve .. leakage), in
+ * the order of their fields (crane.h). */
+static const char *const FRICTION_RULES[] = {">= 0", ">= coulomb", ">= 0", "> 0", ">= 0"};
+static const char *const HYDRAULICS_RULES[] = {
+    "orifice or compensated", "> tank_pressure and <= 1e8", ">= 0 and <= 1e8",
+    ">= supply_pressure and <= 1e8", "> 0", "> 0",
+    "0 for an orifice valve, in [0, 0.99] for a compensated one",
+    "> 0 for a compensated valve, >= 0 otherwise", "> 0 for a compensated valve, >= 0 otherwise",
+    "in [0, 10]", "> 0", ">= -1e5 and <= tank_pressure", "> 0", "> 0", "> 0", "> 0", "> 0",
+    "in [0, 1e-6]"};
+enum {
+    N_FRICTION = (int)(sizeof FRICTION_RULES / sizeof FRICTION_RULES[0]),
+    N_HYDRAULICS = (int)(sizeof HYDRAULICS_RULES / sizeof HYDRAULICS_RULES[0])
+};
+
+/* The rule of field f if it lies in the FRICTION or HYDRAULICS block that starts at the given
+ * COULOMB or VALVE field, else NULL. */
+static const char *block_rule(crane_field f, crane_field coulomb, crane_field valve)
+{
+    const int k = (int)f - (int)coulomb, j = (int)f - (int)valve;
+
+    if (k >= 0 && k < N_FRICTION)
+        return FRICTION_RULES[k];
+    if (j >= 0 && j < N_HYDRAULICS)
+        return HYDRAULICS_RULES[j];
+    return NULL;
+}
+
 const char *crane_field_rule(crane_field field)
 {
-    /* The cylinder block's rules, in the order of its fields (bore .. friction.factor). */
-    static const char *const cylinder[CRANE_FIELD_TILT_CYLINDER_BORE - CRANE_FIELD_LIFT_CYLINDER_BORE] = {
-        "> rod", "> 0", "> 0", ">= 0", "> stroke_min", ">= 0", ">= coulomb", ">= 0", "> 0", ">= 0",
-        /* hydraulics: valve .. leakage (the struct's order) */
-        "orifice or compensated", "> tank_pressure and <= 1e8", ">= 0 and <= 1e8",
-        ">= supply_pressure and <= 1e8", "> 0", "> 0",
-        "0 for an orifice valve, in [0, 0.99] for a compensated one",
-        "> 0 for a compensated valve, >= 0 otherwise", "> 0 for a compensated valve, >= 0 otherwise",
-        "in [0, 10]", "> 0", ">= -1e5 and <= tank_pressure", "> 0", "> 0", "> 0", "> 0", "> 0",
-        "in [0, 1e-6]"};
-    const int n_cyl = (int)CRANE_FIELD_TILT_CYLINDER_BORE - (int)CRANE_FIELD_LIFT_CYLINDER_BORE;
-    const int k = (int)field - (int)CRANE_FIELD_LIFT_CYLINDER_BORE;
+    static const crane_field blocks[4][2] = {
+        {CRANE_FIELD_LIFT_CYLINDER_FRICTION_COULOMB, CRANE_FIELD_LIFT_CYLINDER_HYDRAULICS_VALVE},
+        {CRANE_FIELD_TILT_CYLINDER_FRICTION_COULOMB, CRANE_FIELD_TILT_CYLINDER_HYDRAULICS_VALVE},
+        {CRANE_FIELD_SLEW_DRIVE_FRICTION_COULOMB, CRANE_FIELD_SLEW_DRIVE_HYDRAULICS_VALVE},
+        {CRANE_FIELD_EXTENSION_CYLINDER_FRICTION_COULOMB,
+         CRANE_FIELD_EXTENSION_CYLINDER_HYDRAULICS_VALVE}};
+    int k;
 
-    if (k >= 0 && k < 2 * n_cyl) {
-        const char *r = cylinder[k % n_cyl];
-        return r ? r : "";
+    for (k = 0; k < 4; ++k) {
+        const char *r = block_rule(field, blocks[k][0], blocks[k][1]);
+        if (r)
+            return r;
     }
     switch (field) {
     case CRANE_FIELD_GRAVITY:
     case CRANE_FIELD_LOAD_MASS:
+    case CRANE_FIELD_LIFT_CYLINDER_STROKE_MIN:
+    case CRANE_FIELD_TILT_CYLINDER_STROKE_MIN:
         return ">= 0";
+    case CRANE_FIELD_LIFT_CYLINDER_BORE:
+    case CRANE_FIELD_TILT_CYLINDER_BORE:
+    case CRANE_FIELD_EXTENSION_CYLINDER_BORE:
+        return "> rod";
+    case CRANE_FIELD_LIFT_CYLINDER_STROKE_MAX:
+    case CRANE_FIELD_TILT_CYLINDER_STROKE_MAX:
+        return "> stroke_min";
     case CRANE_FIELD_GEOMETRY_TIP_DISTANCE:
     case CRANE_FIELD_LIFT_BOOM_MASS:
     case CRANE_FIELD_LIFT_BOOM_IZZ:
@@ -192,16 +271,48 @@ const char *crane_field_rule(crane_field field)
     case CRANE_FIELD_OUTER_BOOM_IZZ:
     case CRANE_FIELD_EXTENSION_BOOM_MASS:
     case CRANE_FIELD_EXTENSION_BOOM_IZZ:
+    case CRANE_FIELD_LIFT_CYLINDER_ROD:
+    case CRANE_FIELD_LIFT_CYLINDER_LENGTH_RETRACTED:
+    case CRANE_FIELD_TILT_CYLINDER_ROD:
+    case CRANE_FIELD_TILT_CYLINDER_LENGTH_RETRACTED:
+    case CRANE_FIELD_SLEW_DRIVE_BORE:
+    case CRANE_FIELD_SLEW_DRIVE_PINION_RADIUS:
+    case CRANE_FIELD_EXTENSION_CYLINDER_ROD:
         return "> 0";
     case CRANE_FIELD_SIDE_LINK1_MASS:
     case CRANE_FIELD_SIDE_LINK1_IZZ:
     case CRANE_FIELD_SIDE_LINK2_MASS:
     case CRANE_FIELD_SIDE_LINK2_IZZ:
+    case CRANE_FIELD_PILLAR_MASS:
+    case CRANE_FIELD_PILLAR_IZZ:
         return ">= 0 (0 = neglected)";
+    case CRANE_FIELD_LIFT_BOOM_IXX:
+    case CRANE_FIELD_LIFT_BOOM_IYY:
+    case CRANE_FIELD_OUTER_BOOM_IXX:
+    case CRANE_FIELD_OUTER_BOOM_IYY:
+    case CRANE_FIELD_EXTENSION_BOOM_IXX:
+    case CRANE_FIELD_EXTENSION_BOOM_IYY:
+    case CRANE_FIELD_SIDE_LINK1_IXX:
+    case CRANE_FIELD_SIDE_LINK1_IYY:
+    case CRANE_FIELD_SIDE_LINK2_IXX:
+    case CRANE_FIELD_SIDE_LINK2_IYY:
+    case CRANE_FIELD_PILLAR_IXX:
+    case CRANE_FIELD_PILLAR_IYY:
+        return ">= 0";
+    case CRANE_FIELD_LIFT_BOOM_IXY:
+    case CRANE_FIELD_OUTER_BOOM_IXY:
+    case CRANE_FIELD_EXTENSION_BOOM_IXY:
+    case CRANE_FIELD_SIDE_LINK1_IXY:
+    case CRANE_FIELD_SIDE_LINK2_IXY:
+    case CRANE_FIELD_PILLAR_IXY:
+        return "finite";
     case CRANE_FIELD_GEOMETRY_EXTENSION_MIN:
+    case CRANE_FIELD_SLEW_DRIVE_SLEW_MIN:
         return "finite";
     case CRANE_FIELD_GEOMETRY_EXTENSION_MAX:
         return ">= extension_min";
+    case CRANE_FIELD_SLEW_DRIVE_SLEW_MAX:
+        return "> slew_min";
     case CRANE_FIELD_NONE:
     case CRANE_FIELD_COUNT:
         return "";
@@ -390,7 +501,7 @@ const char *crane_status_message(crane_status status)
     case CRANE_E_STROKE: return "an initial stroke is outside [stroke_min, stroke_max]";
     case CRANE_E_EXTENSION: return "the extension is outside [extension_min, extension_max]";
     case CRANE_E_STROKE_RATE: return "a held cylinder was given a nonzero stroke rate";
-    case CRANE_E_DRIVE: return "unknown drive mode";
+    case CRANE_E_DRIVE: return "unknown drive mode (or, until the C core moves them, a slew or extension drive that is not a hold)";
     case CRANE_E_PRESSURE: return "a pressure is outside [0, 1e8] Pa";
     case CRANE_E_SAMPLES: return "pressure sample times are not strictly increasing or do not cover [0, horizon]";
     case CRANE_E_DT: return "dt <= 0 or dt > horizon";

@@ -141,7 +141,8 @@ static crane_status check_future(const crane_model *model, const crane_state *st
     for (i = 0; i < 2; ++i)
         if (!crane__finite(state0->stroke[i]) || !crane__finite(state0->stroke_rate[i]))
             return CRANE_E_NONFINITE;
-    if (!crane__finite(state0->slew))
+    if (!crane__finite(state0->slew) || !crane__finite(state0->slew_rate) ||
+        !crane__finite(state0->extension_rate))
         return CRANE_E_NONFINITE;
     for (i = 0; i < 2; ++i) {
         if (state0->stroke[i] < model->stroke_min[i] || state0->stroke[i] > model->stroke_max[i])
@@ -154,6 +155,13 @@ static crane_status check_future(const crane_model *model, const crane_state *st
         if (st != CRANE_OK)
             return st;
     }
+    /* The slew and the extension stay where they are until the core moves them (issue 11): only
+     * a hold is accepted on them, and a held joint has no rate. */
+    for (i = CRANE_SLEW; i <= CRANE_EXTENSION; ++i)
+        if (inputs->drive[i].mode != CRANE_DRIVE_HOLD)
+            return CRANE_E_DRIVE;
+    if (state0->slew_rate != 0 || state0->extension_rate != 0)
+        return CRANE_E_STROKE_RATE;
     return CRANE_OK;
 }
 

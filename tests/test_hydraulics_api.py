@@ -134,7 +134,7 @@ def test_the_core_refuses_bad_valve_drives_itself(crane):
         st.p_a = (50e5, 1e5)
         st.p_b = (1e5, 20e5)
         inp = ffi.new("crane_inputs *")
-        for d in inp.drive:
+        for d in (inp.drive[lib.CRANE_LIFT], inp.drive[lib.CRANE_TILT]):
             d.mode = lib.CRANE_DRIVE_VALVE
             d.u = 0.5
         mutate(prm, st, inp)

@@ -64,12 +64,12 @@ HYDRAULICS = ["supply_pressure", "tank_pressure", "relief_pressure", "nominal_fl
 HYDRAULICS_DEFAULTS = {"dead_band": 0.0, "meter_out_flow": 0.0, "meter_out_pressure_drop": 0.0,
                        "spool_time_constant": 0.0, "leakage": 0.0}
 VALVES = {"orifice": "CRANE_VALVE_ORIFICE", "compensated": "CRANE_VALVE_COMPENSATED"}
-# keys of the crane file that the 2-DOF C model does not use (the pillar only slews; the shape is
-# the collision guard's, given to crane_guard by the caller; the slew drive, the extension cylinder
-# and the bodies' in-plane tensor entries are the four-joint model's, which the C core does not have
-# yet: cranepredict.crane.FOUR_JOINT_FIELDS)
-UNUSED = {"name", "estimates", "pillar", "shape", "slew_drive", "extension_cylinder"}
-UNUSED_BODY_FIELDS = {"ixx", "iyy", "ixy"}
+# keys of the crane file that the C model does not take from here (the shape is the collision
+# guard's, given to crane_guard by the caller)
+UNUSED = {"name", "estimates", "shape"}
+# the four-joint actuators (docs/model.md, "Four joints"): optional tables; present = 0 without
+SLEW_DRIVE_FIELDS = ["bore", "pinion_radius", "slew_min", "slew_max"]
+EXTENSION_CYLINDER_FIELDS = ["bore", "rod"]
 
 
 def lookup(data, dotted, used):
@@ -134,42 +134,67 @@ def generate(toml_path, name):
     def sca(field, key):
         L.append(f"    .{field} = {lit(num(lookup(data, key, used), key))}, \\")
 
+    def body(field, key):
+        """mass, com, izz and the in-plane tensor; left out: ixx 0, iyy izz, ixy 0 (crane.h)."""
+        sca(f"{field}.mass", f"{key}.mass")
+        vec(f"{field}.com", f"{key}.com")
+        sca(f"{field}.izz", f"{key}.izz")
+        table = data.get(key, {})
+        for fld in ("ixx", "iyy", "ixy"):
+            if fld in table:
+                sca(f"{field}.{fld}", f"{key}.{fld}")
+            else:
+                default = num(table["izz"], f"{key}.izz") if fld == "iyy" else 0.0
+                L.append(f"    .{field}.{fld} = {lit(default)}, \\")
+
+    def friction(field, key):
+        for fld, tkey in FRICTION:
+            sca(f"{field}.friction.{fld}", f"{key}.friction.{tkey}")
+
+    def hydraulics(field, key):
+        hyd = data.get(key, {}).get("hydraulics")
+        if hyd is None:
+            L.append(f"    .{field}.hydraulics = {{.valve = CRANE_VALVE_NONE}}, \\")
+            return
+        valve = lookup(data, f"{key}.hydraulics.valve", used)
+        if valve not in VALVES:
+            raise SystemExit(f"crane file: {key}.hydraulics.valve must be one of {sorted(VALVES)}")
+        L.append(f"    .{field}.hydraulics.valve = {VALVES[valve]}, \\")
+        for fld in HYDRAULICS:
+            if fld not in hyd and fld in HYDRAULICS_DEFAULTS:
+                L.append(f"    .{field}.hydraulics.{fld} = {lit(HYDRAULICS_DEFAULTS[fld])}, \\")
+            else:
+                sca(f"{field}.hydraulics.{fld}", f"{key}.hydraulics.{fld}")
+
     sca("gravity", "gravity")
     for field, key in VEC2:
         vec(field, key)
     for field, key in SCALARS:
         sca(field, key)
     for field, key in BODIES:
-        sca(f"{field}.mass", f"{key}.mass")
-        vec(f"{field}.com", f"{key}.com")
-        sca(f"{field}.izz", f"{key}.izz")
+        body(field, key)
     sca("load_mass", "load_mass")
     for field, key in SIDE_LINKS:
-        sca(f"{field}.mass", f"{key}.mass")
-        vec(f"{field}.com", f"{key}.com")
-        sca(f"{field}.izz", f"{key}.izz")
+        body(field, key)
     for idx, key in CYLINDERS:
         for fld in CYL_FIELDS:
             sca(f"cylinder[{idx}].{fld}", f"{key}.{fld}")
-        for fld, tkey in FRICTION:
-            sca(f"cylinder[{idx}].friction.{fld}", f"{key}.friction.{tkey}")
-        hyd = data.get(key, {}).get("hydraulics")
-        if hyd is None:
-            L.append(f"    .cylinder[{idx}].hydraulics = {{.valve = CRANE_VALVE_NONE}}, \\")
+        friction(f"cylinder[{idx}]", key)
+        hydraulics(f"cylinder[{idx}]", key)
+    if "pillar" in data:   # optional: all 0 without (no pillar inertia)
+        body("pillar", "pillar")
+    for key, fields in (("slew_drive", SLEW_DRIVE_FIELDS),
+                        ("extension_cylinder", EXTENSION_CYLINDER_FIELDS)):
+        if key not in data:   # optional: present = 0, the joint can only be held
+            L.append(f"    .{key}.present = 0, \\")
             continue
-        valve = lookup(data, f"{key}.hydraulics.valve", used)
-        if valve not in VALVES:
-            raise SystemExit(f"crane file: {key}.hydraulics.valve must be one of {sorted(VALVES)}")
-        L.append(f"    .cylinder[{idx}].hydraulics.valve = {VALVES[valve]}, \\")
-        for fld in HYDRAULICS:
-            if fld not in hyd and fld in HYDRAULICS_DEFAULTS:
-                L.append(f"    .cylinder[{idx}].hydraulics.{fld} = "
-                         f"{lit(HYDRAULICS_DEFAULTS[fld])}, \\")
-            else:
-                sca(f"cylinder[{idx}].hydraulics.{fld}", f"{key}.hydraulics.{fld}")
+        L.append(f"    .{key}.present = 1, \\")
+        for fld in fields:
+            sca(f"{key}.{fld}", f"{key}.{fld}")
+        friction(key, key)
+        hydraulics(key, key)
 
-    unknown = [k for k in leaves(data) if k not in used and k.split(".")[0] not in UNUSED
-               and k.split(".")[-1] not in UNUSED_BODY_FIELDS]
+    unknown = [k for k in leaves(data) if k not in used and k.split(".")[0] not in UNUSED]
     if unknown:
         raise SystemExit("crane file: keys this generator does not map (extend tools/"
                          "crane2header.py): " + ", ".join(unknown))
@@ -187,7 +212,7 @@ def generate(toml_path, name):
  *
  * Use:  static const crane_params crane = {macro};
  * (C99 designated initializers, so the struct can live in flash). Every field of crane_params is
- * set, the side links included; the crane file's pillar only slews and is left out. Literals are
+ * set, the side links, the pillar and the four-joint actuators included. Literals are
  * the crane file's numbers as exact doubles, rounded by CRANE_R.
  */
 #ifndef {guard}

@@ -7,7 +7,7 @@
  *
  * Use:  static const crane_params crane = CRANE_PATU655_INIT;
  * (C99 designated initializers, so the struct can live in flash). Every field of crane_params is
- * set, the side links included; the crane file's pillar only slews and is left out. Literals are
+ * set, the side links, the pillar and the four-joint actuators included. Literals are
  * the crane file's numbers as exact doubles, rounded by CRANE_R.
  */
 #ifndef CRANE_PATU655_H
@@ -37,19 +37,34 @@
     .lift_boom.mass = CRANE_R(143.66), \
     .lift_boom.com = {.x = CRANE_R(1.229248), .y = CRANE_R(0.055596)}, \
     .lift_boom.izz = CRANE_R(67.0537), \
+    .lift_boom.ixx = CRANE_R(1.055433), \
+    .lift_boom.iyy = CRANE_R(66.577004), \
+    .lift_boom.ixy = CRANE_R(1.44244), \
     .outer_boom.mass = CRANE_R(141.943), \
     .outer_boom.com = {.x = CRANE_R(0.643096), .y = CRANE_R(0.247055)}, \
     .outer_boom.izz = CRANE_R(58.6619), \
+    .outer_boom.ixx = CRANE_R(0.992582), \
+    .outer_boom.iyy = CRANE_R(58.2081), \
+    .outer_boom.ixy = CRANE_R(1.53792), \
     .extension_boom.mass = CRANE_R(15.928), \
     .extension_boom.com = {.x = CRANE_R(1.225), .y = CRANE_R(0.0)}, \
     .extension_boom.izz = CRANE_R(7.97), \
+    .extension_boom.ixx = CRANE_R(0.04), \
+    .extension_boom.iyy = CRANE_R(7.97), \
+    .extension_boom.ixy = CRANE_R(0.0), \
     .load_mass = CRANE_R(200.0), \
     .side_link1.mass = CRANE_R(11.524), \
     .side_link1.com = {.x = CRANE_R(-0.257068), .y = CRANE_R(0.004)}, \
     .side_link1.izz = CRANE_R(0.268644), \
+    .side_link1.ixx = CRANE_R(0.333066), \
+    .side_link1.iyy = CRANE_R(0.081849), \
+    .side_link1.ixy = CRANE_R(0.017355), \
     .side_link2.mass = CRANE_R(7.9), \
     .side_link2.com = {.x = CRANE_R(-0.212792), .y = CRANE_R(0.0)}, \
     .side_link2.izz = CRANE_R(0.216772), \
+    .side_link2.ixx = CRANE_R(0.052095), \
+    .side_link2.iyy = CRANE_R(0.260808), \
+    .side_link2.ixy = CRANE_R(0.0), \
     .cylinder[CRANE_LIFT].bore = CRANE_R(0.1), \
     .cylinder[CRANE_LIFT].rod = CRANE_R(0.056), \
     .cylinder[CRANE_LIFT].length_retracted = CRANE_R(0.82), \
@@ -106,6 +121,32 @@
     .cylinder[CRANE_TILT].hydraulics.hose_bulk_modulus = CRANE_R(700000000.0), \
     .cylinder[CRANE_TILT].hydraulics.cylinder_bulk_modulus = CRANE_R(210000000000.0), \
     .cylinder[CRANE_TILT].hydraulics.leakage = CRANE_R(0.0), \
+    .pillar.mass = CRANE_R(93.26), \
+    .pillar.com = {.x = CRANE_R(-0.017403), .y = CRANE_R(0.577291)}, \
+    .pillar.izz = CRANE_R(16.53), \
+    .pillar.ixx = CRANE_R(16.358844), \
+    .pillar.iyy = CRANE_R(0.612552), \
+    .pillar.ixy = CRANE_R(-1.27808), \
+    .slew_drive.present = 1, \
+    .slew_drive.bore = CRANE_R(0.08), \
+    .slew_drive.pinion_radius = CRANE_R(0.09), \
+    .slew_drive.slew_min = CRANE_R(-3.316126), \
+    .slew_drive.slew_max = CRANE_R(3.316126), \
+    .slew_drive.friction.coulomb = CRANE_R(210.0), \
+    .slew_drive.friction.static_ = CRANE_R(300.0), \
+    .slew_drive.friction.viscous = CRANE_R(330.0), \
+    .slew_drive.friction.stribeck_velocity = CRANE_R(0.005), \
+    .slew_drive.friction.factor = CRANE_R(2.0), \
+    .slew_drive.hydraulics = {.valve = CRANE_VALVE_NONE}, \
+    .extension_cylinder.present = 1, \
+    .extension_cylinder.bore = CRANE_R(0.07), \
+    .extension_cylinder.rod = CRANE_R(0.04), \
+    .extension_cylinder.friction.coulomb = CRANE_R(210.0), \
+    .extension_cylinder.friction.static_ = CRANE_R(300.0), \
+    .extension_cylinder.friction.viscous = CRANE_R(330.0), \
+    .extension_cylinder.friction.stribeck_velocity = CRANE_R(0.005), \
+    .extension_cylinder.friction.factor = CRANE_R(1.0), \
+    .extension_cylinder.hydraulics = {.valve = CRANE_VALVE_NONE}, \
 }
 
 #endif

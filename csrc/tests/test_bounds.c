@@ -49,7 +49,7 @@ static void held(crane_inputs *in)
 /* Finding 3: horizon = 1e9 s (or dt = 1e-12 s) was accepted; sample_every = 10^12 ran for hours. */
 static void test_limits(void)
 {
-    crane_state s = {{(crane_real)0.1, (crane_real)0.2}, {0, 0}, 0, 0, {0, 0}, {0, 0}, {0, 0}};
+    crane_state s = {{(crane_real)0.1, (crane_real)0.2}, {0, 0}, 0, 0, 0, 0, {0, 0, 0, 0}, {0, 0, 0, 0}, {0, 0, 0, 0}};
     crane_inputs in[2];
     crane_sample out[2];
     size_t n = 0, failed = 0;
@@ -99,7 +99,7 @@ static void test_limits(void)
 static void test_time_is_k_dt(void)
 {
     const crane_real dt = (crane_real)1e-3;
-    crane_state s = {{(crane_real)0.1, (crane_real)0.2}, {0, 0}, 0, 0, {0, 0}, {0, 0}, {0, 0}};
+    crane_state s = {{(crane_real)0.1, (crane_real)0.2}, {0, 0}, 0, 0, 0, 0, {0, 0, 0, 0}, {0, 0, 0, 0}, {0, 0, 0, 0}};
     crane_inputs in[1];
     static crane_sample out[20];
     size_t failed = 0;

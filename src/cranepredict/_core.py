@@ -62,22 +62,49 @@ def _vec(dst: Any, v: Sequence[float]) -> None:
 def _body(dst: Any, body: Any) -> None:
     dst.mass, dst.izz = body.mass, body.izz
     _vec(dst.com, body.com)
+    # a body known only by izz is slender along its x axis (docs/model.md, "Four joints")
+    dst.ixx = 0.0 if body.ixx is None else body.ixx
+    dst.iyy = body.izz if body.iyy is None else body.iyy
+    dst.ixy = 0.0 if body.ixy is None else body.ixy
 
 
-def _cylinder(dst: Any, cyl: Any) -> None:
-    dst.bore, dst.rod, dst.length_retracted = cyl.bore, cyl.rod, cyl.length_retracted
-    dst.stroke_min, dst.stroke_max = cyl.stroke_min, cyl.stroke_max
-    f = cyl.friction
-    dst.friction.coulomb, dst.friction.static_, dst.friction.viscous = f.coulomb, f.static, f.viscous
-    dst.friction.stribeck_velocity, dst.friction.factor = f.stribeck_velocity, f.factor
-    h = cyl.hydraulics
-    hd = dst.hydraulics
+def _friction(dst: Any, f: Any) -> None:
+    dst.coulomb, dst.static_, dst.viscous = f.coulomb, f.static, f.viscous
+    dst.stribeck_velocity, dst.factor = f.stribeck_velocity, f.factor
+
+
+def _hydraulics(hd: Any, h: Any) -> None:
     if h is None:
         hd.valve = lib.CRANE_VALVE_NONE
         return
     hd.valve = lib.CRANE_VALVE_COMPENSATED if h.valve == "compensated" else lib.CRANE_VALVE_ORIFICE
     for name in _HYDRAULIC_FIELDS:
         setattr(hd, name, getattr(h, name))
+
+
+def _cylinder(dst: Any, cyl: Any) -> None:
+    dst.bore, dst.rod, dst.length_retracted = cyl.bore, cyl.rod, cyl.length_retracted
+    dst.stroke_min, dst.stroke_max = cyl.stroke_min, cyl.stroke_max
+    _friction(dst.friction, cyl.friction)
+    _hydraulics(dst.hydraulics, cyl.hydraulics)
+
+
+def _actuators(prm: Any, crane: "Crane") -> None:
+    """The slew drive and the extension cylinder (docs/model.md, "Four joints"), if the crane has
+    them; `present` = 0 tells the core that the joint can only be held."""
+    sd, ec = crane.slew_drive, crane.extension_cylinder
+    prm.slew_drive.present = int(sd is not None)
+    if sd is not None:
+        d = prm.slew_drive
+        d.bore, d.pinion_radius, d.slew_min, d.slew_max = sd.bore, sd.pinion_radius, sd.slew_min, sd.slew_max
+        _friction(d.friction, sd.friction)
+        _hydraulics(d.hydraulics, getattr(sd, "hydraulics", None))
+    prm.extension_cylinder.present = int(ec is not None)
+    if ec is not None:
+        c = prm.extension_cylinder
+        c.bore, c.rod = ec.bore, ec.rod
+        _friction(c.friction, ec.friction)
+        _hydraulics(c.hydraulics, getattr(ec, "hydraulics", None))
 
 
 # crane_hydraulics fields besides valve: the same names as the crane file's
@@ -131,6 +158,9 @@ def _fill_params(crane: "Crane") -> Any:
     prm.load_mass = crane.load_mass
     _cylinder(prm.cylinder[lib.CRANE_LIFT], crane.lift_cylinder)
     _cylinder(prm.cylinder[lib.CRANE_TILT], crane.tilt_cylinder)
+    if crane.pillar is not None:   # else all zero: no pillar inertia
+        _body(prm.pillar, crane.pillar)
+    _actuators(prm, crane)
     return prm
 
 
@@ -195,8 +225,10 @@ def check_crane(crane: "Crane") -> None:
 def _sample_dtype() -> np.dtype:
     real = np.float64
     fields = [("t", real, ()), ("stroke", real, (2,)), ("theta", real, (2,)), ("omega", real, (2,)),
-              ("tip", real, (3,)), ("stop", np.intc, (2,)), ("p_a", real, (2,)), ("p_b", real, (2,)),
-              ("flow_a", real, (2,)), ("flow_b", real, (2,)), ("spool", real, (2,))]
+              ("slew", real, ()), ("extension", real, ()), ("slew_rate", real, ()),
+              ("extension_rate", real, ()),
+              ("tip", real, (3,)), ("stop", np.intc, (4,)), ("p_a", real, (4,)), ("p_b", real, (4,)),
+              ("flow_a", real, (4,)), ("flow_b", real, (4,)), ("spool", real, (4,))]
     return np.dtype({
         "names": [f[0] for f in fields],
         "formats": [(f[1], f[2]) if f[2] else f[1] for f in fields],
@@ -246,15 +278,23 @@ def _state(dst: Any, state: "State") -> None:
     dst.stroke = (state.lift_stroke, state.tilt_stroke)
     dst.stroke_rate = (state.lift_stroke_rate, state.tilt_stroke_rate)
     dst.slew, dst.extension = state.slew, state.extension
-    # chamber pressures: only a valve-driven cylinder reads them (api.py demands them there)
-    dst.p_a = (state.lift_p_a or 0.0, state.tilt_p_a or 0.0)
-    dst.p_b = (state.lift_p_b or 0.0, state.tilt_p_b or 0.0)
-    dst.spool = (state.lift_spool, state.tilt_spool)
+    dst.slew_rate = getattr(state, "slew_rate", 0.0)
+    dst.extension_rate = getattr(state, "extension_rate", 0.0)
+    # chamber pressures: only a valve-driven actuator reads them (api.py demands them there)
+    names = ("lift", "tilt", "slew", "extension")
+    dst.p_a = [getattr(state, f"{n}_p_a", None) or 0.0 for n in names]
+    dst.p_b = [getattr(state, f"{n}_p_b", None) or 0.0 for n in names]
+    dst.spool = [getattr(state, f"{n}_spool", 0.0) for n in names]
 
 
 def _inputs(dst: Any, inputs: "Inputs", keep: list) -> None:
     _drive(dst.drive[lib.CRANE_LIFT], inputs.lift, keep)
     _drive(dst.drive[lib.CRANE_TILT], inputs.tilt, keep)
+    # a drive left out (Inputs without it) is a hold: the zero drive
+    for joint, name in ((lib.CRANE_SLEW, "slew"), (lib.CRANE_EXTENSION, "extension")):
+        drive = getattr(inputs, name, None)
+        if drive is not None:
+            _drive(dst.drive[joint], drive, keep)
 
 
 def predict(crane: "Crane", state: "State", inputs: "Inputs", horizon: float,

@@ -47,7 +47,10 @@ MIN_FUTURES_PER_THREAD = 8
 
 def _sample_arrays(samples: np.ndarray) -> dict:
     """The Trajectory arrays as field views of the core's samples (no copy)."""
-    return {k: samples[_SAMPLE_FIELD.get(k, k)] for k in ARRAYS}
+    arrays = {k: samples[_SAMPLE_FIELD.get(k, k)] for k in ARRAYS}
+    # the core's per-joint fields have four columns [lift, tilt, slew, extension]; the
+    # Trajectory keeps [lift, tilt] until it carries the slew and the extension (issue 11)
+    return {k: a[..., :2] if a.shape[-1:] == (4,) else a for k, a in arrays.items()}
 
 
 def _check(crane: Crane, initial: State, inputs: Inputs, horizon: float, dt: float,

@@ -27,9 +27,8 @@ __all__ = ["Body", "Friction", "Hydraulics", "Cylinder", "SlewDrive", "Extension
 #: The valve types of a cylinder's hydraulics (docs/model.md, "Hydraulics").
 VALVES = ("orifice", "compensated")
 
-#: Crane file fields of the four-joint model (docs/model.md, "Four joints"), which no model uses
-#: yet: loaded and type-checked, no rule of the core applies (top-level tables, and the fields of
-#: every body).
+#: Crane file fields of the four-joint model (docs/model.md, "Four joints"): top-level tables, and
+#: the fields of every body. The C core checks their rules (crane_params_check) with the rest.
 FOUR_JOINT_FIELDS = ("pillar", "slew_drive", "extension_cylinder")
 FOUR_JOINT_BODY_FIELDS = ("ixx", "iyy", "ixy")
 
@@ -139,6 +138,7 @@ class SlewDrive:
     slew_min: float
     slew_max: float
     friction: Friction
+    hydraulics: Optional[Hydraulics] = None   #: chamber a turns towards +slew; None: no valve drive
 
     @property
     def area(self) -> float:
@@ -159,6 +159,7 @@ class ExtensionCylinder(_PistonAreas):
     bore: float
     rod: float
     friction: Friction
+    hydraulics: Optional[Hydraulics] = None   #: None: the extension cannot be valve-driven
 
 
 @dataclass(frozen=True)
@@ -196,11 +197,11 @@ class Crane:
     lift_cylinder: Cylinder
     tilt_cylinder: Cylinder
     estimates: Tuple[str, ...] = field(default=())
-    #: The pillar only slews, and the slew is constant during a prediction, so no model uses its mass
-    #: properties: optional, kept when the crane file gives them (type-checked, no rule applies).
+    #: The pillar turns with the slew only: its inertia about the slew axis (docs/model.md, "Four
+    #: joints"); optional (left out: none).
     pillar: Optional[Body] = None
-    #: The four-joint model's actuators (docs/model.md, "Four joints"); optional, no model uses
-    #: them yet (type-checked, no rule applies).
+    #: The four-joint model's actuators (docs/model.md, "Four joints"); optional (left out: the
+    #: joint can only be held).
     slew_drive: Optional[SlewDrive] = None
     extension_cylinder: Optional[ExtensionCylinder] = None
     #: The parts for the collision guard (the crane file's ``[shape]``; docs/guard.md), if given.
@@ -368,10 +369,9 @@ def _field_names() -> dict:
         out = []
         for f in dataclasses.fields(cls):
             hint = _hints(cls)[f.name]
-            if f.name in ("name", "estimates", "pillar", "shape"):
+            if f.name in ("name", "estimates", "shape"):
                 continue
-            if hint == Optional[Hydraulics]:
-                hint = Hydraulics
+            hint = _unwrap_optional(hint)   # optional tables: pillar, hydraulics, actuators
             if dataclasses.is_dataclass(hint):
                 out += leaves(hint, prefix + f.name + ".")
             else:
@@ -409,8 +409,9 @@ def _check_crane(c: Crane) -> None:
     from . import _core
     from ._cranepredict import ffi, lib
 
-    for cyl_name in ("lift_cylinder", "tilt_cylinder"):
-        hyd = getattr(c, cyl_name).hydraulics
+    for cyl_name in ("lift_cylinder", "tilt_cylinder", "slew_drive", "extension_cylinder"):
+        actuator = getattr(c, cyl_name)
+        hyd = actuator.hydraulics if actuator is not None else None
         if hyd is not None and hyd.valve not in VALVES:   # a name: the C core gets its enum
             raise ValueError(f"{cyl_name}.hydraulics.valve must be one of {VALVES}, got {hyd.valve!r}")
     field = ffi.new("crane_field *")
