@@ -109,8 +109,9 @@ def test_twin_agrees_with_the_spatial_reference(name):
 
 
 def test_stops_hold_and_release_in_the_reference():
-    """The telescope stays on extension_max once it lands (plastic, no rebound, within 1e-9 m);
-    the slew driven into slew_max with the pressure already reversed leaves its stop at once."""
+    """The telescope stays on extension_max once it lands (plastic, no rebound, within 1e-9 m), and
+    so does the slew pushed onto slew_max; the slew driven into slew_max with the pressure already
+    reversed leaves its stop at once."""
     crane, start, drives = _scenarios()["telescope-into-end-stop"]
     run = _reference(crane, start, drives)
     (t_hit, kind, joint, side), = run.events
@@ -120,6 +121,13 @@ def test_stops_hold_and_release_in_the_reference():
     assert np.all(run.stop[after, rs.EXTENSION] == 1) and np.all(run.stop[~after, rs.EXTENSION] == 0)
     assert run.extension.max() <= crane.geometry.extension_max + 1e-8
     crane, start, drives = _scenarios()["slew-into-end-stop"]
+    pushed = dict(drives, slew=cp.Pressure(60e5, 0.0))          # pushed onto its stop: it stays
+    run = _reference(crane, start, pushed)
+    (t_hit, kind, joint, side), = run.events
+    assert (kind, joint, side) == ("impact", "slew", 1)
+    after = run.t >= t_hit
+    assert np.max(np.abs(run.slew[after] - crane.slew_drive.slew_max)) < 1e-9
+    assert np.all(run.slew_rate[after] == 0.0) and np.all(run.stop[after, rs.SLEW] == 1)
     run = _reference(crane, start, drives)
     kinds = [(k, j) for _, k, j, _ in run.events]
     assert kinds == [("impact", "slew"), ("release", "slew")]
