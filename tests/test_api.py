@@ -23,7 +23,11 @@ def test_predict_returns_arrays_of_the_documented_shapes(crane):
     tr = cp.predict(crane, cp.State(**GOOD_STATE), _ok_inputs(), 0.5, dt=0.01)
     n = 51
     assert tr.t.shape == (n,) and tr.strokes.shape == (n, 2) and tr.theta.shape == (n, 2)
-    assert tr.omega.shape == (n, 2) and tr.tip.shape == (n, 3) and tr.stop.shape == (n, 2)
+    assert tr.omega.shape == (n, 2) and tr.tip.shape == (n, 3) and tr.stop.shape == (n, 4)
+    for name in ("slew", "extension", "slew_rate", "extension_rate"):
+        assert getattr(tr, name).shape == (n,), name
+    for name in ("p_a", "p_b", "flow_a", "flow_b", "spool"):
+        assert getattr(tr, name).shape == (n, 4), name
     assert tr.t[0] == 0.0 and tr.t[-1] == pytest.approx(0.5)
     pts = tr.points()
     assert set(pts) == set(cp.POINT_NAMES) and pts["tip"].shape == (n, 3)

@@ -361,7 +361,7 @@ def test_extension_runs_into_its_end_stop_and_stays(crane):
                            drives={"lift": h, "tilt": h, "slew": h, "extension": cp.Pressure(50e5, 0.0)})
     e_max = crane.geometry.extension_max
     assert events and events[0][1] == EXTENSION and events[0][2] == +1
-    assert arrays["extension"][-1] == e_max and arrays["extension_stop"][-1] == +1
+    assert arrays["extension"][-1] == e_max and arrays["stop"][-1, EXTENSION] == +1
     assert arrays["extension_rate"][-1] == 0.0
     u = arrays["tip"][-1] - arrays["tip"][0]
     assert np.linalg.norm(u) == pytest.approx(e_max - 0.2, rel=1e-12)
@@ -408,7 +408,7 @@ def test_slew_runs_into_its_end_stop_and_leaves_it_when_reversed(crane):
                            drives={"lift": h, "tilt": h, "extension": h, "slew": push_then_pull})
     assert events and events[0][1] == SLEW and events[0][2] == +1
     t = arrays["t"]
-    on_stop = arrays["slew_stop"] == +1
+    on_stop = arrays["stop"][:, SLEW] == +1
     assert on_stop.any() and np.all(arrays["slew"][on_stop] == sd.slew_max)
     assert np.all(arrays["slew_rate"][on_stop] == 0.0)
     # released after the pressure turned round, and moving back

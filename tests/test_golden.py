@@ -44,6 +44,8 @@ def test_a_scenario_with_a_drive_the_generator_cannot_write_is_listed_not_droppe
     odd = dataclasses.replace(sc, name="valve-x", inputs=object.__new__(cp.Inputs))
     object.__setattr__(odd.inputs, "lift", Valve())
     object.__setattr__(odd.inputs, "tilt", cp.Hold())
+    object.__setattr__(odd.inputs, "slew", cp.Hold())
+    object.__setattr__(odd.inputs, "extension", cp.Hold())
     monkeypatch.setattr(golden.cp.scenarios, "all_scenarios", lambda: [sc, odd])
     monkeypatch.setattr(golden.cp.scenarios, "names", lambda: ["load-0", "valve-x"])
     assert [s.name for s in golden.written()] == ["load-0"]

@@ -109,7 +109,7 @@ def test_lever_open_extends_and_trajectory_carries_the_circuit(crane):
     tr = cp.predict(crane, s, cp.Inputs(lift=cp.Valve(1.0), tilt=cp.Valve(0.0)), 1.0,
                     backend="python")
     for name in ("p_a", "p_b", "flow_a", "flow_b", "spool"):
-        assert getattr(tr, name).shape == (tr.t.size, 2)
+        assert getattr(tr, name).shape == (tr.t.size, 4)   # [lift, tilt, slew, extension]
     assert tr.strokes[-1, 0] > tr.strokes[0, 0] + 0.01
     assert tr.flow_a[-1, 0] > 0 and tr.flow_b[-1, 0] > 0
     assert tr.spool[-1, 0] == pytest.approx(1.0, abs=1e-9)   # 30 ms lag, 1 s later

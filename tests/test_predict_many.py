@@ -44,7 +44,8 @@ def test_equals_predict(crane, threads):
         one = cp.predict(crane, initials[k], inputs[k], HORIZON, dt=DT)
         for name in FIELDS:
             assert np.array_equal(getattr(batch[k], name), getattr(one, name)), (k, name)
-        assert batch[k].slew == one.slew and batch[k].extension == one.extension
+        for name in ("slew", "extension", "slew_rate", "extension_rate"):
+            assert np.array_equal(getattr(batch[k], name), getattr(one, name)), (k, name)
 
 
 @pytest.mark.parametrize("every", [1, 3, 7, 200, 1000])

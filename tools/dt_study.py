@@ -32,7 +32,8 @@ def main() -> int:
     ap.add_argument("--seed", type=int, default=5)
     args = ap.parse_args()
     cases = [(n, s.crane, s.initial, s.inputs) for n, s in
-             ((n, cp.scenarios.get(n)) for n in cp.scenarios.names())]
+             ((n, cp.scenarios.get(n)) for n in cp.scenarios.names())
+             if not s.spatial]   # the C core does not move the slew and the extension yet
     rng = np.random.default_rng(args.seed)
     for i in range(args.random):
         cases.append((f"random{i}",) + tuple(random_case(rng, cp.Crane.patu655())))

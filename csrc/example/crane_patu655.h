@@ -137,7 +137,24 @@
     .slew_drive.friction.viscous = CRANE_R(330.0), \
     .slew_drive.friction.stribeck_velocity = CRANE_R(0.005), \
     .slew_drive.friction.factor = CRANE_R(2.0), \
-    .slew_drive.hydraulics = {.valve = CRANE_VALVE_NONE}, \
+    .slew_drive.hydraulics.valve = CRANE_VALVE_ORIFICE, \
+    .slew_drive.hydraulics.supply_pressure = CRANE_R(8000000.0), \
+    .slew_drive.hydraulics.tank_pressure = CRANE_R(100000.0), \
+    .slew_drive.hydraulics.relief_pressure = CRANE_R(15000000.0), \
+    .slew_drive.hydraulics.nominal_flow = CRANE_R(0.0002), \
+    .slew_drive.hydraulics.nominal_pressure_drop = CRANE_R(3500000.0), \
+    .slew_drive.hydraulics.dead_band = CRANE_R(0.0), \
+    .slew_drive.hydraulics.meter_out_flow = CRANE_R(0.0), \
+    .slew_drive.hydraulics.meter_out_pressure_drop = CRANE_R(0.0), \
+    .slew_drive.hydraulics.spool_time_constant = CRANE_R(0.03), \
+    .slew_drive.hydraulics.laminar_pressure_drop = CRANE_R(200000.0), \
+    .slew_drive.hydraulics.cavitation_pressure = CRANE_R(-90000.0), \
+    .slew_drive.hydraulics.hose_volume_a = CRANE_R(0.00019002), \
+    .slew_drive.hydraulics.hose_volume_b = CRANE_R(0.00019002), \
+    .slew_drive.hydraulics.oil_bulk_modulus = CRANE_R(1650000000.0), \
+    .slew_drive.hydraulics.hose_bulk_modulus = CRANE_R(700000000.0), \
+    .slew_drive.hydraulics.cylinder_bulk_modulus = CRANE_R(210000000000.0), \
+    .slew_drive.hydraulics.leakage = CRANE_R(0.0), \
     .extension_cylinder.present = 1, \
     .extension_cylinder.bore = CRANE_R(0.07), \
     .extension_cylinder.rod = CRANE_R(0.04), \
@@ -146,7 +163,24 @@
     .extension_cylinder.friction.viscous = CRANE_R(330.0), \
     .extension_cylinder.friction.stribeck_velocity = CRANE_R(0.005), \
     .extension_cylinder.friction.factor = CRANE_R(1.0), \
-    .extension_cylinder.hydraulics = {.valve = CRANE_VALVE_NONE}, \
+    .extension_cylinder.hydraulics.valve = CRANE_VALVE_ORIFICE, \
+    .extension_cylinder.hydraulics.supply_pressure = CRANE_R(8000000.0), \
+    .extension_cylinder.hydraulics.tank_pressure = CRANE_R(100000.0), \
+    .extension_cylinder.hydraulics.relief_pressure = CRANE_R(15000000.0), \
+    .extension_cylinder.hydraulics.nominal_flow = CRANE_R(0.0006), \
+    .extension_cylinder.hydraulics.nominal_pressure_drop = CRANE_R(3500000.0), \
+    .extension_cylinder.hydraulics.dead_band = CRANE_R(0.0), \
+    .extension_cylinder.hydraulics.meter_out_flow = CRANE_R(0.0), \
+    .extension_cylinder.hydraulics.meter_out_pressure_drop = CRANE_R(0.0), \
+    .extension_cylinder.hydraulics.spool_time_constant = CRANE_R(0.03), \
+    .extension_cylinder.hydraulics.laminar_pressure_drop = CRANE_R(200000.0), \
+    .extension_cylinder.hydraulics.cavitation_pressure = CRANE_R(-90000.0), \
+    .extension_cylinder.hydraulics.hose_volume_a = CRANE_R(0.00038004), \
+    .extension_cylinder.hydraulics.hose_volume_b = CRANE_R(0.00038004), \
+    .extension_cylinder.hydraulics.oil_bulk_modulus = CRANE_R(1650000000.0), \
+    .extension_cylinder.hydraulics.hose_bulk_modulus = CRANE_R(700000000.0), \
+    .extension_cylinder.hydraulics.cylinder_bulk_modulus = CRANE_R(210000000000.0), \
+    .extension_cylinder.hydraulics.leakage = CRANE_R(0.0), \
 }
 
 #endif

@@ -23,6 +23,10 @@ if TYPE_CHECKING:  # pragma: no cover
 PRESSURE_MAX = float(lib.CRANE_PRESSURE_MAX)
 N_POINTS = int(lib.CRANE_N_POINTS)
 
+#: Whether the core moves the slew and the extension (issue 11's four-joint dynamics); until it
+#: does, api.py refuses a slew or extension drive other than Hold on backend "c".
+MOVES_SLEW_AND_EXTENSION = False
+
 # What each status means in terms of the crane file / the call's arguments.
 _CONTEXT = {
     lib.CRANE_E_GEOMETRY: "the lift triangle must keep the rod eye counterclockwise of the cylinder "

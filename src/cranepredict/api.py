@@ -12,8 +12,8 @@ from ._checks import MAX_SAMPLES, MAX_STEPS, kept_samples, step_count
 from ._checks import number as _number
 from .crane import Crane
 from .statics import holding_forces
-from .types import (ARRAYS, Hold, Inputs, PressureSeries, State, Trajectory, TrajectoryBatch,
-                    Valve, ValveSeries)
+from .types import (ARRAYS, POINT_NAMES, Hold, Inputs, PressureSeries, State, Trajectory,
+                    TrajectoryBatch, Valve, ValveSeries)
 
 __all__ = ["predict", "predict_many", "state_at_rest", "DEFAULT_DT", "BACKENDS", "MAX_STEPS",
            "MAX_SAMPLES"]
@@ -46,11 +46,8 @@ MIN_FUTURES_PER_THREAD = 8
 
 
 def _sample_arrays(samples: np.ndarray) -> dict:
-    """The Trajectory arrays as field views of the core's samples (no copy)."""
-    arrays = {k: samples[_SAMPLE_FIELD.get(k, k)] for k in ARRAYS}
-    # the core's per-joint fields have four columns [lift, tilt, slew, extension]; the
-    # Trajectory keeps [lift, tilt] until it carries the slew and the extension (issue 11)
-    return {k: a[..., :2] if a.shape[-1:] == (4,) else a for k, a in arrays.items()}
+    """The Trajectory arrays as field views of the core's samples (shape (N,) or (F, N); no copy)."""
+    return {k: samples[_SAMPLE_FIELD.get(k, k)] for k in ARRAYS}
 
 
 def _check(crane: Crane, initial: State, inputs: Inputs, horizon: float, dt: float,
@@ -93,25 +90,58 @@ def _check_future(crane: Crane, initial: State, inputs: Inputs, horizon: float) 
                              f"({joint}_cylinder.stroke_min/max), got {stroke}")
         if isinstance(drive, Hold) and rate != 0.0:
             raise ValueError(f"State.{joint}_stroke_rate must be 0 for a held {joint} cylinder, got {rate}")
-        if isinstance(drive, PressureSeries) and not drive.covers(horizon):
-            raise ValueError(f"Inputs.{joint}: PressureSeries.t must cover [0, horizon] = [0, {horizon}] s, "
-                             f"got [{drive.t[0]}, {drive.t[-1]}]")
-        if isinstance(drive, (Valve, ValveSeries)):
-            if cyl.hydraulics is None:
-                raise ValueError(f"Inputs.{joint}: a valve drive needs {joint}_cylinder.hydraulics "
-                                 "in the crane file")
-            if isinstance(drive, ValveSeries) and not drive.covers(horizon):
-                raise ValueError(f"Inputs.{joint}: ValveSeries.t must cover [0, horizon] = "
-                                 f"[0, {horizon}] s, got [{drive.t[0]}, {drive.t[-1]}]")
-            for side in ("p_a", "p_b"):
-                if getattr(initial, f"{joint}_{side}") is None:
-                    raise ValueError(f"State.{joint}_{side} is required for a valve-driven {joint} "
-                                     "cylinder: pass the measured chamber pressures or start from "
-                                     "cranepredict.state_at_rest(...)")
+        _check_drive(joint, cyl.hydraulics, f"{joint}_cylinder", drive, initial, horizon)
     g = crane.geometry
     if not g.extension_min <= initial.extension <= g.extension_max:
         raise ValueError(f"State.extension must be in [{g.extension_min}, {g.extension_max}] m "
                          f"(geometry.extension_min/max), got {initial.extension}")
+    sd = crane.slew_drive
+    if sd is not None and not sd.slew_min <= initial.slew <= sd.slew_max:
+        raise ValueError(f"State.slew must be in [{sd.slew_min}, {sd.slew_max}] rad "
+                         f"(slew_drive.slew_min/max), got {initial.slew}")
+    for joint, actuator, rate, unit in (("slew", "slew_drive", "slew_rate", "rad/s"),
+                                        ("extension", "extension_cylinder", "extension_rate", "m/s")):
+        drive = getattr(inputs, joint)
+        if isinstance(drive, Hold):
+            if getattr(initial, rate) != 0.0:
+                raise ValueError(f"State.{rate} must be 0 for a held {joint}, got "
+                                 f"{getattr(initial, rate)} {unit}")
+            continue
+        act = getattr(crane, actuator)
+        if act is None:
+            raise ValueError(f"Inputs.{joint}: the crane has no {actuator} (crane file), so its "
+                             f"{joint} can only be held (Hold())")
+        _check_drive(joint, act.hydraulics, actuator, drive, initial, horizon)
+
+
+def _check_drive(joint: str, hydraulics: Any, actuator: str, drive: Any, initial: State,
+                 horizon: float) -> None:
+    """A joint's drive against the horizon, its actuator's circuit and the initial chambers."""
+    if isinstance(drive, PressureSeries) and not drive.covers(horizon):
+        raise ValueError(f"Inputs.{joint}: PressureSeries.t must cover [0, horizon] = [0, {horizon}] s, "
+                         f"got [{drive.t[0]}, {drive.t[-1]}]")
+    if isinstance(drive, (Valve, ValveSeries)):
+        if hydraulics is None:
+            raise ValueError(f"Inputs.{joint}: a valve drive needs {actuator}.hydraulics "
+                             "in the crane file")
+        if isinstance(drive, ValveSeries) and not drive.covers(horizon):
+            raise ValueError(f"Inputs.{joint}: ValveSeries.t must cover [0, horizon] = "
+                             f"[0, {horizon}] s, got [{drive.t[0]}, {drive.t[-1]}]")
+        for side in ("p_a", "p_b"):
+            if getattr(initial, f"{joint}_{side}") is None:
+                raise ValueError(f"State.{joint}_{side} is required for a valve-driven {joint} "
+                                 f"({actuator}): pass the measured chamber pressures or start from "
+                                 "cranepredict.state_at_rest(...)")
+
+
+def _check_core_can(inputs: Inputs, where: str = "") -> None:
+    """backend "c": refuse a moving slew or extension while the C core cannot move them."""
+    if _core_module().MOVES_SLEW_AND_EXTENSION:
+        return
+    for joint in ("slew", "extension"):
+        if not isinstance(getattr(inputs, joint), Hold):
+            raise ValueError(f"{where}Inputs.{joint}: the C core does not move the {joint} yet "
+                             "(issue 11): hold it (Hold()) or run the twin, backend=\"python\"")
 
 
 def predict(crane: Crane, initial: State, inputs: Inputs, horizon: float, *,
@@ -119,8 +149,9 @@ def predict(crane: Crane, initial: State, inputs: Inputs, horizon: float, *,
     """Predicts the crane's motion over ``horizon`` seconds from rest (or the given stroke rates).
 
     ``backend="c"`` runs the C core (the product); ``backend="python"`` runs the pure-Python twin,
-    an independent implementation of the same model used to validate the core. Slew angle and
-    extension stay as given in ``initial`` during the prediction. A call takes at most MAX_STEPS
+    an independent implementation of the same model used to validate the core. All four joints
+    move (lift, tilt, slew, extension; docs/model.md "Four joints"); a slew or extension drive left
+    out of ``inputs`` is held at the value in ``initial``. A call takes at most MAX_STEPS
     steps and returns at most MAX_SAMPLES samples (both checked before anything runs). Raises
     ValueError/TypeError naming the field and its allowed range on bad input; the arguments are
     never modified.
@@ -129,35 +160,54 @@ def predict(crane: Crane, initial: State, inputs: Inputs, horizon: float, *,
     _check(crane, initial, inputs, horizon, dt, backend)
     points: Any
     if backend == "c":
+        _check_core_can(inputs)
         _core = _core_module()
         arrays = _sample_arrays(_core.predict(crane, initial, inputs, float(horizon), float(dt)))
 
-        def points(theta: np.ndarray) -> np.ndarray:
-            return _core.points(crane, initial.extension, initial.slew, theta)
+        def points(theta: np.ndarray, slew: np.ndarray, extension: np.ndarray) -> np.ndarray:
+            return _poses(lambda e, s, th: _core.points(crane, e, s, th), theta, slew, extension)
     else:
         from . import twin
 
         arrays = twin.simulate(crane, initial, inputs, float(horizon), float(dt))
 
-        def points(theta: np.ndarray) -> np.ndarray:
-            return twin.points(crane, initial.extension, initial.slew, theta)
+        def points(theta: np.ndarray, slew: np.ndarray, extension: np.ndarray) -> np.ndarray:
+            return twin.points(crane, extension, slew, theta)
     for a in arrays.values():
         a.setflags(write=False)
-    return Trajectory(**arrays, slew=initial.slew, extension=initial.extension, backend=backend,
-                      _points=points)
+    return Trajectory(**arrays, backend=backend, _points=points)
+
+
+def _poses(points: Any, theta: np.ndarray, slew: np.ndarray, extension: np.ndarray) -> np.ndarray:
+    """points(extension, slew, theta rows) over runs of samples with the same slew and extension
+    (one run when both are held)."""
+    theta = np.asarray(theta, dtype=float).reshape(-1, 2)
+    slew = np.broadcast_to(np.asarray(slew, dtype=float), theta.shape[:1])
+    extension = np.broadcast_to(np.asarray(extension, dtype=float), theta.shape[:1])
+    if theta.shape[0] == 0:
+        return np.empty((0, len(POINT_NAMES), 3))
+    change = np.flatnonzero((slew[1:] != slew[:-1]) | (extension[1:] != extension[:-1])) + 1
+    starts = np.concatenate(([0], change))
+    ends = np.concatenate((change, [theta.shape[0]]))
+    return np.concatenate([points(float(extension[a]), float(slew[a]), theta[a:b])
+                           for a, b in zip(starts, ends)])
 
 
 def state_at_rest(crane: Crane, lift_stroke: float, tilt_stroke: float, *, slew: float = 0.0,
                   extension: float = 0.0, lift_rod_pressure: Optional[float] = None,
-                  tilt_rod_pressure: Optional[float] = None) -> State:
-    """The crane at rest at the given strokes, holding itself on closed valves (docs/model.md,
-    "Static state at rest"): each cylinder that has ``hydraulics`` gets the chamber pressures whose
-    force balances gravity (friction taken as 0), the spool closed.
+                  tilt_rod_pressure: Optional[float] = None,
+                  extension_rod_pressure: Optional[float] = None) -> State:
+    """The crane at rest at the given pose, holding itself on closed valves (docs/model.md,
+    "Static state at rest"): each actuator that has ``hydraulics`` gets the chamber pressures whose
+    force balances gravity (friction taken as 0), the spool closed. The boom cylinders carry the
+    booms' gravity torques; the extension cylinder the gravity component along the outer boom of
+    the extension boom and the load; the slew drive no load (the slew axis is vertical: both
+    chambers at the tank pressure).
 
     The chamber that does not carry the load is at the tank pressure (the rod side when the
     cylinder pushes, the bore side when it pulls), unless ``<joint>_rod_pressure`` (Pa) is given:
     then the rod side has that pressure and the bore side balances the load. Raises ValueError
-    naming the field if the strokes are out of range or the balance needs a pressure outside
+    naming the field if the pose is out of range or the balance needs a pressure outside
     [CHAMBER_PRESSURE_MIN, PRESSURE_MAX].
     """
     from .types import CHAMBER_PRESSURE_MIN, PRESSURE_MAX
@@ -168,12 +218,15 @@ def state_at_rest(crane: Crane, lift_stroke: float, tilt_stroke: float, *, slew:
     _check_future(crane, base, Inputs(lift=Hold(), tilt=Hold()), 1.0)
     forces = holding_forces(crane, base.lift_stroke, base.tilt_stroke, base.extension)
     fields = {}
-    for j, (joint, cyl, rod) in enumerate((("lift", crane.lift_cylinder, lift_rod_pressure),
-                                           ("tilt", crane.tilt_cylinder, tilt_rod_pressure))):
+    actuators = [("lift", crane.lift_cylinder, lift_rod_pressure, forces[0]),
+                 ("tilt", crane.tilt_cylinder, tilt_rod_pressure, forces[1])]
+    if crane.slew_drive is not None and crane.slew_drive.hydraulics is not None:
+        actuators.append(("slew", crane.slew_drive, None, 0.0))
+    ec = crane.extension_cylinder
+    if ec is not None and ec.hydraulics is not None:
+        actuators.append(("extension", ec, extension_rod_pressure, _extension_holding_force(crane, base)))
+    for joint, cyl, rod, force in actuators:
         hyd = cyl.hydraulics
-        if hyd is None:
-            continue
-        force = forces[j]
         if rod is not None:
             p_b = _number(rod, f"{joint}_rod_pressure")
             p_a = (force + p_b * cyl.area_b) / cyl.area_a
@@ -192,6 +245,18 @@ def state_at_rest(crane: Crane, lift_stroke: float, tilt_stroke: float, *, slew:
         fields[f"{joint}_p_b"] = p_b
     return State(lift_stroke=base.lift_stroke, tilt_stroke=base.tilt_stroke, slew=base.slew,
                  extension=base.extension, **fields)
+
+
+def _extension_holding_force(crane: Crane, state: State) -> float:
+    """The extension cylinder's force (N, positive extends) that holds the telescope still: the
+    extension's generalized gravity force at rest (ds/de = 1), from the four-joint inverse dynamics
+    of the twin until the C core has it (docs/model.md, "Four joints")."""
+    from . import twin
+
+    model = twin.TwinModel(crane, state.extension)
+    q = (model.joint_angle(twin.LIFT, state.lift_stroke)[0],
+         model.joint_angle(twin.TILT, state.tilt_stroke)[0], state.slew, state.extension)
+    return model.inverse_dynamics4(q, (0.0,) * 4, (0.0,) * 4)[twin.EXTENSION]
 
 
 def _sequence(value: Any, name: str, kind: type) -> list:
@@ -240,6 +305,7 @@ def predict_many(crane: Crane, initials: Sequence[State], inputs_list: Sequence[
     for k, (initial, inputs) in enumerate(zip(initials, inputs_list)):
         try:
             _check_future(crane, initial, inputs, horizon)
+            _check_core_can(inputs)
         except (TypeError, ValueError) as e:
             raise type(e)(f"future {k} (initials[{k}], inputs_list[{k}]): {e}") from None
     if threads is None:
@@ -250,13 +316,10 @@ def predict_many(crane: Crane, initials: Sequence[State], inputs_list: Sequence[
     arrays = _sample_arrays(_core.predict_many(crane, initials, inputs_list, float(horizon),
                                                float(dt), int(sample_every), min(int(threads), max(f, 1))))
     arrays["t"] = arrays["t"][0] if f else np.zeros(0)
-    slew = np.array([x.slew for x in initials], dtype=float)
-    extension = np.array([x.extension for x in initials], dtype=float)
-    for a in (*arrays.values(), slew, extension):
+    for a in arrays.values():
         a.setflags(write=False)
 
-    def points(k: int, theta: np.ndarray) -> np.ndarray:
-        return _core.points(crane, float(extension[k]), float(slew[k]), theta)
+    def points(theta: np.ndarray, slew: np.ndarray, extension: np.ndarray) -> np.ndarray:
+        return _poses(lambda e, s, th: _core.points(crane, e, s, th), theta, slew, extension)
 
-    return TrajectoryBatch(**arrays, slew=slew, extension=extension, backend="c",
-                           sample_every=int(sample_every), _points=points)
+    return TrajectoryBatch(**arrays, backend="c", sample_every=int(sample_every), _points=points)

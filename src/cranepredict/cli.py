@@ -68,7 +68,14 @@ def _validate(args: argparse.Namespace) -> int:
     # Everything that can fail fast is checked before the slow validation starts.
     if not reference.available():
         raise ValueError("validate needs Exudyn: pip install 'cranepredict[reference]'")
+    # the planar reference: the spatial scenarios (moving slew or extension) are not its
     chosen = [scenarios.get(n) for n in (args.scenario or scenarios.names())]
+    spatial = [sc.name for sc in chosen if sc.spatial]
+    if args.scenario and spatial:
+        raise ValueError(f"validate compares with the planar reference; {', '.join(spatial)} "
+                         "moves the slew or the extension (the spatial reference: "
+                         "cranepredict.reference_spatial)")
+    chosen = [sc for sc in chosen if not sc.spatial]
     if args.plot:
         _check_plot_dir(args.plot)
     dt_ref = reference.DEFAULT_REFERENCE_DT if args.dt_ref is None else args.dt_ref

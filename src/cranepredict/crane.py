@@ -146,6 +146,16 @@ class SlewDrive:
         return _disc_area(self.bore)
 
     @property
+    def area_a(self) -> float:
+        """Chamber a's area of the equivalent cylinder, m^2 (turns towards +slew): one bore."""
+        return self.area
+
+    @property
+    def area_b(self) -> float:
+        """Chamber b's area, m^2: the other cylinder's bore, the same."""
+        return self.area
+
+    @property
     def displacement(self) -> float:
         """Oil volume per radian of slew, m^3/rad (area times pinion radius)."""
         return self.area * self.pinion_radius

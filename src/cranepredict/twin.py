@@ -34,11 +34,11 @@ EVENT_BISECTIONS = 60
 RELEASE_BISECTIONS = 40
 #: Most pieces (impacts and releases) one step is cut into; the last takes the rest (spec: 8).
 MAX_PIECES = 8
-#: The four-joint histories of _run that the API does not carry yet (issue 11).
-FOUR_JOINT_ARRAYS = ("slew", "extension", "slew_rate", "extension_rate", "slew_stop", "extension_stop")
-#: Where a valve-driven state's hydraulic entries start: (p_a0, p_b0, p_a1, p_b1, y0, y1) follow
-#: (theta0, theta1, psi, e) and their rates.
+#: Where a valve-driven state's hydraulic entries start: the chamber pressures (p_a, p_b) of the
+#: four joints [lift, tilt, slew, extension] follow (theta0, theta1, psi, e) and their rates, then
+#: the four spools (SPOOL + j).
 HYD = 8
+SPOOL = HYD + 8
 
 Vec = Tuple[float, float]
 Pair = Tuple[float, float]
@@ -1200,6 +1200,8 @@ def _drive(drive: Any, cylinder: Any = None) -> Any:
 State8 = Tuple[float, ...]   # (theta0, theta1, psi, e, omega0, omega1, omega_s, v_e)
 
 JOINTS = (LIFT, TILT, SLEW, EXTENSION)
+#: The joints' names in State's fields (lift_p_a, slew_p_a, ...).
+JOINT_NAMES = ("lift", "tilt", "slew", "extension")
 
 
 class _Prediction:
@@ -1265,7 +1267,12 @@ class _Prediction:
         return tau[0], tau[1], tau[2], tau[3]
 
     def stroke(self, j: int, theta: float, conf: Optional[_Configuration] = None) -> float:
-        """Joint j's stroke (lift or tilt): its limit on a stop, else from the angle."""
+        """Joint j's stroke: its limit on a stop, else from the angle (the slew: the rack's
+        travel r_p (psi - slew_min); the extension: e - extension_min)."""
+        if j in (SLEW, EXTENSION):
+            lower, upper = self.model.angle_limits[j]
+            q = theta if self.stop[j] == 0 else (lower if self.stop[j] < 0 else upper)
+            return self.ratio(None, j) * (q - lower)  # type: ignore[arg-type]
         if self.stop[j] != 0:
             return self.model.stroke_at_stop[j][self.stop[j]]
         if j == LIFT:
@@ -1276,13 +1283,13 @@ class _Prediction:
         """d/dt of the hydraulic state: qd, qdd, the chamber pressures, the spools."""
         conf = self._conf(x)
         qdd = self.acceleration(t, x, locked)
-        d = list(x[4:8]) + list(qdd) + [0.0] * 6
-        for j in (LIFT, TILT):
+        d = list(x[4:8]) + list(qdd) + [0.0] * 12
+        for j in JOINTS:
             if not self.valve[j]:
                 continue
-            v = 0.0 if locked[j] else conf.ratio[j] * x[4 + j]
-            d[HYD + 2 * j], d[HYD + 1 + 2 * j], d[HYD + 4 + j] = self.drives[j].rates(  # type: ignore
-                t, self.stroke(j, x[j], conf), v, x[HYD + 2 * j], x[HYD + 1 + 2 * j], x[HYD + 4 + j])
+            v = 0.0 if locked[j] else self.ratio(conf, j) * x[4 + j]
+            d[HYD + 2 * j], d[HYD + 1 + 2 * j], d[SPOOL + j] = self.drives[j].rates(  # type: ignore
+                t, self.stroke(j, x[j], conf), v, x[HYD + 2 * j], x[HYD + 1 + 2 * j], x[SPOOL + j])
         return tuple(d)
 
     def rk4_hydraulic(self, t: float, x: Sequence[float], h: float,
@@ -1304,7 +1311,7 @@ class _Prediction:
         """n = max(1, ceil(h Lambda / 2.5)): Lambda from the chamber volumes at the step's start
         (hydraulics) and the extension's friction (spec "Four joints"), the larger."""
         lam = 0.0
-        for j in (LIFT, TILT):
+        for j in JOINTS:
             if self.valve[j]:
                 lam = max(lam, self.drives[j].stiffness(self.stroke(j, x[j])))  # type: ignore
         if not self.held[EXTENSION]:
@@ -1560,17 +1567,43 @@ class _Prediction:
         return hi, x_hi
 
 
-def _optional_drive(inputs: Any, name: str, has_actuator: bool) -> Optional[_PressureDrive]:
+class _EquivalentCylinder(NamedTuple):
+    """What a valve needs of the slew drive or the extension cylinder (spec "Four joints",
+    "Actuators"): the areas through bore and rod (rod 0: A_b = A_a), the stroke range, the circuit."""
+
+    bore: float
+    rod: float
+    stroke_min: float
+    stroke_max: float
+    hydraulics: Any
+
+
+def equivalent_cylinder(crane: Any, joint: int) -> _EquivalentCylinder:
+    """The slew drive (the rack: A_a = A_b, stroke r_p (psi - slew_min)) or the extension cylinder
+    (stroke e - extension_min) as a cylinder, for its valve."""
+    if joint == SLEW:
+        sd = crane.slew_drive
+        travel = float(sd.pinion_radius) * (float(sd.slew_max) - float(sd.slew_min))
+        return _EquivalentCylinder(float(sd.bore), 0.0, 0.0, travel, sd.hydraulics)
+    ec, g = crane.extension_cylinder, crane.geometry
+    return _EquivalentCylinder(float(ec.bore), float(ec.rod), 0.0,
+                               float(g.extension_max) - float(g.extension_min), ec.hydraulics)
+
+
+def _optional_drive(crane: Any, inputs: Any, joint: int) -> Any:
     """The slew or extension drive: left out (older Inputs) or Hold means held."""
+    name = "slew" if joint == SLEW else "extension"
     drive = getattr(inputs, name, None)
     if drive is None or getattr(drive, "held", False):
         return None
-    if not has_actuator:
-        raise ValueError(f"Inputs.{name}: the crane has no "
-                         f"{'slew_drive' if name == 'slew' else 'extension_cylinder'} to drive")
-    if not hasattr(drive, "p_a"):
-        raise NotImplementedError(f"Inputs.{name}: only pressure drives and holds for the slew and "
-                                  "the extension so far (valves: issue 11, next step)")
+    actuator = "slew_drive" if joint == SLEW else "extension_cylinder"
+    if getattr(crane, actuator, None) is None:
+        raise ValueError(f"Inputs.{name}: the crane has no {actuator} to drive")
+    if hasattr(drive, "u"):
+        cyl = equivalent_cylinder(crane, joint)
+        if cyl.hydraulics is None:
+            raise ValueError(f"Inputs.{name}: a valve drive needs {actuator}.hydraulics in the crane file")
+        return _ValveDrive(drive, cyl)
     return _PressureDrive(drive)
 
 
@@ -1581,8 +1614,7 @@ def _run(crane: Any, state: Any, inputs: Any, horizon: float, dt: float
     dt = float(dt)
     model = TwinModel(crane, state.extension)
     drives = (_drive(inputs.lift, crane.lift_cylinder), _drive(inputs.tilt, crane.tilt_cylinder),
-              _optional_drive(inputs, "slew", model.has_actuator[SLEW]),
-              _optional_drive(inputs, "extension", model.has_actuator[EXTENSION]))
+              _optional_drive(crane, inputs, SLEW), _optional_drive(crane, inputs, EXTENSION))
     pred = _Prediction(model, drives)
 
     slew0 = float(state.slew)
@@ -1600,12 +1632,12 @@ def _run(crane: Any, state: Any, inputs: Any, horizon: float, dt: float
         qd0[j] = 0.0 if pred.held[j] else rates0[j]
     x: State8 = tuple(q0) + tuple(qd0)
     if pred.hydraulic:
-        hyd = [0.0] * 6
-        for j, name in ((LIFT, "lift"), (TILT, "tilt")):
+        hyd = [0.0] * 12
+        for j, name in enumerate(JOINT_NAMES):
             if pred.valve[j]:
                 hyd[2 * j] = float(getattr(state, f"{name}_p_a"))
                 hyd[2 * j + 1] = float(getattr(state, f"{name}_p_b"))
-                hyd[4 + j] = float(getattr(state, f"{name}_spool"))
+                hyd[SPOOL - HYD + j] = float(getattr(state, f"{name}_spool", 0.0))
         x = x + tuple(hyd)
     x = pred.stop_at_start(x, strokes0, rates0)
 
@@ -1627,15 +1659,14 @@ def _run(crane: Any, state: Any, inputs: Any, horizon: float, dt: float
     theta = np.empty((n + 1, 2))
     omega = np.empty((n + 1, 2))
     tip = np.empty((n + 1, 3))
-    stop = np.zeros((n + 1, 2), dtype=np.int64)
+    stop = np.zeros((n + 1, 4), dtype=np.int64)
     coords = np.empty((n + 1, 2))            # (slew, extension)
     rates = np.empty((n + 1, 2))             # (slew rate, extension rate)
-    stop2 = np.zeros((n + 1, 2), dtype=np.int64)
-    p_a = np.zeros((n + 1, 2))
-    p_b = np.zeros((n + 1, 2))
-    flow_a = np.zeros((n + 1, 2))
-    flow_b = np.zeros((n + 1, 2))
-    spool = np.zeros((n + 1, 2))
+    p_a = np.zeros((n + 1, 4))
+    p_b = np.zeros((n + 1, 4))
+    flow_a = np.zeros((n + 1, 4))
+    flow_b = np.zeros((n + 1, 4))
+    spool = np.zeros((n + 1, 4))
 
     def record(i: int, t: float, x: State8) -> None:
         t_out[i] = t
@@ -1658,16 +1689,16 @@ def _run(crane: Any, state: Any, inputs: Any, horizon: float, dt: float
             else:
                 coords[i, k] = x[j]
             rates[i, k] = x[4 + j]
-            stop2[i, k] = model.stop_flag[j][pred.stop[j]] if pred.stop[j] != 0 else 0
+            stop[i, j] = model.stop_flag[j][pred.stop[j]] if pred.stop[j] != 0 else 0
         theta[i] = (x[0], x[1])
         omega[i] = (x[4], x[5])
         tip[i] = model.tip((x[0], x[1]), coords[i, 0], coords[i, 1])
-        for j in (LIFT, TILT):
+        for j in JOINTS:
             drive = pred.drives[j]
             if drive is None:
                 continue
             if pred.valve[j]:
-                y = x[HYD + 4 + j] if drive.tau > 0.0 else drive.lever(t)
+                y = x[SPOOL + j] if drive.tau > 0.0 else drive.lever(t)
                 p_a[i, j], p_b[i, j] = x[HYD + 2 * j], x[HYD + 1 + 2 * j]
                 flow_a[i, j], flow_b[i, j] = drive.flows(y, x[HYD + 2 * j], x[HYD + 1 + 2 * j])
                 spool[i, j] = y
@@ -1698,32 +1729,36 @@ def _run(crane: Any, state: Any, inputs: Any, horizon: float, dt: float
                              "check the crane's parameters for absurd values")
         record(k + 1, horizon if last else (k + 1) * dt, x)
 
-    out = {"t": t_out, "strokes": strokes, "theta": theta, "omega": omega, "tip": tip,
-           "stop": stop, "p_a": p_a, "p_b": p_b, "flow_a": flow_a, "flow_b": flow_b,
-           "spool": spool, "slew": coords[:, 0].copy(), "extension": coords[:, 1].copy(),
-           "slew_rate": rates[:, 0].copy(), "extension_rate": rates[:, 1].copy(),
-           "slew_stop": stop2[:, 0].copy(), "extension_stop": stop2[:, 1].copy()}
+    out = {"t": t_out, "strokes": strokes, "theta": theta, "omega": omega,
+           "slew": coords[:, 0].copy(), "extension": coords[:, 1].copy(),
+           "slew_rate": rates[:, 0].copy(), "extension_rate": rates[:, 1].copy(), "tip": tip,
+           "stop": stop, "p_a": p_a, "p_b": p_b, "flow_a": flow_a, "flow_b": flow_b, "spool": spool}
     return out, pred.events
 
 
 def simulate(crane: Any, state: Any, inputs: Any, horizon: float, dt: float) -> dict:
-    """Predict the crane over [0, horizon] with RK4 steps dt and end stops, per docs/model.md.
+    """Predict the crane's four joints over [0, horizon] with RK4 steps dt and end stops, per
+    docs/model.md ("Four joints"; a left-out slew or extension drive is held).
 
-    Returns numpy arrays: ``t`` (N,), ``strokes`` (N, 2), ``theta`` (N, 2), ``omega`` (N, 2),
-    ``tip`` (N, 3, world), ``stop`` (N, 2; in cylinder terms: -1 stopped at stroke_min, +1 at
-    stroke_max, 0 otherwise; for the tilt, stroke_max is the lower angle limit), with
-    N = n + 1 samples.  Inputs are assumed validated by the API layer.
+    Returns numpy arrays (types.ARRAYS), N = n + 1 samples: ``t`` (N,), ``strokes``, ``theta``,
+    ``omega`` (N, 2) [lift, tilt]; ``slew``, ``extension``, ``slew_rate``, ``extension_rate``
+    (N,); ``tip`` (N, 3, world); ``stop`` (N, 4) [lift, tilt, slew, extension] in actuator terms
+    (-1 stopped at stroke_min / the range's start, +1 at stroke_max / its end, 0 otherwise; for
+    the tilt, stroke_max is the lower angle limit); ``p_a``, ``p_b``, ``flow_a``, ``flow_b``,
+    ``spool`` (N, 4). Inputs are assumed validated by the API layer.
     """
-    arrays = _run(crane, state, inputs, horizon, dt)[0]
-    # the slew's and the extension's histories stay out until the API carries them (issue 11)
-    return {name: a for name, a in arrays.items() if name not in FOUR_JOINT_ARRAYS}
+    return _run(crane, state, inputs, horizon, dt)[0]
 
 
-def points(crane: Any, extension: float, slew: float, theta_array: Any) -> np.ndarray:
-    """World coordinates (N, 11, 3) of the POINT_NAMES points for each row (theta0, theta1)."""
-    model = TwinModel(crane, extension)
+def points(crane: Any, extension: Any, slew: Any, theta_array: Any) -> np.ndarray:
+    """World coordinates (N, 11, 3) of the POINT_NAMES points for each row (theta0, theta1), at
+    the extension (m) and slew (rad) of that row (each a scalar or one value per row)."""
     thetas = np.asarray(theta_array, dtype=float).reshape(-1, 2)
-    out = np.empty((thetas.shape[0], len(POINT_NAMES), 3))
+    n = thetas.shape[0]
+    exts = np.broadcast_to(np.asarray(extension, dtype=float), (n,)).tolist()
+    slews = np.broadcast_to(np.asarray(slew, dtype=float), (n,)).tolist()
+    model = TwinModel(crane, exts[0] if n else 0.0)
+    out = np.empty((n, len(POINT_NAMES), 3))
     for i, (th0, th1) in enumerate(thetas.tolist()):
-        out[i] = model.points((th0, th1), float(slew))
+        out[i] = model.points((th0, th1), slews[i], exts[i])
     return out

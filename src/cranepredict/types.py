@@ -1,7 +1,8 @@
 """What a prediction takes (State, drives, Inputs) and what it gives back (Trajectory).
 
 SI units: strokes in m, stroke rates in m/s, angles in rad, pressures in Pa (gauge), times in s.
-Index 0 of every (N, 2) array is the lift cylinder/joint, index 1 the tilt cylinder/joint.
+Four-column arrays are [lift, tilt, slew, extension] (the joints' order, JOINTS); two-column arrays
+are [lift, tilt].
 """
 
 from __future__ import annotations
@@ -13,7 +14,7 @@ import numpy as np
 
 __all__ = ["State", "Pressure", "PressureSeries", "Hold", "Valve", "ValveSeries", "Drive", "Inputs",
            "Trajectory", "TrajectoryBatch", "POINT_NAMES", "PRESSURE_MAX", "STROKE_RATE_MAX", "ARRAYS",
-           "CHAMBER_PRESSURE_MIN"]
+           "CHAMBER_PRESSURE_MIN", "JOINTS", "SLEW_RATE_MAX"]
 
 from ._checks import PRESSURE_MAX
 from ._checks import number as _number
@@ -27,13 +28,22 @@ POINT_NAMES = ("pillar_base", "lift_pivot", "lift_cylinder_base", "lift_cylinder
                "extension_mount", "tip")
 
 
-#: The arrays of a Trajectory (and a TrajectoryBatch), in their order; the twin returns these keys.
-ARRAYS = ("t", "strokes", "theta", "omega", "tip", "stop", "p_a", "p_b", "flow_a", "flow_b", "spool")
+#: The joints, in the order of every four-column array (C: CRANE_LIFT .. CRANE_EXTENSION).
+JOINTS = ("lift", "tilt", "slew", "extension")
 
-#: m/s: the largest initial stroke rate accepted (either sign). Hydraulic cylinders move below
-#: about 1 m/s; far above this the end-stop events of the C core and the twin stop agreeing (they
-#: differ by metres at 1e10 m/s) and at about 1e100 m/s the state overflows.
+#: The arrays of a Trajectory (and a TrajectoryBatch), in their order; the twin returns these keys.
+ARRAYS = ("t", "strokes", "theta", "omega", "slew", "extension", "slew_rate", "extension_rate",
+          "tip", "stop", "p_a", "p_b", "flow_a", "flow_b", "spool")
+
+#: m/s: the largest initial stroke rate accepted (either sign), of the boom cylinders and the
+#: telescope. Hydraulic cylinders move below about 1 m/s; far above this the end-stop events of the
+#: C core and the twin stop agreeing (they differ by metres at 1e10 m/s) and at about 1e100 m/s
+#: the state overflows.
 STROKE_RATE_MAX = 10.0
+
+#: rad/s: the largest initial slew rate accepted (either sign); a loader crane slews below about
+#: 0.5 rad/s. The same stroke-rate bound at the rack of a 1 m pinion.
+SLEW_RATE_MAX = 10.0
 
 
 def _pressure(value: object, name: str) -> float:
@@ -45,16 +55,16 @@ def _pressure(value: object, name: str) -> float:
 
 @dataclass(frozen=True)
 class State:
-    """The crane at the start of a prediction.
+    """The crane at the start of a prediction: its four joints and their rates.
 
-    Strokes (m) set the boom angles; slew (rad, about the vertical axis) and extension (m) stay as
-    given during the prediction (they are kinematic inputs, not simulated). The crane starts at
-    rest unless stroke rates (m/s) are given.
+    Strokes (m) set the boom angles; slew (rad, about the vertical axis) and extension (m) are the
+    other two joints. The crane starts at rest unless rates are given: stroke rates (m/s), the slew
+    rate (rad/s) and the extension rate (m/s). A held joint (:class:`Hold`) must start at rest.
 
-    A valve-driven cylinder (:class:`Valve`, :class:`ValveSeries`) also needs its chamber
-    pressures (Pa gauge, p_a bore side, p_b rod side; measured, or from
-    :func:`cranepredict.state_at_rest`) and, with a spool lag, its spool position in [-1, 1]
-    (default 0: closed). Other drives ignore them.
+    A valve-driven actuator (:class:`Valve`, :class:`ValveSeries`) also needs its chamber
+    pressures (Pa gauge, p_a bore side, p_b rod side; for the slew drive, chamber a turns towards
+    +slew; measured, or from :func:`cranepredict.state_at_rest`) and, with a spool lag, its spool
+    position in [-1, 1] (default 0: closed). Other drives ignore them.
     """
 
     lift_stroke: float
@@ -69,18 +79,32 @@ class State:
     tilt_p_b: Optional[float] = None
     lift_spool: float = 0.0
     tilt_spool: float = 0.0
+    slew_rate: float = 0.0
+    extension_rate: float = 0.0
+    slew_p_a: Optional[float] = None
+    slew_p_b: Optional[float] = None
+    extension_p_a: Optional[float] = None
+    extension_p_b: Optional[float] = None
+    slew_spool: float = 0.0
+    extension_spool: float = 0.0
 
     def __post_init__(self) -> None:
         for name in ("lift_stroke", "tilt_stroke", "slew", "extension",
-                     "lift_stroke_rate", "tilt_stroke_rate", "lift_spool", "tilt_spool"):
+                     "lift_stroke_rate", "tilt_stroke_rate", "slew_rate", "extension_rate",
+                     "lift_spool", "tilt_spool", "slew_spool", "extension_spool"):
             object.__setattr__(self, name, _number(getattr(self, name), f"State.{name}"))
-        for name in ("lift_stroke_rate", "tilt_stroke_rate"):
+        for name, limit, unit, const in (
+                ("lift_stroke_rate", STROKE_RATE_MAX, "m/s", "STROKE_RATE_MAX"),
+                ("tilt_stroke_rate", STROKE_RATE_MAX, "m/s", "STROKE_RATE_MAX"),
+                ("extension_rate", STROKE_RATE_MAX, "m/s", "STROKE_RATE_MAX"),
+                ("slew_rate", SLEW_RATE_MAX, "rad/s", "SLEW_RATE_MAX")):
             v = getattr(self, name)
-            if not -STROKE_RATE_MAX <= v <= STROKE_RATE_MAX:
-                raise ValueError(f"State.{name} must be in [-{STROKE_RATE_MAX:g}, {STROKE_RATE_MAX:g}] "
-                                 f"m/s (cranepredict.STROKE_RATE_MAX), got {v:g}")
+            if not -limit <= v <= limit:
+                raise ValueError(f"State.{name} must be in [-{limit:g}, {limit:g}] "
+                                 f"{unit} (cranepredict.{const}), got {v:g}")
 
-        for name in ("lift_p_a", "lift_p_b", "tilt_p_a", "tilt_p_b"):
+        for name in ("lift_p_a", "lift_p_b", "tilt_p_a", "tilt_p_b", "slew_p_a", "slew_p_b",
+                     "extension_p_a", "extension_p_b"):
             v = getattr(self, name)
             if v is None:
                 continue
@@ -89,12 +113,14 @@ class State:
                 raise ValueError(f"State.{name} must be in [{CHAMBER_PRESSURE_MIN:g}, "
                                  f"{PRESSURE_MAX:g}] Pa, got {p:g}")
             object.__setattr__(self, name, p)
-        for name in ("lift_spool", "tilt_spool"):
+        for name in ("lift_spool", "tilt_spool", "slew_spool", "extension_spool"):
             if not -1.0 <= getattr(self, name) <= 1.0:
                 raise ValueError(f"State.{name} must be in [-1, 1], got {getattr(self, name)}")
 
     def pressures(self, joint: str) -> Tuple[Optional[float], Optional[float]]:
-        """(p_a, p_b) of the "lift" or "tilt" cylinder (None where not given)."""
+        """(p_a, p_b) of the "lift", "tilt", "slew" or "extension" actuator (None where not given)."""
+        if joint not in JOINTS:
+            raise ValueError(f"joint must be one of {JOINTS}, got {joint!r}")
         return getattr(self, f"{joint}_p_a"), getattr(self, f"{joint}_p_b")
 
 
@@ -242,13 +268,17 @@ Drive = Union[Pressure, PressureSeries, Hold, Valve, ValveSeries]
 
 @dataclass(frozen=True)
 class Inputs:
-    """How each cylinder is driven during the prediction."""
+    """How each joint's actuator is driven during the prediction: the lift and tilt cylinders,
+    the slew drive and the extension cylinder. A slew or extension drive left out is held
+    (:class:`Hold`), so lift-and-tilt inputs keep their meaning."""
 
     lift: Drive
     tilt: Drive
+    slew: Drive = field(default_factory=lambda: Hold())
+    extension: Drive = field(default_factory=lambda: Hold())
 
     def __post_init__(self) -> None:
-        for name in ("lift", "tilt"):
+        for name in JOINTS:
             d = getattr(self, name)
             if not isinstance(d, (Pressure, PressureSeries, Hold, Valve, ValveSeries)):
                 raise TypeError(f"Inputs.{name} must be Pressure, PressureSeries, Hold, Valve or "
@@ -259,13 +289,15 @@ class Inputs:
 class Trajectory:
     """A predicted motion, one row per sample (t = 0 first).
 
-    t (N,) s; strokes (N, 2) m; theta (N, 2) rad (lift angle, tilt angle relative to the lift
-    boom); omega (N, 2) rad/s; tip (N, 3) m in the world frame (X, Y horizontal, Z up);
-    stop (N, 2): -1 at stroke_min (cylinder fully retracted), +1 at stroke_max (fully extended),
-    0 otherwise; p_a, p_b (N, 2) Pa: the chamber pressures of a valve-driven cylinder, the given
-    pressures of a pressure-driven one, 0 for a held one; flow_a, flow_b (N, 2) m^3/s: the valve's
-    flow into the bore side and out of the rod side (0 unless valve-driven); spool (N, 2): the
-    spool position (0 unless valve-driven).
+    t (N,) s; strokes (N, 2) m [lift, tilt]; theta (N, 2) rad (lift angle, tilt angle relative to
+    the lift boom); omega (N, 2) rad/s; slew (N,) rad and slew_rate (N,) rad/s; extension (N,) m
+    and extension_rate (N,) m/s; tip (N, 3) m in the world frame (X, Y horizontal, Z up) at each
+    sample's pose. Four columns [lift, tilt, slew, extension]: stop (N, 4): -1 at the actuator's
+    stroke_min (cylinder fully retracted; slew_min; extension_min), +1 at stroke_max (fully
+    extended; slew_max; extension_max), 0 otherwise; p_a, p_b (N, 4) Pa: the chamber pressures of
+    a valve-driven actuator, the given pressures of a pressure-driven one, 0 for a held one;
+    flow_a, flow_b (N, 4) m^3/s: the valve's flow into chamber a and out of chamber b (0 unless
+    valve-driven); spool (N, 4): the spool position (0 unless valve-driven).
     ``points()`` gives the world positions of every pivot and pin, to draw the crane.
     """
 
@@ -273,12 +305,14 @@ class Trajectory:
     strokes: np.ndarray
     theta: np.ndarray
     omega: np.ndarray
+    slew: np.ndarray
+    extension: np.ndarray
+    slew_rate: np.ndarray
+    extension_rate: np.ndarray
     tip: np.ndarray
     stop: np.ndarray
-    slew: float
-    extension: float
     backend: str
-    _points: Callable[[np.ndarray], np.ndarray] = field(repr=False)
+    _points: Callable[[np.ndarray, np.ndarray, np.ndarray], np.ndarray] = field(repr=False)
     p_a: Optional[np.ndarray] = None
     p_b: Optional[np.ndarray] = None
     flow_a: Optional[np.ndarray] = None
@@ -286,13 +320,14 @@ class Trajectory:
     spool: Optional[np.ndarray] = None
 
     def points(self) -> Dict[str, np.ndarray]:
-        """World positions (N, 3) of each point in POINT_NAMES, computed on demand."""
-        xyz = self._points(self.theta)
+        """World positions (N, 3) of each point in POINT_NAMES at each sample's theta, slew and
+        extension, computed on demand."""
+        xyz = self._points(self.theta, self.slew, self.extension)
         return {name: xyz[:, i, :] for i, name in enumerate(POINT_NAMES)}
 
     def first_stop_time(self, joint: int, side: int = +1) -> Optional[float]:
-        """Time (s) of the first sample with the joint at that stop (+1 stroke_max, -1 stroke_min),
-        or None."""
+        """Time (s) of the first sample with the joint (0 lift, 1 tilt, 2 slew, 3 extension) at
+        that stop (+1 stroke_max, -1 stroke_min), or None."""
         hits = np.flatnonzero(self.stop[:, joint] == side)
         return float(self.t[hits[0]]) if hits.size else None
 
@@ -301,24 +336,27 @@ class Trajectory:
 class TrajectoryBatch:
     """Many predicted futures of one crane (``predict_many``), stacked: future k is row k.
 
-    t (N,) s, shared by all futures; strokes, theta, omega (F, N, 2); tip (F, N, 3); stop
-    (F, N, 2); slew, extension (F,). Units and conventions as in :class:`Trajectory`.
-    ``batch[k]`` is future k as a Trajectory (views, no copy); ``len(batch)`` is F. With
-    ``sample_every = m`` the samples are t = 0, every m-th step and the last step.
+    t (N,) s, shared by all futures; strokes, theta, omega (F, N, 2); slew, extension, slew_rate,
+    extension_rate (F, N); tip (F, N, 3); stop, p_a, p_b, flow_a, flow_b, spool (F, N, 4).
+    Units and conventions as in :class:`Trajectory`. ``batch[k]`` is future k as a Trajectory
+    (views, no copy); ``len(batch)`` is F. With ``sample_every = m`` the samples are t = 0, every
+    m-th step and the last step.
     """
 
     t: np.ndarray
     strokes: np.ndarray
     theta: np.ndarray
     omega: np.ndarray
-    tip: np.ndarray
-    stop: np.ndarray
     slew: np.ndarray
     extension: np.ndarray
+    slew_rate: np.ndarray
+    extension_rate: np.ndarray
+    tip: np.ndarray
+    stop: np.ndarray
     backend: str
     sample_every: int
-    _points: Callable[[int, np.ndarray], np.ndarray] = field(repr=False)
-    p_a: Optional[np.ndarray] = None      #: (F, N, 2) Pa, as Trajectory.p_a
+    _points: Callable[[np.ndarray, np.ndarray, np.ndarray], np.ndarray] = field(repr=False)
+    p_a: Optional[np.ndarray] = None      #: (F, N, 4) Pa, as Trajectory.p_a
     p_b: Optional[np.ndarray] = None
     flow_a: Optional[np.ndarray] = None
     flow_b: Optional[np.ndarray] = None
@@ -336,6 +374,4 @@ class TrajectoryBatch:
         k = int(k) % n
         arrays = {name: getattr(self, name) if name == "t" or getattr(self, name) is None
                   else getattr(self, name)[k] for name in ARRAYS}
-        return Trajectory(**arrays, slew=float(self.slew[k]), extension=float(self.extension[k]),
-                          backend=self.backend,
-                          _points=lambda theta, _k=k: self._points(_k, theta))
+        return Trajectory(**arrays, backend=self.backend, _points=self._points)

@@ -21,7 +21,11 @@ overrides its load, and gives the initial state, the drive of each cylinder and 
 A valve-driven cylinder takes the lever, ``u = 0.5`` or sampled ``t = [...], u = [...]``; its
 chamber pressures go into ``[initial]`` (``lift_p_a = ...``), or ``at_rest = true`` there starts
 from :func:`cranepredict.state_at_rest` at the given strokes (slew, extension and
-``lift_rod_pressure``/``tilt_rod_pressure`` allowed too).
+``lift_rod_pressure``/``tilt_rod_pressure``/``extension_rod_pressure`` allowed too).
+
+``[inputs.slew]`` and ``[inputs.extension]`` drive the slew and the telescope the same ways
+(optional: left out, the joint is held). A scenario that moves either is *spatial*
+(``Scenario.spatial``; tag it "spatial").
 """
 
 from __future__ import annotations
@@ -48,6 +52,11 @@ class Scenario:
     inputs: Inputs
     horizon: float
     tags: Tuple[str, ...] = ()
+
+    @property
+    def spatial(self) -> bool:
+        """Whether the slew or the extension moves (a drive other than Hold on either)."""
+        return not (isinstance(self.inputs.slew, Hold) and isinstance(self.inputs.extension, Hold))
 
 
 def _drive(d: Mapping[str, Any], where: str) -> Drive:
@@ -113,15 +122,16 @@ def from_dict(data: Mapping[str, Any], where: str = "scenario") -> Scenario:
     if "load_mass" in data:
         crane = crane.with_load(data["load_mass"])
     inputs = data.get("inputs", {})
-    if set(inputs) != {"lift", "tilt"}:
-        raise ValueError(f"{where}.inputs must have exactly the tables lift and tilt")
+    if not {"lift", "tilt"} <= set(inputs) <= {"lift", "tilt", "slew", "extension"}:
+        raise ValueError(f"{where}.inputs must have the tables lift and tilt, and optionally slew "
+                         f"and extension; got {sorted(inputs)}")
+    drives = {name: _drive(d, f"{where}.inputs.{name}") for name, d in inputs.items()}
     return Scenario(
         name=data["name"],
         description=data.get("description", ""),
         crane=crane,
         initial=_initial(crane, data["initial"], f"{where}.initial"),
-        inputs=Inputs(lift=_drive(inputs["lift"], f"{where}.inputs.lift"),
-                      tilt=_drive(inputs["tilt"], f"{where}.inputs.tilt")),
+        inputs=Inputs(**drives),
         horizon=number(data["horizon"], f"{where}.horizon"),
         tags=tuple(data.get("tags", ())),
     )
