@@ -1,23 +1,27 @@
-"""The twin's four-joint motion against the spatial Exudyn reference (issue 11's scenarios): 3D rigid
+"""The four-joint fast model against the spatial Exudyn reference (issue 11's scenarios): 3D rigid
 bodies with full tensors, engine joints (slew revolute, prismatic extension, the four-bar closed by
-constraints), force elements for the actuators; generalized-alpha at 0.25 ms. Targets as for the
-planar scenarios: tip max <= 20 mm, RMS <= 10 mm at the twin's default step (2 ms).
+constraints), force elements for the actuators, event-driven end stops on all four, the oil of
+valve-driven actuators; generalized-alpha at 0.25 ms. Targets as for the planar scenarios: tip
+max <= 20 mm, RMS <= 10 mm at the fast model's default step (2 ms).
 
-The reference has no end stops, so the scenarios stay inside every range (the reference raises if
-one is left); the telescope into its end stop is checked by hand in tests/test_four_joints.py.
+And the reference itself: with the slew and the extension held it is the planar reference
+(reference.py: 2D bodies, its own assembly) to 1e-7 m, valves and stops included; without friction
+it conserves energy; halving its step changes the tip by far less than the targets.
 """
 
 from __future__ import annotations
 
+import dataclasses
 import math
 import warnings
+from types import SimpleNamespace as NS
 
 import numpy as np
 import pytest
 
 import cranepredict as cp
 from cranepredict import reference_spatial as rs
-from test_four_joints import _run4
+from test_four_joints import _frictionless4, _run4
 
 pytestmark = pytest.mark.skipif(not rs.available(), reason="the spatial reference needs Exudyn ([reference] extra)")
 
@@ -34,6 +38,7 @@ def _holding_lift(crane, lift, tilt, extension):
 def _scenarios():
     crane = cp.Crane.patu655()
     heavy = crane.with_load(500.0)
+    load200 = crane.with_load(200.0)
     lift_p = _holding_lift(crane, 0.25, 0.4, 0.5) * 1.08
     reverse = cp.PressureSeries(t=[0.0, 0.8, 0.9, 2.0], p_a=[80e5, 80e5, 0.0, 0.0], p_b=[0.0, 0.0, 80e5, 80e5])
     return {
@@ -50,44 +55,161 @@ def _scenarios():
                            {"lift": H, "tilt": H, "extension": H, "slew": cp.Pressure(20e5, 0.0)}),
         "slewing-stretched": (crane, (0.30, 0.05, 0.0, 1.0),
                               {"lift": H, "tilt": H, "extension": H, "slew": cp.Pressure(20e5, 0.0)}),
+        # end stops: the telescope pushed out into extension_max while slewing; the slew driven
+        # into slew_max, the pressure reversed just before it lands (it leaves the stop at once)
+        "telescope-into-end-stop": (load200, (0.30, 0.10, 0.0, 0.6),
+                                    {"lift": H, "tilt": H, "extension": cp.Pressure(20e5, 0.0),
+                                     "slew": cp.Pressure(30e5, 0.0)}),
+        "slew-into-end-stop": (load200, (0.30, 0.10, 3.0, 0.5),
+                               {"lift": H, "tilt": H, "extension": H,
+                                "slew": cp.PressureSeries(t=[0.0, 1.0, 1.1, 2.0], p_a=[60e5, 60e5, 0.0, 0.0],
+                                                          p_b=[0.0, 0.0, 60e5, 60e5])}),
     }
+
+
+def _reference(crane, start, drives, horizon=2.0, **kw):
+    lift, tilt, slew, extension = start
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", DeprecationWarning)
+        return rs.simulate(crane, NS(lift_stroke=lift, tilt_stroke=tilt, slew=slew, extension=extension),
+                           NS(**drives), horizon, **kw)
+
+
+def _tip_error(t, tip, run):
+    ref = np.stack([np.interp(t, run.t, run.tip[:, i]) for i in range(3)], 1)
+    err = np.linalg.norm(ref - tip, axis=1)
+    return float(err.max()), float(np.sqrt(np.mean(err ** 2)))
 
 
 def _compare(crane, start, drives, horizon=2.0, twin_crane=None):
     lift, tilt, slew, extension = start
     arrays, events = _run4(twin_crane or crane, horizon, 2e-3, lift=lift, tilt=tilt, slew=slew,
-                           extension=extension, drives=drives)
-    assert not events, "the spatial reference has no end stops: the scenario must stay inside"
-    with warnings.catch_warnings():
-        warnings.simplefilter("ignore", DeprecationWarning)
-        run = rs.simulate(crane, lift, tilt, slew, extension, drives, horizon)
-    assert run.t.shape == arrays["t"].shape and np.allclose(run.t, arrays["t"], atol=1e-9)
-    err = np.linalg.norm(run.tip - arrays["tip"], axis=1)
-    return arrays, run, float(err.max()), float(np.sqrt(np.mean(err ** 2)))
+                           extension=extension, drives={k: drives.get(k, H) for k in rs.JOINTS})
+    run = _reference(crane, start, drives, horizon)
+    return arrays, events, run, *_tip_error(arrays["t"], arrays["tip"], run)
 
 
 @pytest.mark.parametrize("name", list(_scenarios()))
 def test_twin_agrees_with_the_spatial_reference(name):
     crane, start, drives = _scenarios()[name]
-    arrays, run, tip_max, tip_rms = _compare(crane, start, drives)
+    arrays, events, run, tip_max, tip_rms = _compare(crane, start, drives)
     print(f"{name}: tip max {tip_max * 1e3:.4f} mm, RMS {tip_rms * 1e3:.4f} mm, "
-          f"slew {arrays['slew'][-1]:.4f} rad, reference {run.wall_time:.1f} s")
+          f"slew {arrays['slew'][-1]:.4f} rad, reference {run.wall:.1f} s, events {run.events}")
     assert np.ptp(arrays["slew"]) > 0.1                       # the crane slews
     assert np.max(np.linalg.norm(arrays["tip"] - arrays["tip"][0], axis=1)) > 0.5
     assert tip_max <= TIP_MAX and tip_rms <= TIP_RMS
-    assert np.max(np.abs(run.extension - arrays["extension"])) < 1e-3
+    ext = np.interp(arrays["t"], run.t, run.extension)
+    assert np.max(np.abs(ext - arrays["extension"])) < 1e-3
+    # the same impacts, at the same instants (the twin lists impacts only: time, joint, side)
+    impacts = [(t, rs.JOINTS.index(j), s) for t, kind, j, s in run.events if kind == "impact"]
+    assert [e[1:] for e in impacts] == [tuple(e[1:]) for e in events]
+    assert all(abs(a[0] - b[0]) < 1e-4 for a, b in zip(impacts, events))
+    if "end-stop" in name:
+        assert impacts, "the scenario must reach its end stop"
+
+
+def test_stops_hold_and_release_in_the_reference():
+    """The telescope stays on extension_max once it lands (plastic, no rebound, within 1e-9 m), and
+    so does the slew pushed onto slew_max; the slew driven into slew_max with the pressure already
+    reversed leaves its stop at once."""
+    crane, start, drives = _scenarios()["telescope-into-end-stop"]
+    run = _reference(crane, start, drives)
+    (t_hit, kind, joint, side), = run.events
+    assert (kind, joint, side) == ("impact", "extension", 1)
+    after = run.t >= t_hit
+    assert np.max(np.abs(run.extension[after] - crane.geometry.extension_max)) < 1e-9
+    assert np.all(run.stop[after, rs.EXTENSION] == 1) and np.all(run.stop[~after, rs.EXTENSION] == 0)
+    assert run.extension.max() <= crane.geometry.extension_max + 1e-8
+    crane, start, drives = _scenarios()["slew-into-end-stop"]
+    pushed = dict(drives, slew=cp.Pressure(60e5, 0.0))          # pushed onto its stop: it stays
+    run = _reference(crane, start, pushed)
+    (t_hit, kind, joint, side), = run.events
+    assert (kind, joint, side) == ("impact", "slew", 1)
+    after = run.t >= t_hit
+    assert np.max(np.abs(run.slew[after] - crane.slew_drive.slew_max)) < 1e-9
+    assert np.all(run.slew_rate[after] == 0.0) and np.all(run.stop[after, rs.SLEW] == 1)
+    run = _reference(crane, start, drives)
+    kinds = [(k, j) for _, k, j, _ in run.events]
+    assert kinds == [("impact", "slew"), ("release", "slew")]
+    assert run.events[1][0] - run.events[0][0] < 1e-5
+    assert run.slew.max() <= crane.slew_drive.slew_max + 1e-8
+    assert run.slew[-1] < crane.slew_drive.slew_max - 0.05       # on its way back
 
 
 def test_spatial_reference_tells_a_wrong_slew_inertia():
     """The comparison has teeth: a twin whose pillar weighs 200 kg more (J_z + 200 x^2 with the
     centre moved out to 1 m) misses the folded crane's tip by several times the target."""
-    import dataclasses
-
     crane, start, drives = _scenarios()["slewing-folded"]
     wrong = dataclasses.replace(crane, pillar=dataclasses.replace(crane.pillar, mass=crane.pillar.mass + 200.0,
                                                                   com=(1.0, crane.pillar.com[1])))
-    _, _, tip_max, _ = _compare(crane, start, drives, twin_crane=wrong)
+    *_, tip_max, _ = _compare(crane, start, drives, twin_crane=wrong)
     assert tip_max > 5 * TIP_MAX                             # 187 mm
+
+
+def test_spatial_reference_is_the_planar_one_when_slew_and_extension_are_held():
+    """With the slew and the extension held, the 3D model (six 3D bodies, engine joints about the
+    boom plane's normal, the slew fixed) is the planar reference (four 2D bodies): valve-end-stop
+    (both valves, the lift's oil, its stop and its release) agrees to 1e-7 m and 100 Pa, with the
+    same events at the same instants."""
+    from cranepredict import reference, scenarios
+
+    sc = scenarios.get("valve-end-stop")
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", DeprecationWarning)
+        planar = reference.simulate(sc.crane, sc.initial, sc.inputs, sc.horizon)
+        run = rs.simulate(sc.crane, sc.initial, sc.inputs, sc.horizon)
+    tr = planar.trajectory
+    tip_max, _ = _tip_error(tr.t, tr.tip, run)
+    assert tip_max < 1e-7, tip_max                          # measured 2.7e-8 m
+    for ch in ("p_a", "p_b"):
+        for j in range(2):
+            dp = np.interp(tr.t, run.t, getattr(run, ch)[:, j]) - getattr(tr, ch)[:, j]
+            assert np.max(np.abs(dp)) < 100.0               # measured 8.8 Pa (of up to 151 bar)
+    assert [(k, rs.JOINTS.index(j), s) for _, k, j, s in run.events] == [e[1:] for e in planar.events]
+    assert all(abs(a[0] - b[0]) < 1e-6 for a, b in zip(run.events, planar.events))
+
+
+def _energy(crane, run):
+    """T + V along the reference's run, with T = qd M(q) qd / 2 from the bodies' Jacobians."""
+    masses = rs._masses(crane)
+    q = np.column_stack([run.strokes, run.slew, run.extension])
+    qd = np.column_stack([run.stroke_rates, run.slew_rate, run.extension_rate])
+    out = []
+    for a, b in zip(q[::10], qd[::10]):
+        poses = rs._poses(crane, masses, a)
+        v = crane.gravity * sum(m * poses[k][1][2] for k, (m, _, _) in masses.items())
+        out.append(0.5 * b @ rs._mass_matrix(crane, masses, a) @ b + v)
+    return np.array(out)
+
+
+@pytest.mark.parametrize("gravity, horizon, bound", [(0.0, 1.0, 1e-7), (None, 0.5, 1e-5)])
+def test_spatial_reference_conserves_energy_without_friction(gravity, horizon, bound):
+    """All four joints moving from initial rates, no friction, every drive at 0 Pa: T (+ V) is
+    conserved to the integrator's error (measured 8.5e-9 / 1.2e-6 of T at 0.25 ms, falling 4x
+    per halving of the step)."""
+    c = _frictionless4(cp.Crane.patu655(), gravity=gravity)
+    zero = cp.Pressure(0.0, 0.0)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", DeprecationWarning)
+        run = rs.simulate(c, NS(lift_stroke=0.25, tilt_stroke=0.4, slew=0.0, extension=0.5, lift_stroke_rate=0.05,
+                                tilt_stroke_rate=-0.08, slew_rate=0.4, extension_rate=0.05),
+                          NS(lift=zero, tilt=zero, slew=zero, extension=zero), horizon)
+    assert not run.events
+    assert np.ptp(run.slew) > 0.1 and np.ptp(run.extension) > 0.1
+    e = _energy(c, run)
+    drift = float(np.max(np.abs(e - e[0])) / e[0])
+    assert drift < bound, drift
+
+
+def test_spatial_reference_converges():
+    """Halving the reference's step (0.25 -> 0.125 ms) changes the tip by far less than the fast
+    model's targets, across an end stop (the telescope's)."""
+    crane, start, drives = _scenarios()["telescope-into-end-stop"]
+    a = _reference(crane, start, drives, 1.0)
+    b = _reference(crane, start, drives, 1.0, dt=rs.DEFAULT_SPATIAL_DT / 2)
+    tip_max, _ = _tip_error(a.t, a.tip, b)
+    assert tip_max < 1e-4, tip_max
+    assert abs(a.events[0][0] - b.events[0][0]) < 1e-5
 
 
 def _extension_near_holding(crane, start, k):
@@ -131,7 +253,8 @@ def _random_cases(n, seed):
 def test_twin_agrees_with_the_spatial_reference_in_random_cases():
     worst = (0.0, 0.0)
     for c, start, drives in _random_cases(5, 21):
-        arrays, run, tip_max, tip_rms = _compare(c, start, drives)
+        arrays, events, run, tip_max, tip_rms = _compare(c, start, drives)
+        assert not run.events and not events
         print(f"load {c.load_mass:.0f} kg: tip moves {np.ptp(arrays['tip'], axis=0).max():.2f} m, "
               f"max {tip_max * 1e3:.3f} mm, RMS {tip_rms * 1e3:.3f} mm")
         worst = (max(worst[0], tip_max), max(worst[1], tip_rms))

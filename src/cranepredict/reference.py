@@ -597,42 +597,55 @@ def _add_actuator(mbs, crane: Crane, j: int, drive, oil0, t0: float, oil_nodes: 
 def _watch_events(model: _Model, crane: Crane, s) -> dict:
     """Installs the user functions that end the piece at its first event: a free cylinder reaching
     a stop (located to STOP_TOLERANCE of stroke) or a stopped one whose stop would have to pull
-    (located to RELEASE_TOLERANCE). A step that ends past an event is redone shorter (regula falsi)
-    until it ends within the tolerance; then the post-step function stops the solver. Returns the
-    dict whose "events" lists what ended the piece."""
+    (located to RELEASE_TOLERANCE); see :func:`_watch`."""
     import exudyn as exu
     mbs, watched = model.mbs, model.watched
 
-    def gap(j: int) -> Tuple[float, int]:
-        """(how far the event is past, side): for a free cylinder the penetration of the nearer
-        stop, m; for a stopped one the pull its stop would have to exert, N."""
+    def gap_fn(j: int):
         kind, obj, extra = watched[j]
         if kind == "impact":
-            stroke = float(mbs.GetObjectOutput(obj, exu.OutputVariableType.Distance)) - extra.length_retracted
-            up, lo = stroke - extra.stroke_max, extra.stroke_min - stroke
-            return (up, +1) if up >= lo else (lo, -1)
+            def gap():
+                stroke = float(mbs.GetObjectOutput(obj, exu.OutputVariableType.Distance)) - extra.length_retracted
+                up, lo = stroke - extra.stroke_max, extra.stroke_min - stroke
+                return (up, +1) if up >= lo else (lo, -1)
+            return gap
+
         # the distance constraint's force is its tension: an upper stop (piston on the head) holds
         # the pins together (tension >= 0), a lower stop pushes them apart (tension <= 0)
-        tension = float(mbs.GetObjectOutput(obj, exu.OutputVariableType.Force))
-        return (-tension if extra > 0 else tension), extra
+        def pull():
+            tension = float(mbs.GetObjectOutput(obj, exu.OutputVariableType.Force))
+            return (-tension if extra > 0 else tension), extra
+        return pull
 
-    tol = {"impact": STOP_TOLERANCE, "release": RELEASE_TOLERANCE}
-    gap_last = {}
+    gaps = {}
     for j in watched:
         cyl = _cyl(crane, j)
-        gap_last[j] = max(s[j] - cyl.stroke_max, cyl.stroke_min - s[j]) if watched[j][0] == "impact" else None
-    st = {"t_last": 0.0, "gap_last": gap_last, "events": []}
+        g0 = max(s[j] - cyl.stroke_max, cyl.stroke_min - s[j]) if watched[j][0] == "impact" else None
+        gaps[j] = (watched[j][0], gap_fn(j), g0)
+    return _watch(mbs, gaps)
+
+
+def _watch(mbs, gaps: dict) -> dict:
+    """Ends the piece at its first event. ``gaps``: per watched actuator (kind "impact" or
+    "release", gap(), its value at the piece's start or None), where gap() gives (how far the event
+    is past, side): for a free actuator the penetration of the nearer stop, for a stopped one the
+    pull its stop would have to exert. A step that ends past an event is redone shorter (regula
+    falsi) until it ends within the tolerance (STOP_TOLERANCE, RELEASE_TOLERANCE); then the
+    post-step function stops the solver. Returns the dict whose "events" lists what ended the piece
+    as (kind, actuator, side)."""
+    tol = {"impact": STOP_TOLERANCE, "release": RELEASE_TOLERANCE}
+    st = {"t_last": 0.0, "gap_last": {j: g0 for j, (_, _, g0) in gaps.items()}, "events": []}
 
     def post_newton(mbs_, t):
         h = t - st["t_last"]
         st["events"] = []
         rec = -1.0
-        for j in watched:
-            gj, side = gap(j)
+        for j, (kind, gap, _) in gaps.items():
+            gj, side = gap()
             if gj <= 0:
                 continue
-            if gj <= tol[watched[j][0]] or h <= 2 * EVENT_MIN_STEP:
-                st["events"].append((watched[j][0], j, side))
+            if gj <= tol[kind] or h <= 2 * EVENT_MIN_STEP:
+                st["events"].append((kind, j, side))
                 continue
             g_prev = st["gap_last"][j]
             if g_prev is None or g_prev >= 0:
@@ -648,8 +661,8 @@ def _watch_events(model: _Model, crane: Crane, s) -> dict:
 
     def post_step(mbs_, t):
         st["t_last"] = t
-        for j in watched:
-            st["gap_last"][j] = gap(j)[0]
+        for j, (_, gap, _) in gaps.items():
+            st["gap_last"][j] = gap()[0]
         return not st["events"]
 
     mbs.SetPostNewtonUserFunction(post_newton)
@@ -989,7 +1002,9 @@ def compare(scenario, *, dt_ref: float = DEFAULT_REFERENCE_DT, dt_fast: Optional
     measured at the fast model's samples (the reference tip linearly interpolated onto them).
     "Before/after the stop" splits at the first sample where either model is at an end stop (None:
     no stop). For valve-driven cylinders the chamber pressures are compared the same way:
-    ``pressure_rms_bar`` is the largest RMS over their chambers (None: no valve drive)."""
+    ``pressure_rms_bar`` is the largest RMS over their chambers (None: no valve drive). A scenario
+    that drives the slew or the extension runs on the spatial reference
+    (:mod:`cranepredict.reference_spatial`; its constraint residual is not reported: None)."""
     from . import api
 
     sc = scenario
@@ -1000,8 +1015,17 @@ def compare(scenario, *, dt_ref: float = DEFAULT_REFERENCE_DT, dt_fast: Optional
         api.predict(sc.crane, sc.initial, sc.inputs, sc.horizon, dt=dt_fast, backend=backend)
         walls.append(time.perf_counter() - t0)
     wall_fast = float(np.median(walls))
-    run = simulate(sc.crane, sc.initial, sc.inputs, sc.horizon, dt=dt_ref)
-    ref = run.trajectory
+    joints = ("lift", "tilt", "slew", "extension")
+    drives = [getattr(sc.inputs, n, None) or Hold() for n in joints]
+    if any(not isinstance(d, Hold) for d in drives[2:]):
+        # the slew or the extension moves: the spatial reference (3D bodies, four actuators)
+        from . import reference_spatial
+
+        run = reference_spatial.simulate(sc.crane, sc.initial, sc.inputs, sc.horizon, dt=dt_ref)
+        ref, residual = run, None
+    else:
+        run = simulate(sc.crane, sc.initial, sc.inputs, sc.horizon, dt=dt_ref)
+        ref, residual = run.trajectory, run.residual_max
     tip_ref = np.stack([np.interp(fast.t, ref.t, ref.tip[:, i]) for i in range(3)], 1)
     err = np.linalg.norm(tip_ref - fast.tip, axis=1)
     stops = [x for x in (fast.t[np.flatnonzero(fast.stop.any(1))[:1]].tolist()
@@ -1013,12 +1037,11 @@ def compare(scenario, *, dt_ref: float = DEFAULT_REFERENCE_DT, dt_fast: Optional
     def mx(a):
         return None if a is None or a.size == 0 else float(a.max())
 
-    valves = [j for j, d in enumerate((sc.inputs.lift, sc.inputs.tilt)) if _is_valve(d)]
     p_rms = {}
-    for j in valves:
+    for j in (j for j, d in enumerate(drives) if _is_valve(d)):
         for ch in ("p_a", "p_b"):
             dp = np.interp(fast.t, ref.t, getattr(ref, ch)[:, j]) - getattr(fast, ch)[:, j]
-            p_rms[f"{('lift', 'tilt')[j]}.{ch}"] = float(np.sqrt(np.mean(dp ** 2))) / 1e5
+            p_rms[f"{joints[j]}.{ch}"] = float(np.sqrt(np.mean(dp ** 2))) / 1e5
 
     return {"name": sc.name, "tags": list(sc.tags), "horizon": sc.horizon,
             "max_error_mm": float(err.max()) * 1e3, "rms_error_mm": float(np.sqrt(np.mean(err**2))) * 1e3,
@@ -1028,7 +1051,7 @@ def compare(scenario, *, dt_ref: float = DEFAULT_REFERENCE_DT, dt_fast: Optional
             "stop_time_fast_s": stops[0] if fast.stop.any() else None,
             "wall_fast_s": wall_fast, "wall_reference_s": run.wall,
             "speed_ratio": run.wall / wall_fast,
-            "constraint_residual_m": run.residual_max,
+            "constraint_residual_m": residual,
             "pressure_rms_bar": max(p_rms.values()) if p_rms else None,
             "pressure_rms_by_chamber_bar": p_rms, "backend": backend,
             "_fast": fast, "_ref": ref, "_err": err}

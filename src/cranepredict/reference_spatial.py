@@ -1,8 +1,8 @@
 """Spatial reference model of the four-joint crane (slew, lift, tilt, extension) on the Exudyn
-engine (install extra ``[reference]``); docs/model.md, section "Four joints".
+engine (install extra ``[reference]``); docs/model.md, section "Four joints"; docs/validation.md.
 
 A second, independent formulation of the fast model's four-joint dynamics, for checking the twin
-(and later the C core). What it does differently:
+and the C core. What it does differently:
 
 * every body is a **3D rigid body** with its full inertia tensor (the crane file's ``ixx``,
   ``iyy``, ``ixy``, ``izz``; Euler-parameter nodes, redundant coordinates): the pillar, the lift
@@ -16,11 +16,24 @@ A second, independent formulation of the fast model's four-joint dynamics, for c
   connectors between their pins with the force ``p_a A_a - p_b A_b - F_fric(v)`` along the pin
   line; the slew drive a torsional connector about the slew axis with
   ``r_p (A (p_a - p_b) - F_fric(r_p omega_s))``; a held actuator is a rigid constraint (distance,
-  or a fixed slew joint).
+  or a fixed slew joint);
+* the drives are those of the fast model: pressure (constant or samples), hold, and the **valve
+  with the oil** on any of the four actuators: the chamber pressures (and the spool) are
+  integrated by Exudyn with the mechanics from the chamber equations of docs/model.md
+  "Hydraulics" as :mod:`cranepredict.reference` writes them (its ``_oil_rates``: one formula for
+  both references), fed by the stroke and the stroke rate measured on the actuator's force element
+  (pin distance, or the slew connector's rotation: rack travel ``r_p (psi - slew_min)``);
+* the **end stops** of all four actuators (lift and tilt stroke, the slew range, the extension
+  range) are rigid unilateral contacts with a perfectly plastic impact, event-driven as in
+  :mod:`cranepredict.reference` (its event locator ``_watch`` is shared): the motion is integrated
+  in smooth pieces; a piece ends when an actuator reaches a limit (located to ``STOP_TOLERANCE``)
+  or a stop would have to pull (``RELEASE_TOLERANCE``); the impact's impulse acts along that
+  actuator only (``dv = -v_j M^-1 e_j / (M^-1)_jj`` over the free actuators, M the 4x4 mass
+  matrix in actuator coordinates from the bodies' Jacobians, by differences of the 3D poses), and
+  the next piece holds the actuator on its limit by a rigid constraint while its force element
+  keeps acting. No penalty parameters, no rebound; the pressures carry across every event.
 
-Limits: the crane starts at rest, and **no end stop** is modelled: a run that leaves an actuator's
-range raises ValueError (the five issue-11 scenarios here stay inside them; the telescope into its
-end stop is not covered).
+Coordinates of the state: q = (lift stroke, tilt stroke, slew, extension), m, m, rad, m.
 """
 
 from __future__ import annotations
@@ -28,17 +41,26 @@ from __future__ import annotations
 import math
 import time
 from dataclasses import dataclass
-from typing import Any, Dict, Optional
+from types import SimpleNamespace
+from typing import Any, Dict, List, Optional, Tuple
 
 import numpy as np
 
+from . import reference as _ref
 from .crane import Crane
-from .types import Hold, Pressure, PressureSeries
+from .types import Hold, Pressure, PressureSeries, Valve, ValveSeries
 
-__all__ = ["SpatialRun", "simulate", "DEFAULT_SPATIAL_DT", "available"]
+__all__ = ["SpatialRun", "simulate", "DEFAULT_SPATIAL_DT", "JOINTS", "available"]
 
-#: Default step of the spatial reference integrator, s.
+#: Default step of the spatial reference integrator, s (convergence: docs/validation.md).
 DEFAULT_SPATIAL_DT = 2.5e-4
+#: The four actuators, in the order of every four-column array.
+JOINTS = ("lift", "tilt", "slew", "extension")
+LIFT, TILT, SLEW, EXTENSION = range(4)
+_BODIES = ("pillar", "lift", "outer", "ext", "link1", "link2")
+#: the extension cylinder's force element runs from this far behind the extension boom's origin at
+#: the lower end of its range (the pin line is the boom's axis, so only its rate matters), m
+_EXT_BEHIND = 1.0
 
 # the boom plane (x out, y up, z normal) into the world at slew 0: (x, y, z) -> (x, -z, y)
 _PLANE = np.array([[1.0, 0.0, 0.0], [0.0, 0.0, -1.0], [0.0, 1.0, 0.0]])
@@ -46,11 +68,7 @@ _PLANE = np.array([[1.0, 0.0, 0.0], [0.0, 0.0, -1.0], [0.0, 1.0, 0.0]])
 
 def available() -> bool:
     """True if the Exudyn engine can be imported."""
-    try:
-        import exudyn  # noqa: F401
-    except ImportError:
-        return False
-    return True
+    return _ref.available()
 
 
 def _rz(a: float) -> np.ndarray:
@@ -62,18 +80,6 @@ def _world(psi: float) -> np.ndarray:
     return _rz(psi) @ _PLANE
 
 
-def _circle(c0, r0, c1, r1, sign):
-    d = c1 - c0
-    dist = float(np.hypot(*d))
-    a = (r0 ** 2 - r1 ** 2 + dist ** 2) / (2 * dist)
-    u = d / dist
-    return c0 + a * u + sign * math.sqrt(r0 ** 2 - a ** 2) * np.array([-u[1], u[0]])
-
-
-def _angle(v) -> float:
-    return math.atan2(v[1], v[0])
-
-
 def _tensor(body) -> np.ndarray:
     xx = 0.0 if body.ixx is None else body.ixx
     yy = body.izz if body.iyy is None else body.iyy
@@ -81,122 +87,222 @@ def _tensor(body) -> np.ndarray:
     return np.array([[xx, xy, 0.0], [xy, yy, 0.0], [0.0, 0.0, body.izz]])
 
 
-def _friction(fr, v: float) -> float:
-    """[S1]'s friction law (docs/model.md, "Cylinders"), opposing v."""
-    x = abs(v) / fr.stribeck_velocity
-    q = x * x / 4 + 0.75
-    levels = fr.factor * (fr.coulomb * math.tanh(4 * x) + (fr.static - fr.coulomb) * x / (q * q))
-    return math.copysign(levels, v) + fr.viscous * math.tanh(4) * v
+def _shifted(m: float, d) -> np.ndarray:
+    """Parallel-axis term of a point mass m at d (boom-plane vector) from the centre."""
+    d3 = np.array([d[0], d[1], 0.0])
+    return m * (d3 @ d3 * np.eye(3) - np.outer(d3, d3))
 
 
-def _pressures(drive):
-    if isinstance(drive, Pressure):
-        pa, pb = drive.p_a, drive.p_b
-        return lambda t: (pa, pb)
-    if isinstance(drive, PressureSeries):
-        ts, pas, pbs = (np.asarray(a, dtype=float) for a in (drive.t, drive.p_a, drive.p_b))
-        return lambda t: (float(np.interp(t, ts, pas)), float(np.interp(t, ts, pbs)))
-    raise TypeError(f"not a pressure drive: {drive!r}")
-
+# -- the actuators in common terms ----------------------------------------------------------------
 
 @dataclass(frozen=True)
-class SpatialRun:
-    """The reference's samples: t (N,), tip (N, 3) world, slew (N,), extension (N,); wall
-    time, s."""
+class _Actuator:
+    """One joint's actuator: the range of its coordinate q, and the equivalent cylinder the
+    hydraulics and the force law see (``cyl``: area_a, area_b, stroke_min, stroke_max, friction,
+    hydraulics), whose stroke is ``scale (q - origin)``."""
 
-    t: np.ndarray
-    tip: np.ndarray
-    slew: np.ndarray
-    extension: np.ndarray
-    wall_time: float
+    lo: float
+    hi: float
+    scale: float
+    origin: float
+    cyl: Any
 
 
-def _pose(crane: Crane, lift_stroke: float, tilt_stroke: float) -> Dict[str, Any]:
-    """Boom-plane angles of the lift boom, the outer boom and the side links (from the strokes,
-    closed-form triangle and four-bar) and the pins Q, A in the lift boom frame."""
+def _actuators(crane: Crane) -> List[Optional[_Actuator]]:
     g = crane.geometry
-    o1, b1, e1 = (np.array(v, float) for v in (g.lift_pivot, g.lift_cylinder_base, g.lift_cylinder_rod))
-    db, dr = np.hypot(*(b1 - o1)), np.hypot(*e1)
-    length = crane.lift_cylinder.length_retracted + lift_stroke
-    gamma = math.acos((db * db + dr * dr - length * length) / (2 * db * dr))
-    th0 = gamma - _angle(e1) + _angle(b1 - o1)
-    b2, p1, o2 = (np.array(v, float) for v in (g.tilt_cylinder_base, g.link1_pivot, g.tilt_pivot))
-    pin, end2, attach = (np.array(v, float) for v in (g.link_pin, g.link2_end, g.link2_attach))
-    lt = crane.tilt_cylinder.length_retracted + tilt_stroke
-    q = _circle(p1, np.hypot(*pin), b2, lt, -1.0)
-    a = _circle(o2, np.hypot(*attach), q, np.hypot(*end2), -1.0)
-    th1 = _angle(a - o2) - _angle(attach)
-    phi1 = _angle(q - p1) - _angle(pin)
-    phi2 = _angle(a - q) - _angle(end2)
-    return {"th0": th0, "th1": th1, "phi1": phi1, "phi2": phi2, "q": q, "a": a}
+    lc, tc = crane.lift_cylinder, crane.tilt_cylinder
+    out: List[Optional[_Actuator]] = [_Actuator(lc.stroke_min, lc.stroke_max, 1.0, 0.0, lc),
+                                      _Actuator(tc.stroke_min, tc.stroke_max, 1.0, 0.0, tc)]
+    sd = crane.slew_drive
+    out.append(None if sd is None else _Actuator(
+        sd.slew_min, sd.slew_max, sd.pinion_radius, sd.slew_min,
+        SimpleNamespace(area_a=sd.area, area_b=sd.area, stroke_min=0.0,
+                        stroke_max=sd.pinion_radius * (sd.slew_max - sd.slew_min),
+                        friction=sd.friction, hydraulics=getattr(sd, "hydraulics", None))))
+    ec = crane.extension_cylinder
+    out.append(None if ec is None else _Actuator(
+        g.extension_min, g.extension_max, 1.0, g.extension_min,
+        SimpleNamespace(area_a=ec.area_a, area_b=ec.area_b, stroke_min=0.0,
+                        stroke_max=g.extension_max - g.extension_min,
+                        friction=ec.friction, hydraulics=getattr(ec, "hydraulics", None))))
+    return out
 
 
-def simulate(crane: Crane, lift_stroke: float, tilt_stroke: float, slew: float, extension: float,
-             drives: Dict[str, Any], horizon: float, *, dt: float = DEFAULT_SPATIAL_DT,
-             sample_dt: float = 2e-3, spectral_radius: float = 0.9) -> SpatialRun:
-    """Integrates the crane from rest with the drives {"lift", "tilt", "slew", "extension"}
-    (Pressure, PressureSeries or Hold; left out = Hold) over [0, horizon]."""
-    import exudyn as exu
-    from exudyn.itemInterface import (MarkerBodyPosition, MarkerBodyRigid, ObjectConnectorDistance,
-                                      ObjectConnectorSpringDamper, ObjectConnectorTorsionalSpringDamper,
-                                      ObjectGround, ObjectJointGeneric, ObjectJointPrismaticX,
-                                      ObjectJointRevoluteZ, SensorBody)
-    from exudyn.utilities import RigidBodyInertia
+# -- bodies and their poses as functions of q -------------------------------------------------------
 
-    drives = {k: drives.get(k, Hold()) for k in ("lift", "tilt", "slew", "extension")}
+def _masses(crane: Crane) -> Dict[str, Tuple[float, np.ndarray, np.ndarray]]:
+    """(mass, centre of mass in the body's frame, inertia tensor about it) per body; the extension
+    boom and the load are one rigid union (parallel axes, full tensor)."""
     g = crane.geometry
-    pose = _pose(crane, lift_stroke, tilt_stroke)
-    th0, th1 = pose["th0"], pose["th1"]
-    o1, o2 = np.array(g.lift_pivot, float), np.array(g.tilt_pivot, float)
-    p1 = np.array(g.link1_pivot, float)
-    mount = np.array(g.extension_mount, float)
-    tip_local = np.array([g.tip_distance, 0.0])
-
-    def rot2(a):
-        c, s = math.cos(a), math.sin(a)
-        return np.array([[c, -s], [s, c]])
-
-    # body 3: extension boom + load, a rigid union lumped exactly (parallel axes, full tensor)
     eb = crane.extension_boom
+    tip_local = np.array([g.tip_distance, 0.0])
     m3 = eb.mass + crane.load_mass
     c3 = (eb.mass * np.array(eb.com) + crane.load_mass * tip_local) / m3
+    j3 = _tensor(eb) + _shifted(eb.mass, np.array(eb.com) - c3) + _shifted(crane.load_mass, tip_local - c3)
+    body = {"pillar": crane.pillar, "lift": crane.lift_boom, "outer": crane.outer_boom,
+            "link1": crane.side_link1, "link2": crane.side_link2}
+    out = {k: (b.mass, np.array(b.com, float), _tensor(b)) for k, b in body.items()}
+    out["ext"] = (m3, c3, j3)
+    return out
 
-    def shifted(m, d):
-        d3 = np.array([d[0], d[1], 0.0])
-        return m * (d3 @ d3 * np.eye(3) - np.outer(d3, d3))
 
-    j3 = _tensor(eb) + shifted(eb.mass, np.array(eb.com) - c3) + shifted(crane.load_mass, tip_local - c3)
+def _frames(crane: Crane, q) -> Dict[str, Tuple[float, np.ndarray]]:
+    """(in-plane angle, origin) of every body frame in the boom plane at q (closed-form triangle
+    and four-bar: the initial condition of a piece; the engine then keeps the loops closed)."""
+    g = crane.geometry
+    p = _ref._pose(crane, q[LIFT], q[TILT])
+    o1, o2, p1 = (np.array(v, float) for v in (g.lift_pivot, g.tilt_pivot, g.link1_pivot))
+    outer = o1 + _ref._rot(p.th_lift) @ o2
+    return {"pillar": (0.0, np.zeros(2)),
+            "lift": (p.th_lift, o1),
+            "outer": (p.th_outer, outer),
+            "ext": (p.th_outer, outer + _ref._rot(p.th_outer) @ (np.array(g.extension_mount) + [q[EXTENSION], 0.0])),
+            "link1": (p.ph_link1, o1 + _ref._rot(p.th_lift) @ p1),
+            "link2": (p.ph_link2, p.o_link2)}
 
-    # frames in the boom plane: (angle, origin) of each body frame
-    frames = {
-        "pillar": (0.0, np.zeros(2)),
-        "lift": (th0, o1),
-        "outer": (th0 + th1, o1 + rot2(th0) @ o2),
-        "ext": (th0 + th1, o1 + rot2(th0) @ (o2 + rot2(th1) @ (mount + np.array([extension, 0.0])))),
-        "link1": (th0 + pose["phi1"], o1 + rot2(th0) @ p1),
-        "link2": (th0 + pose["phi2"], o1 + rot2(th0) @ pose["q"]),
-    }
-    masses = {
-        "pillar": (crane.pillar.mass, np.array(crane.pillar.com), _tensor(crane.pillar)),
-        "lift": (crane.lift_boom.mass, np.array(crane.lift_boom.com), _tensor(crane.lift_boom)),
-        "outer": (crane.outer_boom.mass, np.array(crane.outer_boom.com), _tensor(crane.outer_boom)),
-        "ext": (m3, c3, j3),
-        "link1": (crane.side_link1.mass, np.array(crane.side_link1.com), _tensor(crane.side_link1)),
-        "link2": (crane.side_link2.mass, np.array(crane.side_link2.com), _tensor(crane.side_link2)),
-    }
-    w0 = _world(slew)
+
+def _poses(crane: Crane, masses, q) -> Dict[str, Tuple[np.ndarray, np.ndarray]]:
+    """World (rotation matrix, centre of mass) of every body at q."""
+    w = _world(q[SLEW])
+    out = {}
+    for name, (phi, origin) in _frames(crane, q).items():
+        com = origin + _ref._rot(phi) @ masses[name][1]
+        out[name] = (w @ _rz(phi), w @ np.array([com[0], com[1], 0.0]))
+    return out
+
+
+def _jacobians(crane: Crane, masses, q) -> Dict[str, Tuple[np.ndarray, np.ndarray]]:
+    """d(centre velocity)/dqdot and d(angular velocity, world)/dqdot per body, (3, 4) each, by
+    central differences of the poses."""
+    h = 1e-6
+    lin = {k: np.zeros((3, 4)) for k in _BODIES}
+    ang = {k: np.zeros((3, 4)) for k in _BODIES}
+    base = _poses(crane, masses, q)
+    for j in range(4):
+        qp, qm = list(q), list(q)
+        qp[j] += h
+        qm[j] -= h
+        pp, pm = _poses(crane, masses, qp), _poses(crane, masses, qm)
+        for k in _BODIES:
+            lin[k][:, j] = (pp[k][1] - pm[k][1]) / (2 * h)
+            om = (pp[k][0] - pm[k][0]) / (2 * h) @ base[k][0].T     # skew(angular velocity)
+            ang[k][:, j] = [om[2, 1], om[0, 2], om[1, 0]]
+    return {k: (lin[k], ang[k]) for k in _BODIES}
+
+
+def _mass_matrix(crane: Crane, masses, q) -> np.ndarray:
+    """The 4x4 mass matrix in actuator coordinates q (all bodies, full tensors)."""
+    jac = _jacobians(crane, masses, q)
+    rot = _poses(crane, masses, q)
+    m = np.zeros((4, 4))
+    for k in _BODIES:
+        jv, jw = jac[k]
+        r = rot[k][0]
+        m += masses[k][0] * jv.T @ jv + jw.T @ (r @ masses[k][2] @ r.T) @ jw
+    return m
+
+
+def _plastic_impact(crane: Crane, masses, q, qd, j: int, modes) -> List[float]:
+    """Rates after a perfectly plastic impact of actuator j on its stop: the stop's impulse acts
+    along actuator j only and ends its rate; the other free actuators keep the momentum the
+    impulse does not take (M dv = P e_j over the free ones)."""
+    free = [k for k in range(4) if modes[k] == 0 or k == j]
+    out = list(qd)
+    if len(free) > 1:
+        minv = np.linalg.inv(_mass_matrix(crane, masses, q)[np.ix_(free, free)])
+        i = free.index(j)
+        for a, k in enumerate(free):
+            out[k] = qd[k] - qd[j] * minv[a, i] / minv[i, i]
+    out[j] = 0.0
+    return out
+
+
+# -- drives ----------------------------------------------------------------------------------------
+
+def _is_valve(drive) -> bool:
+    return isinstance(drive, (Valve, ValveSeries))
+
+
+def _drives(inputs) -> List[Any]:
+    """[lift, tilt, slew, extension] drives; a drive left out is held."""
+    return [getattr(inputs, name, None) or Hold() for name in JOINTS]
+
+
+def _check(crane: Crane, acts, q, qd, drives, oil, horizon: float, dt: float) -> None:
+    if not (math.isfinite(horizon) and horizon > 0):
+        raise ValueError(f"horizon must be > 0 s, got {horizon!r}")
+    if not (math.isfinite(dt) and 0 < dt <= horizon):
+        raise ValueError(f"dt must be in (0, horizon] s, got {dt!r}")
+    for j, name in enumerate(JOINTS):
+        d = drives[j]
+        if not isinstance(d, (Pressure, PressureSeries, Hold, Valve, ValveSeries)):
+            raise TypeError(f"inputs.{name} must be Pressure, PressureSeries, Hold, Valve or "
+                            f"ValveSeries, got {type(d).__name__}")
+        act = acts[j]
+        if act is None and not isinstance(d, Hold):
+            raise ValueError(f"inputs.{name}: the crane has no {name} actuator; only Hold() is allowed")
+        if act is not None and not act.lo <= q[j] <= act.hi:
+            raise ValueError(f"state: {name} {q[j]!r} outside its range [{act.lo}, {act.hi}]")
+        if isinstance(d, Hold) and qd[j] != 0.0:
+            raise ValueError(f"state: the held {name} must have rate 0, got {qd[j]!r}")
+        if _is_valve(d):
+            if act.cyl.hydraulics is None:
+                raise ValueError(f"inputs.{name}: a valve drive needs the crane file's "
+                                 f"{name} hydraulics table")
+            if oil[j][0] is None or oil[j][1] is None:
+                raise ValueError(f"state: the valve-driven {name} needs {name}_p_a and {name}_p_b")
+
+
+def _drive_pressures(drive, t: np.ndarray) -> np.ndarray:
+    """(N, 2) pressures of a pressure drive at times t, zeros for any other drive."""
+    if not isinstance(drive, (Pressure, PressureSeries)):
+        return np.zeros((t.size, 2))
+    fn = _ref._pressure_fn(drive)
+    return np.array([fn(None, x) for x in t]).reshape(-1, 2)
+
+
+# -- one smooth piece as an Exudyn system ----------------------------------------------------------
+
+@dataclass
+class _Piece:
+    t: np.ndarray
+    q: np.ndarray        #: (N, 4)
+    qd: np.ndarray       #: (N, 4)
+    tip: np.ndarray      #: (N, 3)
+    modes: list
+    oil: Dict[int, np.ndarray]   #: valve-driven actuator -> (N, 3) p_a, p_b (Pa), spool
+
+
+def _piece(crane: Crane, masses, acts, drives, modes, q, qd, held, oil, t0: float, t_end: float,
+           dt: float, spectral_radius: float) -> Tuple[_Piece, list]:
+    """Builds and integrates one smooth piece from (q, qd) at t0 until t_end or its first event.
+    modes per actuator: "held", 0 (free, watched for an impact), -1/+1 (on that stop, watched for
+    a release)."""
+    import exudyn as exu
+    from exudyn.itemInterface import (MarkerBodyPosition, MarkerBodyRigid, NodeGenericData,
+                                      NodeGenericODE2, ObjectConnectorDistance,
+                                      ObjectConnectorSpringDamper, ObjectConnectorTorsionalSpringDamper,
+                                      ObjectGenericODE2, ObjectGround, ObjectJointGeneric,
+                                      ObjectJointPrismaticX, ObjectJointRevoluteZ, SensorBody,
+                                      SensorNode)
+    from exudyn.utilities import RigidBodyInertia
+
+    g = crane.geometry
+    poses = _poses(crane, masses, q)
+    jac = _jacobians(crane, masses, q)
+    qd_arr = np.array(qd, float)
 
     SC = exu.SystemContainer()
     mbs = SC.AddSystem()
     ground = mbs.AddObject(ObjectGround())
     bodies = {}
-    for name, (phi, origin) in frames.items():
-        m, com, tensor = masses[name]
-        rot = w0 @ _rz(phi)
-        pos = w0 @ np.array([*(origin + rot2(phi) @ com), 0.0])
+    for name in _BODIES:
+        m, _, tensor = masses[name]
+        rot, pos = poses[name]
         bodies[name] = mbs.CreateRigidBody(
             inertia=RigidBodyInertia(mass=m, inertiaTensor=tensor),
             referencePosition=list(pos), referenceRotationMatrix=rot,
+            initialVelocity=list(jac[name][0] @ qd_arr), initialAngularVelocity=list(jac[name][1] @ qd_arr),
             gravity=[0.0, 0.0, -crane.gravity])
 
     def local(name, p):
@@ -210,113 +316,319 @@ def simulate(crane: Crane, lift_stroke: float, tilt_stroke: float, slew: float, 
     def point(name, p):
         return mbs.AddMarker(MarkerBodyPosition(bodyNumber=bodies[name], localPosition=local(name, p)))
 
-    # --- joints ------------------------------------------------------------------------------
-    # the slew axis: world Z = the pillar's local y; the joint frame's z put on it
-    to_y = np.array([[1.0, 0.0, 0.0], [0.0, 0.0, 1.0], [0.0, -1.0, 0.0]])
-    slew_g = mbs.AddMarker(MarkerBodyRigid(bodyNumber=ground, localPosition=[0.0, 0.0, 0.0]))
-    slew_p = rigid("pillar", (0.0, 0.0))
-    base_rot = _rz(slew) @ np.eye(3)         # ground joint frame turned with the initial slew
-    if isinstance(drives["slew"], Hold):
-        mbs.AddObject(ObjectJointGeneric(markerNumbers=[slew_g, slew_p], constrainedAxes=[1] * 6,
-                                         rotationMarker0=base_rot, rotationMarker1=to_y))
-    else:
-        mbs.AddObject(ObjectJointRevoluteZ(markerNumbers=[slew_g, slew_p], rotationMarker0=base_rot,
-                                           rotationMarker1=to_y))
-        sd = crane.slew_drive
-        area, r_p = math.pi * sd.bore ** 2 / 4, sd.pinion_radius
-        pfun = _pressures(drives["slew"])
-
-        def slew_law(mbs_, t, item, rotation, angular_velocity, stiffness, damping, offset):
-            pa, pb = pfun(t)
-            torque = r_p * (area * (pa - pb) - _friction(sd.friction, r_p * angular_velocity))
-            return -torque                   # the connector's torque acts against its rotation
-
-        mbs.AddObject(ObjectConnectorTorsionalSpringDamper(
-            markerNumbers=[slew_g, slew_p], rotationMarker0=base_rot, rotationMarker1=to_y,
-            springTorqueUserFunction=slew_law))
-    mbs.AddObject(ObjectJointRevoluteZ(markerNumbers=[rigid("pillar", o1), rigid("lift", (0.0, 0.0))]))
-    mbs.AddObject(ObjectJointRevoluteZ(markerNumbers=[rigid("lift", o2), rigid("outer", (0.0, 0.0))]))
-    mbs.AddObject(ObjectJointRevoluteZ(markerNumbers=[rigid("lift", p1), rigid("link1", (0.0, 0.0))]))
+    # --- joints (the slew's below, with its drive) ------------------------------------------------
+    mbs.AddObject(ObjectJointRevoluteZ(markerNumbers=[rigid("pillar", g.lift_pivot), rigid("lift", (0.0, 0.0))]))
+    mbs.AddObject(ObjectJointRevoluteZ(markerNumbers=[rigid("lift", g.tilt_pivot), rigid("outer", (0.0, 0.0))]))
+    mbs.AddObject(ObjectJointRevoluteZ(markerNumbers=[rigid("lift", g.link1_pivot), rigid("link1", (0.0, 0.0))]))
     mbs.AddObject(ObjectJointRevoluteZ(markerNumbers=[rigid("link1", g.link_pin), rigid("link2", (0.0, 0.0))]))
     # the four-bar's closure: in-plane position only (the loop is planar; [S1] closes it so too)
     mbs.AddObject(ObjectJointGeneric(markerNumbers=[rigid("link2", g.link2_end), rigid("outer", g.link2_attach)],
                                      constrainedAxes=[1, 1, 0, 0, 0, 0]))
-    ext_outer = rigid("outer", mount + np.array([extension, 0.0]))
-    ext_body = rigid("ext", (0.0, 0.0))
-    mbs.AddObject(ObjectJointPrismaticX(markerNumbers=[ext_outer, ext_body]))
+    mount = np.array(g.extension_mount, float)
+    mbs.AddObject(ObjectJointPrismaticX(markerNumbers=[rigid("outer", mount + [q[EXTENSION], 0.0]),
+                                                       rigid("ext", (0.0, 0.0))]))
 
-    # --- actuators -----------------------------------------------------------------------------
-    def spring(markers, cyl_areas, friction, drive, length0, held_length):
-        if isinstance(drive, Hold):
-            mbs.AddObject(ObjectConnectorDistance(markerNumbers=markers, distance=held_length))
-            return None
-        aa, ab = cyl_areas
-        pfun = _pressures(drive)
+    # --- actuators: force elements, stops, holds, oil --------------------------------------------
+    force_el: Dict[int, int] = {}            # actuator -> its force element
+    measure: Dict[int, Any] = {}             # actuator -> mbs -> (q_j, qd_j) from its force element
+    gaps: Dict[int, tuple] = {}              # actuator -> (kind, gap(), gap at start) for _ref._watch
+    oil_nodes: Dict[int, int] = {}
 
-        def law(mbs_, t, item, dlength, rate, stiffness, damping, force):
-            pa, pb = pfun(t)
-            return -(pa * aa - pb * ab - _friction(friction, rate))
-        return mbs.AddObject(ObjectConnectorSpringDamper(markerNumbers=markers, referenceLength=length0,
-                                                         springForceUserFunction=law))
+    def pressures_of(j):
+        """(mbs, t) -> (p_a, p_b) at absolute time t: the oil state or the pressure drive."""
+        if _is_valve(drives[j]):
+            node = oil_nodes[j]
 
-    lc, tc, ec = crane.lift_cylinder, crane.tilt_cylinder, crane.extension_cylinder
-    spring([point("pillar", g.lift_cylinder_base), point("lift", g.lift_cylinder_rod)],
-           (lc.area_a, lc.area_b), lc.friction, drives["lift"], lc.length_retracted,
-           lc.length_retracted + lift_stroke)
-    spring([point("lift", g.tilt_cylinder_base), point("link1", g.link_pin)],
-           (tc.area_a, tc.area_b), tc.friction, drives["tilt"], tc.length_retracted,
-           tc.length_retracted + tilt_stroke)
-    # the extension cylinder along the boom axis: from 1 m behind the extension's origin at the
-    # lower end of its range to the extension boom's origin, length 1 + (e - extension_min)
-    behind = mount + np.array([g.extension_min - 1.0, 0.0])
-    ext_markers = [point("outer", behind), point("ext", (0.0, 0.0))]
-    spring(ext_markers, (ec.area_a, ec.area_b) if ec else (0.0, 0.0), ec.friction if ec else None,
-           drives["extension"], 0.0, 1.0 + extension - g.extension_min)
+            def from_oil(mbs_, t):
+                x = mbs_.GetNodeOutput(node, exu.OutputVariableType.Coordinates_t)
+                return x[0] * _ref._P_UNIT, x[1] * _ref._P_UNIT
+            return from_oil
+        return _ref._pressure_fn(drives[j])
 
-    tip = mbs.AddSensor(SensorBody(bodyNumber=bodies["ext"], localPosition=local("ext", tip_local),
-                                   storeInternal=True, outputVariableType=exu.OutputVariableType.Position))
-    ext_pos = mbs.AddSensor(SensorBody(bodyNumber=bodies["ext"], localPosition=local("ext", (0.0, 0.0)),
-                                       storeInternal=True, outputVariableType=exu.OutputVariableType.Position))
-    # where the extension boom's origin started, on the outer boom
-    ext_start = mbs.AddSensor(SensorBody(bodyNumber=bodies["outer"],
-                                         localPosition=local("outer", mount + np.array([extension, 0.0])),
-                                         storeInternal=True,
-                                         outputVariableType=exu.OutputVariableType.Position))
-    pillar_rot = mbs.AddSensor(SensorBody(bodyNumber=bodies["pillar"], localPosition=[0.0, 0.0, 0.0],
-                                          storeInternal=True,
-                                          outputVariableType=exu.OutputVariableType.RotationMatrix))
-    mbs.Assemble()
+    # the slew: revolute (free) or fixed (held, on a stop) about the world Z axis through the base
+    to_y = np.array([[1.0, 0.0, 0.0], [0.0, 0.0, 1.0], [0.0, -1.0, 0.0]])   # joint z on the pillar's y
+    slew_g = mbs.AddMarker(MarkerBodyRigid(bodyNumber=ground, localPosition=[0.0, 0.0, 0.0]))
+    slew_p = rigid("pillar", (0.0, 0.0))
+    base_rot = _rz(q[SLEW])
+    if modes[SLEW] == 0:
+        mbs.AddObject(ObjectJointRevoluteZ(markerNumbers=[slew_g, slew_p], rotationMarker0=base_rot,
+                                           rotationMarker1=to_y))
+    else:
+        slew_fix = mbs.AddObject(ObjectJointGeneric(markerNumbers=[slew_g, slew_p], constrainedAxes=[1] * 6,
+                                                    rotationMarker0=base_rot, rotationMarker1=to_y))
 
-    ss = exu.SimulationSettings()
-    ss.timeIntegration.endTime = float(horizon)
-    ss.timeIntegration.numberOfSteps = int(round(horizon / dt))
-    ss.timeIntegration.generalizedAlpha.spectralRadius = spectral_radius
-    ss.timeIntegration.verboseMode = 0
-    ss.timeIntegration.newton.relativeTolerance = 1e-10
-    ss.timeIntegration.newton.absoluteTolerance = 1e-8
-    ss.solutionSettings.sensorsWritePeriod = sample_dt
-    ss.solutionSettings.writeSolutionToFile = False
-    ss.displayComputationTime = False
-    ss.displayStatistics = False
-    start = time.perf_counter()
-    mbs.SolveDynamic(ss)
-    wall = time.perf_counter() - start
+    linear = {LIFT: ([point("pillar", g.lift_cylinder_base), point("lift", g.lift_cylinder_rod)],
+                     crane.lift_cylinder.length_retracted),
+              TILT: ([point("lift", g.tilt_cylinder_base), point("link1", g.link_pin)],
+                     crane.tilt_cylinder.length_retracted),
+              EXTENSION: ([point("outer", mount + [g.extension_min - _EXT_BEHIND, 0.0]), point("ext", (0.0, 0.0))],
+                          _EXT_BEHIND - g.extension_min)}
+    # the pin distance of a linear actuator is its coordinate plus this: q_j = distance - length0
 
-    tip_data = mbs.GetSensorStoredData(tip)
-    t = tip_data[:, 0]
-    rot = mbs.GetSensorStoredData(pillar_rot)[:, 1:].reshape(-1, 3, 3)
-    slew_t = np.arctan2(rot[:, 1, 0], rot[:, 0, 0])
-    slew_t = slew + np.unwrap(slew_t - slew_t[0]) + (slew_t[0] - slew)
-    # the extension: the extension boom's origin from the mount, along the outer boom
-    p_e = mbs.GetSensorStoredData(ext_pos)[:, 1:]
-    along = tip_data[:, 1:] - p_e
-    along /= np.linalg.norm(along, axis=1)[:, None]
-    ext_t = extension + np.einsum("ij,ij->i", p_e - mbs.GetSensorStoredData(ext_start)[:, 1:], along)
-    sd = crane.slew_drive
-    tol = 1e-9
-    if ext_t.min() < g.extension_min - tol or ext_t.max() > g.extension_max + tol:
-        raise ValueError(f"the spatial reference has no end stops: the extension left "
-                         f"[{g.extension_min}, {g.extension_max}] m (reached [{ext_t.min():.4f}, {ext_t.max():.4f}])")
-    if sd is not None and (slew_t.min() < sd.slew_min - tol or slew_t.max() > sd.slew_max + tol):
-        raise ValueError("the spatial reference has no end stops: the slew left its range")
-    return SpatialRun(t=t, tip=tip_data[:, 1:], slew=slew_t, extension=ext_t, wall_time=wall)
+    for j in range(4):
+        act = acts[j]
+        if j == SLEW:
+            if modes[j] == "held":
+                continue
+            r_p = act.scale
+            psi0 = q[SLEW]
+            data = mbs.AddNode(NodeGenericData(initialCoordinates=[0.0], numberOfDataCoordinates=1))
+            holder = {}
+
+            def slew_torque(mbs_, t, item, rotation, angular_velocity, stiffness, damping, offset,
+                            r_p=r_p, holder=holder):
+                # the connector's torque acts against its rotation: -(r_p F) = r_p law(...)
+                return r_p * holder["law"](mbs_, t, item, 0.0, r_p * angular_velocity, 0.0, 0.0, 0.0)
+
+            el = mbs.AddObject(ObjectConnectorTorsionalSpringDamper(
+                markerNumbers=[slew_g, slew_p], nodeNumber=data, rotationMarker0=base_rot,
+                rotationMarker1=to_y, springTorqueUserFunction=slew_torque))
+            force_el[j] = el
+
+            def slew_measure(mbs_, el=el, psi0=psi0):
+                # the connector's rotation about its axis, continuous (its data node counts the turns)
+                w = mbs_.GetObjectOutput(el, exu.OutputVariableType.AngularVelocityLocal)
+                return psi0 + float(mbs_.GetObjectOutput(el, exu.OutputVariableType.Rotation)), float(w)
+            measure[j] = slew_measure
+        else:
+            mks, length0 = linear[j]
+            if modes[j] == "held":
+                mbs.AddObject(ObjectConnectorDistance(markerNumbers=mks, distance=length0 + held[j]))
+                continue
+            holder = {}
+
+            def spring_force(mbs_, t, item, dlength, rate, stiffness, damping, force, holder=holder):
+                return holder["law"](mbs_, t, item, dlength, rate, stiffness, damping, force)
+
+            el = mbs.AddObject(ObjectConnectorSpringDamper(markerNumbers=mks, referenceLength=length0,
+                                                           springForceUserFunction=spring_force))
+            force_el[j] = el
+
+            def lin_measure(mbs_, el=el, length0=length0):
+                d = np.asarray(mbs_.GetObjectOutput(el, exu.OutputVariableType.Displacement))
+                v = np.asarray(mbs_.GetObjectOutput(el, exu.OutputVariableType.Velocity))
+                dist = float(np.linalg.norm(d))
+                return dist - length0, float(d @ v) / dist
+            measure[j] = lin_measure
+
+        if _is_valve(drives[j]):
+            c = _ref._circuit(act.cyl)
+            lever = _ref._lever_fn(drives[j])
+            n = 3 if c.tau > 0 else 2
+            x0 = [oil[j][0] / _ref._P_UNIT, oil[j][1] / _ref._P_UNIT] + ([oil[j][2]] if n == 3 else [])
+            node = mbs.AddNode(NodeGenericODE2(referenceCoordinates=[0.0] * n, initialCoordinates=[0.0] * n,
+                                               initialCoordinates_t=x0, numberOfODE2Coordinates=n))
+            oil_nodes[j] = node
+
+            # each first-order oil quantity is the velocity of an ODE2 coordinate, so that
+            # generalized-alpha integrates it at second order (docs/validation.md)
+            def oil_rates(mbs_, t, item, x, x_t, c=c, lever=lever, n=n, j=j, act=act):
+                qj, qdj = measure[j](mbs_)
+                u = lever(t + t0)
+                y = x_t[2] if n == 3 else u
+                dpa, dpb = _ref._oil_rates(c, y, act.scale * (qj - act.origin), act.scale * qdj,
+                                           x_t[0] * _ref._P_UNIT, x_t[1] * _ref._P_UNIT)
+                out = [dpa / _ref._P_UNIT, dpb / _ref._P_UNIT]
+                if n == 3:
+                    out.append((u - y) / c.tau)
+                return np.array(out)
+
+            mbs.AddObject(ObjectGenericODE2(nodeNumbers=[node], massMatrix=np.eye(n), forceUserFunction=oil_rates))
+        holder["law"] = _ref._cylinder_law(act.cyl, pressures_of(j), t0)
+
+        if modes[j] == 0:
+            def impact_gap(j=j, act=act):
+                qj = measure[j](mbs)[0]
+                up, lo = qj - act.hi, act.lo - qj
+                return (up, +1) if up >= lo else (lo, -1)
+            gaps[j] = ("impact", impact_gap, max(q[j] - act.hi, act.lo - q[j]))
+        elif j == SLEW:
+            # the fixed joint's torque on the pillar about Z (its z axis): a stop at slew_max
+            # pushes towards -psi (torque <= 0); it would have to pull when the sign turns
+            def slew_pull(side=modes[j], fix=slew_fix):
+                torque = float(mbs.GetObjectOutput(fix, exu.OutputVariableType.TorqueLocal)[2])
+                return (torque if side > 0 else -torque), side
+            gaps[j] = ("release", slew_pull, None)
+        else:
+            lim = act.hi if modes[j] > 0 else act.lo
+            stop = mbs.AddObject(ObjectConnectorDistance(markerNumbers=mks, distance=length0 + lim))
+
+            # the constraint's force is its tension: an upper stop holds the pins together
+            # (tension >= 0), a lower stop pushes them apart (tension <= 0)
+            def pull(side=modes[j], stop=stop):
+                tension = float(mbs.GetObjectOutput(stop, exu.OutputVariableType.Force))
+                return (-tension if side > 0 else tension), side
+            gaps[j] = ("release", pull, None)
+
+    # --- sensors: the coordinates from the pins, the slew from the pillar, the tip -----------------
+    def body_sensor(name, p, var):
+        return mbs.AddSensor(SensorBody(bodyNumber=bodies[name], localPosition=local(name, p), storeInternal=True,
+                                        writeToFile=False, outputVariableType=var))
+
+    P, V = exu.OutputVariableType.Position, exu.OutputVariableType.Velocity
+    pins = {LIFT: (("pillar", g.lift_cylinder_base), ("lift", g.lift_cylinder_rod)),
+            TILT: (("lift", g.tilt_cylinder_base), ("link1", g.link_pin)),
+            EXTENSION: (("outer", mount + [g.extension_min - _EXT_BEHIND, 0.0]), ("ext", (0.0, 0.0)))}
+    pin_sensors = {j: [(body_sensor(*a, P), body_sensor(*a, V)) for a in ab] for j, ab in pins.items()}
+    rot_sensor = body_sensor("pillar", (0.0, 0.0), exu.OutputVariableType.RotationMatrix)
+    w_sensor = body_sensor("pillar", (0.0, 0.0), exu.OutputVariableType.AngularVelocity)
+    tip_sensor = body_sensor("ext", (g.tip_distance, 0.0), P)
+    oil_sensors = {j: mbs.AddSensor(SensorNode(
+        nodeNumber=node, storeInternal=True, writeToFile=False,
+        outputVariableType=exu.OutputVariableType.Coordinates_t)) for j, node in oil_nodes.items()}
+
+    st = _ref._watch(mbs, gaps)
+    _ref._solve(SimpleNamespace(mbs=mbs), t_end - t0, dt, spectral_radius)
+
+    def data(s):
+        return mbs.GetSensorStoredData(s)
+
+    t = data(tip_sensor)[:, 0] + t0
+    qs = np.empty((t.size, 4))
+    qds = np.empty((t.size, 4))
+    for j, ((pa, va), (pb, vb)) in pin_sensors.items():
+        d = data(pb)[:, 1:] - data(pa)[:, 1:]
+        v = data(vb)[:, 1:] - data(va)[:, 1:]
+        dist = np.linalg.norm(d, axis=1)
+        qs[:, j] = dist - linear[j][1]
+        qds[:, j] = np.einsum("ij,ij->i", d, v) / dist
+    rot = data(rot_sensor)[:, 1:].reshape(-1, 3, 3)
+    ang = np.arctan2(rot[:, 1, 0], rot[:, 0, 0])
+    qs[:, SLEW] = q[SLEW] + np.unwrap(ang - ang[0])
+    qds[:, SLEW] = data(w_sensor)[:, 3]
+    for j in range(4):     # a held or stopped actuator is exactly where its constraint keeps it
+        if modes[j] != 0:
+            qs[:, j] = held[j] if modes[j] == "held" else (acts[j].hi if modes[j] > 0 else acts[j].lo)
+            qds[:, j] = 0.0
+    oil_out = {}
+    for j, s in oil_sensors.items():
+        x = data(s)[:, 1:]
+        o = np.zeros((t.size, 3))
+        o[:, :2] = x[:, :2] * _ref._P_UNIT
+        o[:, 2] = x[:, 2] if x.shape[1] > 2 else [_ref._lever_fn(drives[j])(tt) for tt in t]
+        oil_out[j] = o
+    return _Piece(t=t, q=qs, qd=qds, tip=data(tip_sensor)[:, 1:], modes=list(modes), oil=oil_out), st["events"]
+
+
+# -- the event loop ---------------------------------------------------------------------------------
+
+def _start_on_stops(crane, masses, acts, modes, q, qd, events: list) -> None:
+    """At t = 0 a free actuator on a limit whose rate does not point into its range is on its stop
+    (a plastic impact at t = 0)."""
+    for j in range(4):
+        if modes[j] != 0:
+            continue
+        for side, lim in ((+1, acts[j].hi), (-1, acts[j].lo)):
+            if abs(q[j] - lim) <= _ref.STOP_TOLERANCE and side * qd[j] >= 0:
+                qd[:] = _plastic_impact(crane, masses, q, qd, j, modes)
+                q[j], modes[j] = lim, side
+                events.append((0.0, "impact", JOINTS[j], side))
+                break
+
+
+def _apply_events(crane, masses, acts, evs, t0: float, modes, q, qd, events: list) -> None:
+    for kind, j, side in evs:
+        events.append((t0, kind, JOINTS[j], side))
+        if kind == "impact":
+            q[j] = acts[j].hi if side > 0 else acts[j].lo
+            qd[:] = _plastic_impact(crane, masses, q, qd, j, modes)
+            modes[j] = side
+        else:
+            modes[j] = 0
+    for j in range(4):
+        if modes[j] != 0:
+            qd[j] = 0.0
+
+
+@dataclass(frozen=True)
+class SpatialRun:
+    """The spatial reference's samples (every integrator step, events included): t (N,) s;
+    tip (N, 3) m, world; strokes (N, 2) m and stroke_rates (N, 2) m/s [lift, tilt]; slew (N,) rad,
+    extension (N,) m and their rates; stop (N, 4) [lift, tilt, slew, extension] in actuator terms
+    (-1 at the range's start, +1 at its end, 0 otherwise and when held); p_a, p_b (N, 4) Pa (the
+    oil of a valve-driven actuator, the given pressures of a pressure-driven one, 0 when held),
+    spool (N, 4); events: (t, "impact" | "release", joint name, side) in order; wall: s."""
+
+    t: np.ndarray
+    tip: np.ndarray
+    strokes: np.ndarray
+    stroke_rates: np.ndarray
+    slew: np.ndarray
+    extension: np.ndarray
+    slew_rate: np.ndarray
+    extension_rate: np.ndarray
+    stop: np.ndarray
+    p_a: np.ndarray
+    p_b: np.ndarray
+    spool: np.ndarray
+    events: tuple
+    wall: float
+    dt: float
+
+
+def simulate(crane: Crane, initial, inputs, horizon: float, *, dt: float = DEFAULT_SPATIAL_DT,
+             spectral_radius: float = 0.5) -> SpatialRun:
+    """Integrates the four-joint crane over [0, horizon] from ``initial`` (a State: strokes,
+    slew, extension, their rates ``lift_stroke_rate``, ``tilt_stroke_rate``, ``slew_rate``,
+    ``extension_rate``, and for every valve-driven actuator ``<joint>_p_a``, ``<joint>_p_b``,
+    ``<joint>_spool``) with ``inputs`` (drives ``lift``, ``tilt``, ``slew``, ``extension``;
+    Pressure, PressureSeries, Hold, Valve, ValveSeries; a drive left out is held)."""
+    horizon, dt = float(horizon), float(dt)
+    acts = _actuators(crane)
+    drives = _drives(inputs)
+    q = [float(initial.lift_stroke), float(initial.tilt_stroke), float(initial.slew), float(initial.extension)]
+    qd = [float(getattr(initial, f"{n}_rate", 0.0) if n in ("slew", "extension")
+                else getattr(initial, f"{n}_stroke_rate", 0.0)) for n in JOINTS]
+    oil0 = {j: (getattr(initial, f"{n}_p_a", None), getattr(initial, f"{n}_p_b", None),
+                float(getattr(initial, f"{n}_spool", 0.0)))
+            for j, n in enumerate(JOINTS) if _is_valve(drives[j])}
+    _check(crane, acts, q, qd, drives, oil0, horizon, dt)
+
+    wall0 = time.perf_counter()
+    masses = _masses(crane)
+    held = list(q)
+    modes: list = ["held" if isinstance(d, Hold) else 0 for d in drives]
+    events: list = []
+    _start_on_stops(crane, masses, acts, modes, q, qd, events)
+    oil = dict(oil0)
+    pieces: List[_Piece] = []
+    t0 = 0.0
+    for _ in range(_ref.MAX_PIECES):
+        piece, evs = _piece(crane, masses, acts, drives, modes, q, qd, held, oil, t0, horizon, dt,
+                            spectral_radius)
+        pieces.append(piece)
+        t0 = float(piece.t[-1])
+        if not evs or horizon - t0 <= 1e-12:
+            break
+        oil = {j: tuple(o[-1]) for j, o in piece.oil.items()}
+        q, qd = list(piece.q[-1]), list(piece.qd[-1])
+        _apply_events(crane, masses, acts, evs, t0, modes, q, qd, events)
+    else:
+        raise RuntimeError(f"more than {_ref.MAX_PIECES} end-stop events: the stops chatter")
+    wall = time.perf_counter() - wall0
+
+    # one series: each piece's first sample replaces the previous piece's last (the same instant,
+    # after the event)
+    last = len(pieces) - 1
+
+    def cat(get):
+        return np.concatenate([get(p) if i == last else get(p)[:-1] for i, p in enumerate(pieces)])
+
+    t = cat(lambda p: p.t)
+    keep = np.concatenate([np.diff(t) > 0, [True]])
+    qs, qds, tip = (cat(lambda p, a=a: getattr(p, a))[keep] for a in ("q", "qd", "tip"))
+    stop = cat(lambda p: np.tile([[m if m != "held" else 0 for m in p.modes]], (p.t.size, 1)))[keep]
+    t = t[keep]
+    p_a, p_b, spool = np.zeros((t.size, 4)), np.zeros((t.size, 4)), np.zeros((t.size, 4))
+    for j, d in enumerate(drives):
+        if _is_valve(d):
+            o = cat(lambda p, j=j: p.oil[j])[keep]
+            p_a[:, j], p_b[:, j], spool[:, j] = o[:, 0], o[:, 1], o[:, 2]
+        else:
+            p_a[:, j], p_b[:, j] = _drive_pressures(d, t).T
+    out = dict(t=t, tip=tip, strokes=qs[:, :2], stroke_rates=qds[:, :2], slew=qs[:, SLEW],
+               extension=qs[:, EXTENSION], slew_rate=qds[:, SLEW], extension_rate=qds[:, EXTENSION],
+               stop=stop.astype(np.int32), p_a=p_a, p_b=p_b, spool=spool)
+    for a in out.values():
+        a.setflags(write=False)
+    return SpatialRun(events=tuple(events), wall=wall, dt=dt, **out)
