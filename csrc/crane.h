@@ -612,8 +612,10 @@ typedef struct {
     crane_real on_part[3];       /* the closest points at t, world, m */
     crane_real on_obstacle[3];
     crane_real theta[2];         /* joint angles at t, rad */
-    crane_real gradient[2];      /* d clearance / d theta_j of the pair at t, m/rad */
-    crane_real approach[2];      /* gradient_j * omega_j at t, m/s: < 0 = joint j closes the gap */
+    crane_real slew, extension;  /* at t, rad and m */
+    crane_real gradient[4];      /* d clearance / d q_j of the pair at t, q = [lift angle, tilt
+                                    angle, slew, extension]: m/rad (m/m for the extension) */
+    crane_real approach[4];      /* gradient_j * dq_j/dt at t, m/s: < 0 = joint j closes the gap */
     crane_real stop_latest;      /* latest time to begin stopping, s (t - reaction; < 0: too late) */
     size_t evaluations;          /* pair distances computed */
 } crane_guard_result;
@@ -630,18 +632,24 @@ crane_status crane_solid_distance(const crane_solid *a, const crane_solid *b, cr
 crane_status crane_guard_check(const crane_part *parts, size_t n_parts, const crane_solid *obstacles,
                                size_t n_obstacles, size_t *which, int *field);
 
-/* The parts as world solids at one pose (for drawing and tests): out[n_parts]. */
+/* The parts as world solids at one pose (for drawing and tests): out[n_parts]. The extension
+ * (m, within the crane's range) places the parts in the extension boom frame. */
 crane_status crane_part_solids(const crane_model *model, const crane_part *parts, size_t n_parts,
-                               crane_real slew, const crane_real theta[2], crane_solid *out);
+                               crane_real slew, crane_real extension, const crane_real theta[2],
+                               crane_solid *out);
 
-/* The verdict on a predicted future (samples from crane_predict_model of the same model, at the
- * given slew): per-part minimum clearance over the samples (part_clearance[n_parts]), the first
- * contact, between samples too (docs/guard.md, "Nothing is missed"), the stop analysis for a stop
- * that freezes the crane after config->reaction, and the signal. work is scratch of
- * n_parts * (n_obstacles + 5) reals (CRANE_E_CAPACITY if work_capacity is smaller). Nothing is
- * written on an error. */
+/* Scratch reals per part of crane_guard, beyond one per obstacle. */
+enum { CRANE_GUARD_PART_WORK = 7 };
+
+/* The verdict on a predicted future (samples from crane_predict_model of the same crane: each
+ * sample's joint angles, slew, extension and their rates pose the parts): per-part minimum
+ * clearance over the samples (part_clearance[n_parts]), the first contact, between samples too
+ * (docs/guard.md, "Nothing is missed"), the stop analysis for a stop that freezes the crane after
+ * config->reaction, and the signal. work is scratch of n_parts * (n_obstacles +
+ * CRANE_GUARD_PART_WORK) reals (CRANE_E_CAPACITY if work_capacity is smaller). Nothing is written
+ * on an error. */
 crane_status crane_guard(const crane_model *model, const crane_part *parts, size_t n_parts,
-                         const crane_solid *obstacles, size_t n_obstacles, crane_real slew,
+                         const crane_solid *obstacles, size_t n_obstacles,
                          const crane_sample *samples, size_t n_samples,
                          const crane_guard_config *config, crane_real *part_clearance,
                          crane_real *work, size_t work_capacity, crane_guard_result *result);

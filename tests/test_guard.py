@@ -395,9 +395,7 @@ def test_bad_shapes_and_settings_are_named(crane):
 
 def _c_call(crane, world, work_capacity, solids=None):
     g = G
-    traj = cp.predict(crane, REST, HELD, 0.1)
-    samples = np.zeros(len(traj.t), dtype=cp._core.SAMPLE_DTYPE)
-    samples["t"], samples["theta"], samples["omega"] = traj.t, traj.theta, traj.omega
+    samples = G._samples(cp.predict(crane, REST, HELD, 0.1))
     parts = g._parts(crane, crane.shape)
     solids = g._solids(world) if solids is None else solids
     n_parts = len(crane.shape.parts)
@@ -407,7 +405,7 @@ def _c_call(crane, world, work_capacity, solids=None):
                                            "time_tolerance": 1e-4, "clearance_tolerance": 0.0})
     res = ffi.new("crane_guard_result *")
     res.signal, res.t = 9, 55.0
-    status = lib.crane_guard(cp._core.model(crane, 0.0), parts, n_parts, solids, len(world.obstacles), 0.0,
+    status = lib.crane_guard(cp._core.model(crane, 0.0), parts, n_parts, solids, len(world.obstacles),
                              ffi.cast("crane_sample *", ffi.from_buffer(samples)), len(samples), cfg,
                              ffi.cast("crane_real *", ffi.from_buffer(clearance)),
                              ffi.cast("crane_real *", ffi.from_buffer(work)), work_capacity, res)
@@ -416,7 +414,7 @@ def _c_call(crane, world, work_capacity, solids=None):
 
 def test_c_guard_buffer_too_small_and_bad_obstacle_write_nothing(crane):
     world = cp.worlds.get("cab")
-    need = len(crane.shape.parts) * (len(world.obstacles) + 5)
+    need = len(crane.shape.parts) * (len(world.obstacles) + lib.CRANE_GUARD_PART_WORK)
     status, clearance, res = _c_call(crane, world, need - 1)
     assert status == lib.CRANE_E_CAPACITY
     assert np.all(clearance == 77.0) and res.signal == 9 and res.t == 55.0

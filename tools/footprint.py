@@ -81,8 +81,8 @@ int main(void)
     s += (int)crane_solid_check(&solids[0], &s);
     s += (int)crane_solid_distance(&solids[0], &solids[1], th, buf, buf + 3);
     s += (int)crane_guard_check(parts, 2, solids, 2, &n, &s);
-    s += (int)crane_part_solids(&model, parts, 2, v, th, solids);
-    s += (int)crane_guard(&model, parts, 2, solids, 2, v, out, 4, &config, th, buf, 12, &result);
+    s += (int)crane_part_solids(&model, parts, 2, v, v, th, solids);
+    s += (int)crane_guard(&model, parts, 2, solids, 2, out, 4, &config, th, buf, 12, &result);
     return s + (int)crane_status_message((crane_status)s)[0];
 }
 """

@@ -222,7 +222,7 @@ static void run_guard(const crane_model *model, const crane_sample *samples, siz
         .margin = (crane_real)0.1, .reaction = (crane_real)0.2, .cycle = (crane_real)0.01,
         .time_tolerance = (crane_real)1e-3, .clearance_tolerance = (crane_real)1e-3};
     static crane_solid posed[3];
-    static crane_real clearance[3], work[3 * (2 + 5)];
+    static crane_real clearance[3], work[3 * (2 + CRANE_GUARD_PART_WORK)];
     static crane_guard_result result;
     const crane_real theta[2] = {samples[0].theta[0], samples[0].theta[1]};
     crane_real d = 0, on_a[3], on_b[3];
@@ -234,12 +234,12 @@ static void run_guard(const crane_model *model, const crane_sample *samples, siz
     expect(st, CRANE_OK, "crane_solid_check");
     MEASURED("crane_guard_check", st = crane_guard_check(parts, 3, obstacles, 2, &which, &field));
     expect(st, CRANE_OK, "crane_guard_check");
-    MEASURED("crane_part_solids", st = crane_part_solids(model, parts, 3, 0, theta, posed));
+    MEASURED("crane_part_solids", st = crane_part_solids(model, parts, 3, 0, 0, theta, posed));
     expect(st, CRANE_OK, "crane_part_solids");
     MEASURED("crane_solid_distance",
              st = crane_solid_distance(&obstacles[1], &posed[0], &d, on_a, on_b));
     expect(st, CRANE_OK, "crane_solid_distance");
-    MEASURED("crane_guard", st = crane_guard(model, parts, 3, obstacles, 2, 0, samples, n, &config,
+    MEASURED("crane_guard", st = crane_guard(model, parts, 3, obstacles, 2, samples, n, &config,
                                              clearance, work, sizeof work / sizeof work[0],
                                              &result));
     expect(st, CRANE_OK, "crane_guard");

@@ -7,8 +7,9 @@
  *   - crane_solid_distance returns CRANE_OK exactly when both solids pass crane_solid_check and
  *     they are not two planes, else CRANE_E_SOLID and writes nothing; on CRANE_OK the distance is
  *     finite, >= 0, the same both ways round, and the closest points are finite and that far apart;
- *   - crane_guard on a fixed prediction returns CRANE_OK or a documented error, writes nothing on
- *     an error, and on CRANE_OK gives a signal, clearances >= 0 and a contact inside the horizon.
+ *   - crane_guard on a fixed prediction, slewing from and at rates of the input's (raw: NaN,
+ *     infinities), returns CRANE_OK or a documented error, writes nothing on an error, and on
+ *     CRANE_OK gives a signal, clearances >= 0 and a contact inside the horizon.
  */
 #include <math.h>
 #include <stdint.h>
@@ -125,7 +126,7 @@ static void fuzz_distance(const crane_solid *a, const crane_solid *b)
 }
 
 /* A fixed prediction: the paper's scenario, 0.5 s at 10 ms. */
-static crane_sample samples[51];
+static crane_sample samples[51], slewing[51];
 static crane_model model;
 static size_t n_samples;
 
@@ -153,8 +154,10 @@ static void fuzz_guard(input *in, const crane_solid obstacles[2])
     crane_part parts[2];
     crane_guard_config cfg;
     crane_guard_result res;
-    crane_real clearance[2] = {77, 77}, work[2 * (2 + 5)];
+    crane_real clearance[2] = {77, 77}, work[2 * (2 + CRANE_GUARD_PART_WORK)];
+    crane_real slew0, slew_rate;
     crane_status st;
+    size_t k;
     int i;
 
     predict_once();
@@ -176,8 +179,16 @@ static void fuzz_guard(input *in, const crane_solid obstacles[2])
     cfg.cycle = (crane_real)next_real(in);
     cfg.time_tolerance = (crane_real)fabs(next_real(in));
     cfg.clearance_tolerance = (crane_real)next_real(in);
+    /* the prediction with a slew of the input's: start and rate (raw: NaN, infinities) */
+    slew0 = (crane_real)next_real(in);
+    slew_rate = (crane_real)next_real(in);
+    for (k = 0; k < n_samples; ++k) {
+        slewing[k] = samples[k];
+        slewing[k].slew = slew0 + slew_rate * samples[k].t;
+        slewing[k].slew_rate = slew_rate;
+    }
     memset(&res, 0x5a, sizeof res);
-    st = crane_guard(&model, parts, 2, obstacles, 2, (crane_real)next_real(in), samples, n_samples,
+    st = crane_guard(&model, parts, 2, obstacles, 2, slewing, n_samples,
                      &cfg, clearance, work, sizeof work / sizeof work[0], &res);
     if (st != CRANE_OK) {
         check(st == CRANE_E_PART || st == CRANE_E_SOLID || st == CRANE_E_GUARD ||
@@ -188,7 +199,7 @@ static void fuzz_guard(input *in, const crane_solid obstacles[2])
     check(res.signal == CRANE_GO || res.signal == CRANE_WARN || res.signal == CRANE_STOP);
     check(clearance[0] >= 0 && clearance[1] >= 0);
     if (res.contact) {
-        check(res.t >= samples[0].t && res.t <= samples[n_samples - 1].t);
+        check(res.t >= slewing[0].t && res.t <= slewing[n_samples - 1].t);
         check(res.part >= 0 && res.part < 2 && res.obstacle >= 0 && res.obstacle < 2);
         check(isfinite((double)res.clearance) && res.clearance >= 0 && res.signal != CRANE_GO);
     } else {

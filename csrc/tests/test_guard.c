@@ -118,7 +118,7 @@ static void test_guarded_prediction(void)
     crane_solid obstacles[2];
     crane_guard_config cfg;
     crane_guard_result res;
-    crane_real clearance[2] = {77, 77}, work[2 * (2 + 5)];
+    crane_real clearance[2] = {77, 77}, work[2 * (2 + CRANE_GUARD_PART_WORK)];
     size_t n = 0, k;
 
     memset(&st, 0, sizeof st);
@@ -153,15 +153,15 @@ static void test_guarded_prediction(void)
 
     /* a buffer too small: nothing written */
     memset(&res, 0x5a, sizeof res);
-    CHECK(crane_guard(&model, parts, 2, obstacles, 2, 0, samples, n, &cfg, clearance, work,
+    CHECK(crane_guard(&model, parts, 2, obstacles, 2, samples, n, &cfg, clearance, work,
                       sizeof work / sizeof work[0] - 1, &res) == CRANE_E_CAPACITY);
     CHECK(clearance[0] == 77 && res.signal == 0x5a5a5a5a);
     cfg.cycle = 0;
-    CHECK(crane_guard(&model, parts, 2, obstacles, 2, 0, samples, n, &cfg, clearance, work,
+    CHECK(crane_guard(&model, parts, 2, obstacles, 2, samples, n, &cfg, clearance, work,
                       sizeof work / sizeof work[0], &res) == CRANE_E_GUARD);
     cfg.cycle = (crane_real)0.01;
 
-    CHECK(crane_guard(&model, parts, 2, obstacles, 2, 0, samples, n, &cfg, clearance, work,
+    CHECK(crane_guard(&model, parts, 2, obstacles, 2, samples, n, &cfg, clearance, work,
                       sizeof work / sizeof work[0], &res) == CRANE_OK);
     /* the pillar stands 1.5 m over the ground, radius 0.2: 1.3 m, and never moves */
     CHECK(fabs((double)clearance[0] - 1.3) < EPS);
@@ -170,14 +170,130 @@ static void test_guarded_prediction(void)
     CHECK(fabs((double)(res.stop_latest - (res.t - cfg.reaction))) < EPS);
     CHECK(res.signal == CRANE_WARN);
     CHECK(res.approach[CRANE_LIFT] < 0 && res.approach[CRANE_TILT] == 0);
+    CHECK(res.approach[CRANE_SLEW] == 0 && res.approach[CRANE_EXTENSION] == 0);
     /* every sample before the contact is clear of the margin, the first after it is not far off */
     for (k = 0; k < n && samples[k].t < res.t; ++k) {
         crane_solid posed[2];
-        CHECK(crane_part_solids(&model, parts, 2, 0, samples[k].theta, posed) == CRANE_OK);
+        CHECK(crane_part_solids(&model, parts, 2, 0, 0, samples[k].theta, posed) == CRANE_OK);
         CHECK(dist(&posed[1], &obstacles[1]) > 1.0);
     }
     printf("guard: contact at t = %.4f s, stop by %.4f s, %lu distances\n", (double)res.t,
            (double)res.stop_latest, (unsigned long)res.evaluations);
+}
+
+/* The load (a sphere r = 0.3 m hanging 0.6 m below the tip) moved by the slew alone or by the
+ * telescope alone, in hand-made samples 0.5 s apart (constant rates: the Hermite motion is the
+ * exact one), toward a ball (r = 0.25 m) that no sample comes within the margin (0.1 m) of: the
+ * contact lies between two samples, at the time derived on paper. */
+static crane_sample hand[5];
+
+static void guard_load_vs_ball(const crane_model *model, const crane_part *load, size_t n,
+                               const crane_solid *ball, crane_guard_result *res)
+{
+    crane_guard_config cfg;
+    crane_real clearance[1], work[1 + CRANE_GUARD_PART_WORK];
+    size_t k;
+    cfg.margin = (crane_real)0.1;
+    cfg.reaction = (crane_real)0.2;
+    cfg.cycle = (crane_real)0.01;
+    cfg.time_tolerance = (crane_real)1e-4;
+    cfg.clearance_tolerance = 0;
+    for (k = 0; k < n; ++k) {
+        crane_solid posed;
+        CHECK(crane_part_solids(model, load, 1, hand[k].slew, hand[k].extension, hand[k].theta,
+                                &posed) == CRANE_OK);
+        CHECK(dist(&posed, ball) > 0.1); /* the contact is only between samples */
+    }
+    CHECK(crane_guard(model, load, 1, ball, 1, hand, n, &cfg, clearance, work,
+                      sizeof work / sizeof work[0], res) == CRANE_OK);
+    CHECK(res->contact == 1 && res->at_start == 0);
+}
+
+static void test_slew_and_telescope_alone(void)
+{
+    static const crane_params params = CRANE_PATU655_INIT;
+    const double tol = 5e-4; /* 5 x the time tolerance: the advancement stops early, never late */
+    crane_model model;
+    crane_part load;
+    crane_solid at0, ball;
+    crane_guard_result res;
+    crane_real theta[2], ds;
+    double rho, beta = 1.0, w = 0.8, t_star, u[3], len, lateral[3], big_l = 0.75, side = 0.62;
+    size_t k;
+    int i;
+
+    CHECK(crane_model_init(&model, &params, 0) == CRANE_OK);
+    CHECK(crane_joint_angle(&model, CRANE_LIFT, (crane_real)0.3, &theta[0], &ds) == CRANE_OK);
+    CHECK(crane_joint_angle(&model, CRANE_TILT, (crane_real)0.2, &theta[1], &ds) == CRANE_OK);
+    memset(&load, 0, sizeof load);
+    load.kind = CRANE_SOLID_SPHERE;
+    load.a.frame = CRANE_FRAME_EXTENSION;
+    load.a.at.x = params.tip_distance;
+    load.radius = (crane_real)0.3;
+    load.drop = (crane_real)0.6;
+    memset(hand, 0, sizeof hand);
+    for (k = 0; k < 5; ++k) {
+        hand[k].t = (crane_real)(0.5 * (double)k);
+        hand[k].theta[0] = theta[0];
+        hand[k].theta[1] = theta[1];
+    }
+
+    /* Slewing at w with the boom held: the load's centre circles the slew axis at its horizontal
+     * distance rho; a ball at the same height and distance, beta ahead, is at the chord
+     * 2 rho sin((beta - w t) / 2), so the clearance reaches the margin at
+     * t* = (beta - 2 asin((0.1 + 0.3 + 0.25) / (2 rho))) / w. */
+    CHECK(crane_part_solids(&model, &load, 1, 0, 0, theta, &at0) == CRANE_OK);
+    rho = (double)at0.a[0];
+    CHECK(rho > 3 && fabs((double)at0.a[1]) < EPS);
+    memset(&ball, 0, sizeof ball);
+    ball.kind = CRANE_SOLID_SPHERE;
+    ball.radius = (crane_real)0.25;
+    ball.a[0] = (crane_real)(rho * cos(beta));
+    ball.a[1] = (crane_real)(rho * sin(beta));
+    ball.a[2] = at0.a[2];
+    for (k = 0; k < 5; ++k) {
+        hand[k].slew = (crane_real)(w * (double)hand[k].t);
+        hand[k].slew_rate = (crane_real)w;
+    }
+    guard_load_vs_ball(&model, &load, 5, &ball, &res);
+    t_star = (beta - 2 * asin(0.65 / (2 * rho))) / w;
+    CHECK((double)res.t <= t_star + 1e-6 && (double)res.t > t_star - tol);
+    CHECK(fabs((double)res.slew - w * (double)res.t) < EPS * 10);
+    CHECK(res.approach[CRANE_SLEW] < 0 && res.gradient[CRANE_SLEW] < 0);
+    CHECK(res.approach[CRANE_LIFT] == 0 && res.approach[CRANE_EXTENSION] == 0);
+    printf("guard, slew alone: contact at %.5f s, on paper %.5f s\n", (double)res.t, t_star);
+
+    /* Telescoping at 1 m/s with slew 0.3 held: the load moves along the outer boom's axis u; a
+     * ball L = 0.75 m ahead along u and D = 0.62 m aside (horizontal, across the boom plane) is at
+     * sqrt((L - e)^2 + D^2), the margin reached at e* = L - sqrt(0.65^2 - D^2) = t* x 1 m/s. */
+    for (k = 0; k < 5; ++k) {
+        hand[k].slew = (crane_real)0.3;
+        hand[k].slew_rate = 0;
+        hand[k].extension = (crane_real)(double)hand[k].t;
+        hand[k].extension_rate = 1;
+    }
+    CHECK(crane_part_solids(&model, &load, 1, (crane_real)0.3, 0, theta, &at0) == CRANE_OK);
+    CHECK(crane_part_solids(&model, &load, 1, (crane_real)0.3, 1, theta, &ball) == CRANE_OK);
+    for (i = 0, len = 0; i < 3; ++i) {
+        u[i] = (double)(ball.a[i] - at0.a[i]);
+        len += u[i] * u[i];
+    }
+    CHECK(fabs(len - 1) < EPS * 10); /* one metre of extension moves the load one metre */
+    lateral[0] = -sin(0.3);
+    lateral[1] = cos(0.3);
+    lateral[2] = 0;
+    memset(&ball, 0, sizeof ball);
+    ball.kind = CRANE_SOLID_SPHERE;
+    ball.radius = (crane_real)0.25;
+    for (i = 0; i < 3; ++i)
+        ball.a[i] = (crane_real)((double)at0.a[i] + big_l * u[i] + side * lateral[i]);
+    guard_load_vs_ball(&model, &load, 3, &ball, &res);
+    t_star = big_l - sqrt(0.65 * 0.65 - side * side);
+    CHECK((double)res.t <= t_star + 1e-6 && (double)res.t > t_star - tol);
+    CHECK(fabs((double)res.extension - (double)res.t) < EPS * 10);
+    CHECK(res.approach[CRANE_EXTENSION] < 0 && res.gradient[CRANE_EXTENSION] < 0);
+    CHECK(res.approach[CRANE_SLEW] == 0 && res.approach[CRANE_LIFT] == 0);
+    printf("guard, telescope alone: contact at %.5f s, on paper %.5f s\n", (double)res.t, t_star);
 }
 
 int main(void)
@@ -185,6 +301,7 @@ int main(void)
     test_paper_distances();
     test_bad_input_writes_nothing();
     test_guarded_prediction();
+    test_slew_and_telescope_alone();
     if (failures) {
         printf("test_guard: %d failures\n", failures);
         return 1;

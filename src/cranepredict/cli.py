@@ -301,14 +301,23 @@ def _guard_plot(v, sc, out_dir: str, g) -> str:
     views = (("side view", (0, 2), "X, m", "Z (up), m"), ("top view", (1,), "X, m", "Y, m"))
     fig, axes = plt.subplots(1, 2, figsize=(13, 6))
     stop_t = v.stop.latest if v.stop is not None else None
-    poses = [(0.0, traj.theta[0], "0.6", "crane at t = 0")]
+    # per sample (a Trajectory of a frozen slew and extension holds one value of each)
+    slews, extensions = (np.broadcast_to(a, traj.t.shape) for a in (traj.slew, traj.extension))
+
+    def at(t):
+        """(theta, slew, extension) of the judged motion at t (linear between samples)."""
+        th = np.array([np.interp(t, traj.t, traj.theta[:, j]) for j in range(2)])
+        return th, float(np.interp(t, traj.t, slews)), float(np.interp(t, traj.t, extensions))
+
+    poses = [(at(0.0), "0.6", "crane at t = 0")]
     if v.contact is not None:
-        poses.append((v.contact.t, v.contact.theta, "tab:red", f"at first contact, t = {v.contact.t:.3f} s"))
+        c = v.contact
+        poses.append(((c.theta, c.slew, c.extension), "tab:red", f"at first contact, t = {c.t:.3f} s"))
     if stop_t is not None and stop_t >= 0:
-        th = np.array([np.interp(stop_t, traj.t, traj.theta[:, j]) for j in range(2)])
-        poses.append((stop_t, th, "tab:orange", f"last stop point, t = {stop_t:.3f} s"))
+        poses.append((at(stop_t), "tab:orange", f"last stop point, t = {stop_t:.3f} s"))
     every = max(1, len(traj.t) // 80)
-    path = [g.part_solids(crane, state, th) for th in traj.theta[::every]]
+    path = [g.part_solids(crane, state, th, slew=ps, extension=e)
+            for th, ps, e in zip(traj.theta[::every], slews[::every], extensions[::every])]
     for ax, (title, idx, xl, yl) in zip(axes, views):
         j = idx[-1] if title == "side view" else 1
 
@@ -347,8 +356,8 @@ def _guard_plot(v, sc, out_dir: str, g) -> str:
         for name in v.clearance:
             end = np.array([(p[name]["b"] if p[name]["kind"] == "capsule" else p[name]["a"]) for p in path])
             ax.plot(end[:, 0], end[:, j], lw=0.8, alpha=0.7)
-        for t, th, colour, label in poses:
-            solids = g.part_solids(crane, state, th)
+        for (th, ps, e), colour, label in poses:
+            solids = g.part_solids(crane, state, th, slew=ps, extension=e)
             first = True
             for s in solids.values():
                 a = s["a"]

@@ -38,7 +38,9 @@ GUARD_SPACING = 0.01
 #: rest within about 0.1 s of its valve reaching neutral (then oscillates by millimetres on the oil).
 DEFAULT_STOP_HORIZON = 0.5
 SIGNALS = ("GO", "WARN", "STOP")
-JOINTS = ("lift", "tilt")
+JOINTS = ("lift", "tilt", "slew", "extension")
+#: The levers Inputs has today (the slew's and the extension's come with issue 11's API).
+LEVERS = ("lift", "tilt")
 
 
 
@@ -89,7 +91,7 @@ def _stop_drive(drive: Any) -> Any:
 
 def stop_inputs(inputs: Inputs) -> Inputs:
     """The inputs that stop the crane: every lever to its stop (the one place that says so)."""
-    return Inputs(lift=_stop_drive(inputs.lift), tilt=_stop_drive(inputs.tilt))
+    return Inputs(**{name: _stop_drive(getattr(inputs, name)) for name in LEVERS})
 
 
 # -- results ---------------------------------------------------------------------------------------
@@ -99,8 +101,9 @@ class Contact:
     """The first time the clearance of a part to an obstacle is at or below the margin.
 
     t (s): the clearance is above the margin on [0, t); on_part, on_obstacle: the closest points
-    at t (world, m); theta: joint angles at t (rad); gradient: d clearance / d theta per joint
-    (m/rad); approach: its rate from each joint's motion at t (m/s, < 0 = that joint closes the gap);
+    at t (world, m); theta: joint angles at t (rad); slew (rad), extension (m) at t; gradient:
+    d clearance / d q per joint, q = lift angle, tilt angle, slew (m/rad), extension (m/m);
+    approach: its rate from each joint's motion at t (m/s, < 0 = that joint closes the gap);
     closing: the joints (levers) that close it, to cut while the others stay allowed.
     """
 
@@ -111,6 +114,8 @@ class Contact:
     on_part: np.ndarray
     on_obstacle: np.ndarray
     theta: np.ndarray
+    slew: float
+    extension: float
     gradient: Dict[str, float]
     approach: Dict[str, float]
     closing: Tuple[str, ...]
@@ -158,7 +163,8 @@ class Verdict:
             out["contact"] = {"t_s": c.t, "part": c.part, "obstacle": c.obstacle,
                               "clearance_m": c.clearance, "at_start": c.at_start,
                               "on_part_m": c.on_part.tolist(), "on_obstacle_m": c.on_obstacle.tolist(),
-                              "theta_rad": c.theta.tolist(), "gradient_m_per_rad": dict(c.gradient),
+                              "theta_rad": c.theta.tolist(), "slew_rad": c.slew,
+                              "extension_m": c.extension, "gradient": dict(c.gradient),
                               "approach_m_per_s": dict(c.approach), "closing": list(c.closing)}
         if self.stop is not None:
             out["stop"] = {"latest_s": self.stop.latest if math.isfinite(self.stop.latest) else None,
@@ -252,10 +258,14 @@ def _check_layout(parts: Any, n_parts: int, solids: Any, world: World, shape: Sh
 
 
 def part_solids(crane: Crane, state: State, theta: Optional[np.ndarray] = None,
-                shape: Optional[Shape] = None) -> Dict[str, dict]:
-    """The parts as world solids at one pose (default: the state's), for drawing and checks:
-    name -> {"kind", "a", "b", "radius", "axes", "half"} (numpy arrays, m)."""
+                shape: Optional[Shape] = None, *, slew: Optional[float] = None,
+                extension: Optional[float] = None) -> Dict[str, dict]:
+    """The parts as world solids at one pose (default: the state's joint angles, slew and
+    extension), for drawing and checks: name -> {"kind", "a", "b", "radius", "axes", "half"}
+    (numpy arrays, m)."""
     shape = _shape(crane, shape)
+    slew = state.slew if slew is None else _number(slew, "slew")
+    extension = state.extension if extension is None else _number(extension, "extension")
     if theta is None:
         from . import _core
 
@@ -267,7 +277,7 @@ def part_solids(crane: Crane, state: State, theta: Optional[np.ndarray] = None,
     model = _core.model(crane, state.extension)
     parts = _cached("parts", (crane, shape), lambda: _parts(crane, shape))
     out = ffi.new("crane_solid[]", len(shape.parts))
-    _core.ensure(lib.crane_part_solids(model, parts, len(shape.parts), state.slew,
+    _core.ensure(lib.crane_part_solids(model, parts, len(shape.parts), slew, extension,
                                        [float(theta[0]), float(theta[1])], out), "part_solids")
     return {p.name: {"kind": _kind_name(s.kind), "a": np.array(list(s.a)), "b": np.array(list(s.b)),
                      "radius": float(s.radius), "axes": np.array(list(s.axes)).reshape(3, 3),
@@ -307,7 +317,7 @@ def guard(crane: Crane, world: World, state: State, inputs: Inputs, horizon: flo
     stop is then predicted over ``stop_horizon`` s from each candidate stop time); pressure-driven
     ones by Hold, which stops instantly and so under-estimates the stopping distance
     (``Verdict.stop.note``). ``margin`` defaults to the
-    world's. Slew and extension stay as in ``state`` (as in :func:`predict`). The prediction
+    world's. The parts move with each sample's joint angles, slew and extension. The prediction
     integrates at ``dt``; the guard judges every ``sample_every``-th step (default: about every
     GUARD_SPACING = 10 ms), the per-part minima are over those samples, and contacts are found
     between them too (docs/guard.md, "Nothing is missed"). ``Verdict.trajectory`` holds those samples.
@@ -333,44 +343,60 @@ def guard(crane: Crane, world: World, state: State, inputs: Inputs, horizon: flo
     # checks crane, state, inputs, horizon, dt and sample_every, naming the field
     traj = api.predict_many(crane, [state], [inputs], horizon, dt=dt, sample_every=sample_every)[0]
     stop = stop_inputs(inputs)
-    res, clearance = _judge(crane, world, state, traj, shape, values)
+    res, clearance = _judge(crane, world, _samples(traj), shape, values)
     verdict = _verdict(res, clearance, shape, world, values, float(horizon), traj)
     if verdict.contact is None or _freezes(stop):
         return verdict
     if verdict.contact.at_start:   # too late for any stop: say which stop that is
         return _with_stop(verdict, -math.inf, values)
-    latest = _latest_valve_stop(crane, world, state, traj, stop, shape, values, values["stop_horizon"],
+    latest = _latest_valve_stop(crane, world, traj, stop, shape, values, values["stop_horizon"],
                                 dt, sample_every, verdict.contact.t)
     return _with_stop(verdict, latest, values)
 
 
 def _freezes(stop: Inputs) -> bool:
     """True if every lever stops by Hold: the crane is frozen when the stop takes effect."""
-    return all(isinstance(d, Hold) for d in (stop.lift, stop.tilt))
+    return all(isinstance(getattr(stop, name), Hold) for name in LEVERS)
 
 
-def _judge(crane: Crane, world: World, state: State, traj: Trajectory, shape: Shape,
+#: What crane_guard reads of a sample: the joint angles, slew, extension and their rates.
+SAMPLE_FIELDS = ("t", "theta", "omega", "slew", "extension", "slew_rate", "extension_rate")
+
+
+def _samples(traj: Trajectory) -> np.ndarray:
+    """The C samples crane_guard reads, from a prediction."""
+    from . import _core
+
+    samples = np.zeros(len(traj.t), dtype=_core.SAMPLE_DTYPE)
+    for name in SAMPLE_FIELDS[:5]:
+        samples[name] = getattr(traj, name)
+    # a Trajectory whose slew and extension are frozen (one value, no rates) until issue 11's API
+    for name in SAMPLE_FIELDS[5:]:
+        samples[name] = getattr(traj, name, 0.0)
+    return samples
+
+
+def _judge(crane: Crane, world: World, samples: np.ndarray, shape: Shape,
            values: Dict[str, float]) -> Tuple[Any, np.ndarray]:
-    """crane_guard on a prediction's samples: the C result and the per-part clearances."""
+    """crane_guard on C samples (_samples): the C result and the per-part clearances."""
     from . import _core
 
     ffi, lib = _c()
-    model = _core.model(crane, state.extension)
+    # the guard reads the crane's geometry and limits from the model, not its extension
+    model = _core.model(crane, crane.geometry.extension_min)
     parts = _cached("parts", (crane, shape), lambda: _parts(crane, shape))
     solids = _cached("solids", (world,), lambda: _solids(world))
     n_parts, n_obs = len(shape.parts), len(world.obstacles)
     _check_layout(parts, n_parts, solids, world, shape)
 
-    samples = np.zeros(len(traj.t), dtype=_core.SAMPLE_DTYPE)
-    samples["t"], samples["theta"], samples["omega"] = traj.t, traj.theta, traj.omega
     clearance = np.empty(n_parts)
-    work = np.empty(n_parts * (n_obs + 5))
+    work = np.empty(n_parts * (n_obs + lib.CRANE_GUARD_PART_WORK))
     cfg = ffi.new("crane_guard_config *", {
         "margin": values["margin"], "reaction": values["reaction"], "cycle": values["cycle"],
         "time_tolerance": values["time_tolerance"],
         "clearance_tolerance": values["clearance_tolerance"]})
     res = ffi.new("crane_guard_result *")
-    status = lib.crane_guard(model, parts, n_parts, solids, n_obs, state.slew,
+    status = lib.crane_guard(model, parts, n_parts, solids, n_obs,
                              ffi.cast("crane_sample *", ffi.from_buffer(samples)), len(samples),
                              cfg, ffi.cast("crane_real *", ffi.from_buffer(clearance)),
                              ffi.cast("crane_real *", ffi.from_buffer(work)), work.size, res)
@@ -378,31 +404,34 @@ def _judge(crane: Crane, world: World, state: State, traj: Trajectory, shape: Sh
     return res, clearance
 
 
-def _state_at(crane: Crane, state: State, traj: Trajectory, k: int, stop: Inputs) -> State:
+def _state_at(crane: Crane, traj: Trajectory, k: int, stop: Inputs) -> State:
     """The state at sample k of a prediction, as the start of the stop: strokes, stroke rates
-    (0 for a lever that stops by Hold: it freezes), chamber pressures and spools."""
+    (0 for a lever that stops by Hold: it freezes), chamber pressures and spools; the slew and
+    the extension as in the prediction."""
     from . import _core
 
+    drives = [getattr(stop, name) for name in LEVERS]
+    slew, extension = (float(np.broadcast_to(a, traj.t.shape)[k]) for a in (traj.slew, traj.extension))
     rates = []
-    for j, drive in enumerate((stop.lift, stop.tilt)):
+    for j, drive in enumerate(drives):
         if isinstance(drive, Hold):
             rates.append(0.0)
         else:
-            _, ds = _core.joint_angle(crane, j, float(traj.strokes[k, j]), state.extension)
+            _, ds = _core.joint_angle(crane, j, float(traj.strokes[k, j]), extension)
             rates.append(float(traj.omega[k, j]) * ds)
     extra: Dict[str, float] = {}
-    for j, name in enumerate(JOINTS):
-        if not isinstance((stop.lift, stop.tilt)[j], Hold) and traj.p_a is not None:
+    for j, name in enumerate(LEVERS):
+        if not isinstance(drives[j], Hold) and traj.p_a is not None:
             extra[f"{name}_p_a"] = float(traj.p_a[k, j])
             extra[f"{name}_p_b"] = float(traj.p_b[k, j])
             if traj.spool is not None:
                 extra[f"{name}_spool"] = float(traj.spool[k, j])
     return State(lift_stroke=float(traj.strokes[k, 0]), tilt_stroke=float(traj.strokes[k, 1]),
-                 slew=state.slew, extension=state.extension, lift_stroke_rate=rates[0],
+                 slew=slew, extension=extension, lift_stroke_rate=rates[0],
                  tilt_stroke_rate=rates[1], **extra)
 
 
-def _latest_valve_stop(crane: Crane, world: World, state: State, traj: Trajectory, stop: Inputs,
+def _latest_valve_stop(crane: Crane, world: World, traj: Trajectory, stop: Inputs,
                        shape: Shape, values: Dict[str, float], stop_horizon: float,
                        dt: float, sample_every: int, t_contact: float) -> float:
     """The latest judged sample time t_s at which stopping (taking effect at the first sample at or
@@ -417,9 +446,9 @@ def _latest_valve_stop(crane: Crane, world: World, state: State, traj: Trajector
         m = int(np.searchsorted(t, t[k] + reaction - 1e-12))
         if m >= len(t) or t[m] >= t_contact:
             return False
-        after = api.predict_many(crane, [_state_at(crane, state, traj, m, stop)], [stop],
+        after = api.predict_many(crane, [_state_at(crane, traj, m, stop)], [stop],
                                  stop_horizon, dt=dt, sample_every=sample_every)[0]
-        res, _ = _judge(crane, world, state, after, shape, values)
+        res, _ = _judge(crane, world, _samples(after), shape, values)
         return not res.contact
 
     lo, hi = -1, int(np.searchsorted(t, t_contact - reaction, side="right"))  # safe(lo), not hi
@@ -474,7 +503,7 @@ def _verdict(res: Any, clearance: np.ndarray, shape: Shape, world: World, v: Dic
             t=float(res.t), part=shape.parts[res.part].name,
             obstacle=world.obstacles[res.obstacle].name, clearance=float(res.clearance),
             on_part=np.array(list(res.on_part)), on_obstacle=np.array(list(res.on_obstacle)),
-            theta=np.array(list(res.theta)),
+            theta=np.array(list(res.theta)), slew=float(res.slew), extension=float(res.extension),
             gradient={j: float(res.gradient[i]) for i, j in enumerate(JOINTS)},
             approach=approach, closing=tuple(j for j in JOINTS if approach[j] < 0),
             at_start=bool(res.at_start))
