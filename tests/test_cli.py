@@ -29,6 +29,19 @@ def test_demo_reports_start_end_stop_and_speed():
     assert re.search(r"[\d,]+x faster than real time", r.stdout)
 
 
+def test_demo_runs_a_spatial_scenario_and_draws_the_slew(tmp_path):
+    pytest.importorskip("matplotlib")
+    r = _run("demo", "--scenario", "telescope-end-stop", "--repeat", "1", "--plot", str(tmp_path))
+    assert r.returncode == 0, r.stderr
+    assert re.search(r"tip end .* extension 1\.000 m\)", r.stdout)
+    assert re.search(r"extension cylinder reached its upper stop at t = [12]\.\d+ s", r.stdout)
+    assert "pressures  extension:" in r.stdout
+    r = _run("demo", "--scenario", "slew-folded", "--repeat", "1", "--plot", str(tmp_path))
+    assert r.returncode == 0, r.stderr
+    assert re.search(r"tip end .* slew +8[0-9]\.\d deg", r.stdout)   # 1.43 rad: it slewed
+    assert (tmp_path / "demo-slew-folded.png").stat().st_size > 10_000
+
+
 def test_unknown_scenario_is_a_clear_error():
     r = _run("demo", "--scenario", "nope")
     assert r.returncode == 2 and "no scenario named 'nope'" in r.stderr

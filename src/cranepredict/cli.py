@@ -11,45 +11,104 @@ from typing import List, Optional
 import numpy as np
 
 
+_ACTUATORS = ("lift cylinder", "tilt cylinder", "slew drive", "extension cylinder")
+
+
 def _demo(args: argparse.Namespace) -> int:
     from . import api, scenarios
+    from .types import JOINTS
 
-    if args.repeat < 1:
+    if args.repeat is not None and args.repeat < 1:
         raise ValueError(f"--repeat must be >= 1 (timed repetitions), got {args.repeat}")
     sc = scenarios.get(args.scenario)
+    if args.plot:
+        _check_plot_dir(args.plot)
     dt = args.dt if args.dt is not None else api.DEFAULT_DT
-    traj = api.predict(sc.crane, sc.initial, sc.inputs, sc.horizon, dt=dt)
+    backend, note = args.backend, ""
+    if backend is None:
+        backend = "c"
+        if sc.spatial and not api._core_module().MOVES_SLEW_AND_EXTENSION:
+            backend, note = "python", " (the C core does not move the slew and the extension yet)"
+    traj = api.predict(sc.crane, sc.initial, sc.inputs, sc.horizon, dt=dt, backend=backend)
+    repeat = args.repeat if args.repeat is not None else (201 if backend == "c" else 3)
     walls = []
-    for _ in range(args.repeat):
+    for _ in range(repeat):
         t0 = time.perf_counter()
-        api.predict(sc.crane, sc.initial, sc.inputs, sc.horizon, dt=dt)
+        api.predict(sc.crane, sc.initial, sc.inputs, sc.horizon, dt=dt, backend=backend)
         walls.append(time.perf_counter() - t0)
     wall = statistics.median(walls)
     deg = np.degrees
     print(f"scenario   {sc.name}: {sc.description}")
     print(f"crane      {sc.crane.name}, load {sc.crane.load_mass:g} kg, horizon {sc.horizon:g} s, "
           f"dt {dt:g} s ({len(traj.t)} samples)")
-    x, y, z = traj.tip[0]
-    print(f"tip start  x {x:7.3f} m  y {y:7.3f} m  z {z:7.3f} m   "
-          f"(lift {deg(traj.theta[0, 0]):6.1f} deg, tilt {deg(traj.theta[0, 1]):6.1f} deg)")
-    x, y, z = traj.tip[-1]
-    print(f"tip end    x {x:7.3f} m  y {y:7.3f} m  z {z:7.3f} m   "
-          f"(lift {deg(traj.theta[-1, 0]):6.1f} deg, tilt {deg(traj.theta[-1, 1]):6.1f} deg)")
-    for j, name in enumerate(("lift", "tilt")):
+    print(f"backend    {'C core' if backend == 'c' else 'twin (pure Python)'}{note}")
+    for k, word in ((0, "start"), (-1, "end  ")):
+        x, y, z = traj.tip[k]
+        print(f"tip {word}  x {x:7.3f} m  y {y:7.3f} m  z {z:7.3f} m   "
+              f"(lift {deg(traj.theta[k, 0]):6.1f} deg, tilt {deg(traj.theta[k, 1]):6.1f} deg, "
+              f"slew {deg(traj.slew[k]):6.1f} deg, extension {traj.extension[k]:5.3f} m)")
+    for j, name in enumerate(_ACTUATORS):
         for side, word in ((+1, "upper"), (-1, "lower")):
             t_stop = traj.first_stop_time(j, side)
             if t_stop is not None:
-                print(f"end stop   {name} cylinder reached its {word} stop at t = {t_stop:.3f} s")
+                print(f"end stop   {name} reached its {word} stop at t = {t_stop:.3f} s")
     if not traj.stop.any():
         print("end stop   none reached")
-    for j, (name, drive) in enumerate((("lift", sc.inputs.lift), ("tilt", sc.inputs.tilt))):
-        if hasattr(drive, "u"):   # valve-driven: the chamber pressures are part of the result
-            print(f"pressures  {name}: p_a {traj.p_a[0, j] / 1e5:6.1f} -> {traj.p_a[-1, j] / 1e5:6.1f} bar, "
+    for j, joint in enumerate(JOINTS):
+        if hasattr(getattr(sc.inputs, joint), "u"):   # valve-driven: the pressures are results
+            print(f"pressures  {joint}: p_a {traj.p_a[0, j] / 1e5:6.1f} -> {traj.p_a[-1, j] / 1e5:6.1f} bar, "
                   f"p_b {traj.p_b[0, j] / 1e5:6.1f} -> {traj.p_b[-1, j] / 1e5:6.1f} bar "
                   f"(max {max(traj.p_a[:, j].max(), traj.p_b[:, j].max()) / 1e5:.1f} bar)")
-    print(f"speed      {wall * 1e6:.0f} us per prediction (median of {args.repeat}): "
+    print(f"speed      {wall * 1e6:.0f} us per prediction (median of {repeat}): "
           f"{sc.horizon / wall:,.0f}x faster than real time (the paper: 17x)")
+    if args.plot:
+        print(f"plot       {_demo_plot(sc, traj, args.plot)}")
     return 0
+
+
+def _demo_plot(sc, traj, out_dir: str) -> str:
+    """Side view (radial distance from the slew axis vs height) and top view (X, Y: the slew) of
+    the crane at a few samples and the tip's path."""
+    import os
+
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    pts = traj.points()
+    chain = ("pillar_base", "lift_pivot", "tilt_pivot", "extension_mount", "tip")
+    fig, (side, top) = plt.subplots(1, 2, figsize=(12, 5.5))
+    n = len(traj.t)
+
+    def radial(xyz: np.ndarray, psi: np.ndarray) -> np.ndarray:
+        """Signed distance from the slew axis in the boom plane (its outward direction)."""
+        return xyz[..., 0] * np.cos(psi) + xyz[..., 1] * np.sin(psi)
+
+    for i, k in enumerate(sorted({0, n // 4, n // 2, 3 * n // 4, n - 1})):
+        xyz = np.array([pts[name][k] for name in chain])
+        shade = str(0.75 - 0.75 * i / 4)
+        label = f"t = {traj.t[k]:.2f} s"
+        side.plot(radial(xyz, traj.slew[k]), xyz[:, 2], "o-", color=shade, lw=2, ms=3, label=label)
+        top.plot(xyz[:, 0], xyz[:, 1], "o-", color=shade, lw=2, ms=3, label=label)
+    side.plot(radial(traj.tip, traj.slew), traj.tip[:, 2], "r-", lw=1, label="tip path")
+    top.plot(traj.tip[:, 0], traj.tip[:, 1], "r-", lw=1, label="tip path")
+    reach = float(np.max(np.hypot(traj.tip[:, 0], traj.tip[:, 1]))) * 1.1 + 0.5
+    arc = np.linspace(float(traj.slew.min()), float(traj.slew.max()), 50)
+    top.plot(0.5 * reach * np.cos(arc), 0.5 * reach * np.sin(arc), "b:", lw=1,
+             label=f"slew {np.degrees(traj.slew[0]):.0f} -> {np.degrees(traj.slew[-1]):.0f} deg")
+    side.set(xlabel="outward from the slew axis (boom plane), m", ylabel="Z (up), m", title="side view")
+    top.set(xlabel="X, m", ylabel="Y, m", title="top view", xlim=(-reach, reach), ylim=(-reach, reach))
+    for ax in (side, top):
+        ax.set_aspect("equal")
+        ax.grid(alpha=0.3)
+    top.legend(fontsize=8, loc="lower left")
+    fig.suptitle(f"{sc.name} ({traj.backend})")
+    fig.tight_layout()
+    path = os.path.join(out_dir, f"demo-{sc.name}.png")
+    fig.savefig(path, dpi=90)
+    plt.close(fig)
+    return path
 
 
 def _scenarios(args: argparse.Namespace) -> int:
@@ -340,7 +399,13 @@ def main(argv: Optional[List[str]] = None) -> int:
     demo = sub.add_parser("demo", help="run the paper's scenario (or another) and report speed")
     demo.add_argument("--scenario", default="paper-fig4", help="scenario name (default: paper-fig4)")
     demo.add_argument("--dt", type=float, default=None, help="RK4 step, s (default: the package default)")
-    demo.add_argument("--repeat", type=int, default=201, help="timed repetitions (default: 201)")
+    demo.add_argument("--repeat", type=int, default=None,
+                      help="timed repetitions (default: 201 on the C core, 3 on the twin)")
+    demo.add_argument("--backend", choices=("c", "python"), default=None,
+                      help="c (the C core) or python (the twin); default: c, the twin for a scenario "
+                           "that moves the slew or the extension while the C core cannot")
+    demo.add_argument("--plot", metavar="DIR", default=None,
+                      help="write side and top views of the motion (needs the [plot] extra)")
     demo.set_defaults(func=_demo)
     val = sub.add_parser("validate", help="run the scenario suite on the fast model and the Exudyn "
                                           "reference and compare the tip (needs the [reference] extra)")
