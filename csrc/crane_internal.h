@@ -294,6 +294,15 @@ void crane__mass4(const crane_model *m, const crane__bodies4 *b, const crane__co
 crane_real crane__friction(const crane_friction *f, crane_real v);
 crane_real crane__cylinder_force(const crane_model *m, int joint, crane_real p_a, crane_real p_b,
                                  crane_real v);
+/* Actuator j of [lift, tilt, slew, extension] (docs/model.md, "Four joints", "Actuators"): the
+ * boom cylinders, the slew drive as its equivalent cylinder (the rack: A_a = A_b, stroke
+ * r_p (psi - slew_min)) and the extension cylinder (stroke e - extension_min). Its piston areas,
+ * its stroke range and its force along the stroke at stroke rate v. */
+void crane__actuator_areas(const crane_model *m, int joint, crane_real *area_a, crane_real *area_b);
+void crane__actuator_range(const crane_model *m, int joint, crane_real *stroke_min,
+                           crane_real *stroke_max);
+crane_real crane__actuator_force(const crane_model *m, int joint, crane_real p_a, crane_real p_b,
+                                 crane_real v);
 
 /* ---- hydraulics.c (docs/model.md, "Hydraulics") ---- */
 
@@ -308,13 +317,18 @@ crane_real crane__cylinder_force(const crane_model *m, int joint, crane_real p_a
 /* The valve's flows at spool y: q_a into the bore side, q_b out of the rod side. */
 void crane__valve_flows(const crane_hydraulics *h, crane_real y, crane_real p_a, crane_real p_b,
                         crane_real *q_a, crane_real *q_b);
-/* Valve-driven cylinder i at the lever command `lever`, stroke, stroke rate v, pressures p
+/* The circuit of actuator j (0..3), NULL when it has none. */
+const crane_hydraulics *crane__circuit(const crane_model *m, int joint);
+/* Valve-driven actuator j (0..3) at the lever command `lever`, stroke, stroke rate v, pressures p
  * (p_a, p_b) and spool y: rate = (dp_a/dt, dp_b/dt, dy/dt). */
-void crane__chamber_rates(const crane_model *m, int i, crane_real lever, crane_real stroke,
+void crane__chamber_rates(const crane_model *m, int joint, crane_real lever, crane_real stroke,
                           crane_real v, const crane_real p[2], crane_real y, crane_real rate[3]);
-/* The substep count of a step of size h from the strokes of the valve-driven joints (valve[i]). */
-long crane__substeps(const crane_model *m, const crane_real stroke[2], const int valve[2],
+/* The substep count of a step of size h from the strokes of the valve-driven actuators (valve[j],
+ * j over [lift, tilt, slew, extension]). */
+long crane__substeps(const crane_model *m, const crane_real stroke[4], const int valve[4],
                      crane_real h);
+/* Its largest value over every stroke (at the stroke ends, where the chambers are smallest). */
+long crane__substeps_bound(const crane_model *m, const int valve[4], crane_real h);
 
 /* ---- model.c ---- */
 

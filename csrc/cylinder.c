@@ -38,6 +38,54 @@ crane_real crane__cylinder_force(const crane_model *m, int joint, crane_real p_a
            crane__friction(&m->params->cylinder[joint].friction, v);
 }
 
+void crane__actuator_areas(const crane_model *m, int joint, crane_real *area_a, crane_real *area_b)
+{
+    const crane_params *p = m->params;
+
+    if (joint < 2) {
+        *area_a = m->area_a[joint];
+        *area_b = m->area_b[joint];
+    } else if (joint == CRANE_SLEW) {
+        /* the rack's two bores push against each other: the equivalent cylinder has A_a = A_b */
+        *area_a = crane__pi() * p->slew_drive.bore * p->slew_drive.bore / 4;
+        *area_b = *area_a;
+    } else {
+        const crane_real bore = p->extension_cylinder.bore, rod = p->extension_cylinder.rod;
+        *area_a = crane__pi() * bore * bore / 4;
+        *area_b = crane__pi() * (bore * bore - rod * rod) / 4;
+    }
+}
+
+void crane__actuator_range(const crane_model *m, int joint, crane_real *stroke_min,
+                           crane_real *stroke_max)
+{
+    const crane_params *p = m->params;
+
+    if (joint < 2) {
+        *stroke_min = m->stroke_min[joint];
+        *stroke_max = m->stroke_max[joint];
+    } else {
+        *stroke_min = 0;
+        *stroke_max = joint == CRANE_SLEW
+                          ? p->slew_drive.pinion_radius * (p->slew_drive.slew_max - p->slew_drive.slew_min)
+                          : p->extension_max - p->extension_min;
+    }
+}
+
+crane_real crane__actuator_force(const crane_model *m, int joint, crane_real p_a, crane_real p_b,
+                                 crane_real v)
+{
+    const crane_params *p = m->params;
+    crane_real a_a, a_b;
+
+    if (joint < 2)
+        return crane__cylinder_force(m, joint, p_a, p_b, v);
+    crane__actuator_areas(m, joint, &a_a, &a_b);
+    return p_a * a_a - p_b * a_b -
+           crane__friction(joint == CRANE_SLEW ? &p->slew_drive.friction
+                                               : &p->extension_cylinder.friction, v);
+}
+
 crane_status crane_cylinder_force(const crane_model *model, int joint, crane_real p_a,
                                   crane_real p_b, crane_real stroke_rate, crane_real *force)
 {

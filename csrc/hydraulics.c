@@ -104,56 +104,114 @@ static CRANE__ALWAYS_INLINE crane_real compliance(const crane_hydraulics *h, cra
            v_hose / h->hose_bulk_modulus;
 }
 
-void crane__chamber_rates(const crane_model *m, int i, crane_real lever, crane_real stroke,
+const crane_hydraulics *crane__circuit(const crane_model *m, int joint)
+{
+    const crane_params *p = m->params;
+    const crane_hydraulics *h;
+
+    if (joint < 2)
+        return m->hyd[joint];
+    if (joint == CRANE_SLEW)
+        h = p->slew_drive.present ? &p->slew_drive.hydraulics : NULL;
+    else
+        h = p->extension_cylinder.present ? &p->extension_cylinder.hydraulics : NULL;
+    return h && h->valve != CRANE_VALVE_NONE ? h : NULL;
+}
+
+/* The chambers of actuator j at a stroke: the circuit, the piston areas, the volumes. */
+typedef struct {
+    const crane_hydraulics *h;
+    crane_real area_a, area_b, v_a, v_b;
+} chambers;
+
+static void chambers_at(const crane_model *m, int joint, crane_real stroke, chambers *c)
+{
+    crane_real s_min, s_max;
+
+    c->h = crane__circuit(m, joint);
+    crane__actuator_areas(m, joint, &c->area_a, &c->area_b);
+    crane__actuator_range(m, joint, &s_min, &s_max);
+    c->v_a = c->h->hose_volume_a + c->area_a * (stroke - s_min);
+    c->v_b = c->h->hose_volume_b + c->area_b * (s_max - stroke);
+}
+
+void crane__chamber_rates(const crane_model *m, int joint, crane_real lever, crane_real stroke,
                           crane_real v, const crane_real p[2], crane_real y, crane_real rate[3])
 {
-    const crane_hydraulics *h = m->hyd[i];
-    const crane_real g = gradient(h);
-    const crane_real v_a = h->hose_volume_a + m->area_a[i] * (stroke - m->stroke_min[i]);
-    const crane_real v_b = h->hose_volume_b + m->area_b[i] * (m->stroke_max[i] - stroke);
-    const crane_real q_l = h->leakage * (p[0] - p[1]);
-    crane_real q_a, q_b;
+    chambers c;
+    crane_real g, q_l, q_a, q_b;
 
-    if (h->spool_time_constant > 0) {
-        rate[2] = (lever - y) / h->spool_time_constant;
+    chambers_at(m, joint, stroke, &c);
+    g = gradient(c.h);
+    q_l = c.h->leakage * (p[0] - p[1]);
+    if (c.h->spool_time_constant > 0) {
+        rate[2] = (lever - y) / c.h->spool_time_constant;
     } else {
         y = lever;
         rate[2] = 0;
     }
-    crane__valve_flows(h, y, p[0], p[1], &q_a, &q_b);
-    rate[0] = (q_a - m->area_a[i] * v - q_l + limit_flow(h, g, p[0])) /
-              compliance(h, v_a, h->hose_volume_a);
-    rate[1] = (m->area_b[i] * v - q_b + q_l + limit_flow(h, g, p[1])) /
-              compliance(h, v_b, h->hose_volume_b);
+    crane__valve_flows(c.h, y, p[0], p[1], &q_a, &q_b);
+    rate[0] = (q_a - c.area_a * v - q_l + limit_flow(c.h, g, p[0])) /
+              compliance(c.h, c.v_a, c.h->hose_volume_a);
+    rate[1] = (c.area_b * v - q_b + q_l + limit_flow(c.h, g, p[1])) /
+              compliance(c.h, c.v_b, c.h->hose_volume_b);
 }
 
-long crane__substeps(const crane_model *m, const crane_real stroke[2], const int valve[2],
-                     crane_real h)
+static crane_real substep_count(crane_real lam, crane_real h)
 {
-    crane_real lam = 0, n;
-    int i;
-
-    for (i = 0; i < 2; ++i) {
-        const crane_hydraulics *hy = m->hyd[i];
-        crane_real g, v_a, v_b, la, lb;
-        if (!valve[i])
-            continue;
-        g = 2 * gradient(hy) + hy->leakage;
-        v_a = hy->hose_volume_a + m->area_a[i] * (stroke[i] - m->stroke_min[i]);
-        v_b = hy->hose_volume_b + m->area_b[i] * (m->stroke_max[i] - stroke[i]);
-        la = g / compliance(hy, v_a, hy->hose_volume_a);
-        lb = g / compliance(hy, v_b, hy->hose_volume_b);
-        if (la > lam)
-            lam = la;
-        if (lb > lam)
-            lam = lb;
-    }
-    n = crane__ceil(h * lam / SUBSTEP_STABILITY);
+    const crane_real n = crane__ceil(h * lam / SUBSTEP_STABILITY);
     /* Bounded so that a long fits: a prediction that would need more substeps than
      * CRANE_MAX_STEPS is refused before it runs (predict.c, check_work), so this never binds
      * while integrating. */
     if (!(n <= (crane_real)CRANE_MAX_STEPS))
-        n = (crane_real)CRANE_MAX_STEPS + 1;
-    return n < 1 ? 1 : (long)n;
+        return (crane_real)CRANE_MAX_STEPS + 1;
+    return n < 1 ? 1 : n;
+}
+
+/* lambda of docs/model.md, "Hydraulics": both chambers' self-feedback rate bound at a stroke. */
+static crane_real stiffness(const crane_model *m, int joint, crane_real stroke)
+{
+    chambers c;
+    crane_real g, la, lb;
+
+    chambers_at(m, joint, stroke, &c);
+    g = 2 * gradient(c.h) + c.h->leakage;
+    la = g / compliance(c.h, c.v_a, c.h->hose_volume_a);
+    lb = g / compliance(c.h, c.v_b, c.h->hose_volume_b);
+    return la > lb ? la : lb;
+}
+
+long crane__substeps(const crane_model *m, const crane_real stroke[4], const int valve[4],
+                     crane_real h)
+{
+    crane_real lam = 0;
+    int j;
+
+    for (j = 0; j < 4; ++j)
+        if (valve[j]) {
+            const crane_real l = stiffness(m, j, stroke[j]);
+            if (l > lam)
+                lam = l;
+        }
+    return (long)substep_count(lam, h);
+}
+
+long crane__substeps_bound(const crane_model *m, const int valve[4], crane_real h)
+{
+    crane_real lam = 0;
+    int j;
+
+    for (j = 0; j < 4; ++j)
+        if (valve[j]) {
+            crane_real s_min, s_max, l;
+            crane__actuator_range(m, j, &s_min, &s_max);
+            l = stiffness(m, j, s_min);
+            if (l > lam)
+                lam = l;
+            l = stiffness(m, j, s_max);
+            if (l > lam)
+                lam = l;
+        }
+    return (long)substep_count(lam, h);
 }
 #endif /* CRANE_HYDRAULICS */

@@ -624,8 +624,8 @@ static int finite_state(const ctx_t *c, const xstate *x)
  * locals are not in crane__integrate's frame under the step (the stack budget). */
 static CRANE__NOINLINE long substeps(ctx_t *c, const xstate *x, crane_real h)
 {
-    const int valve[2] = {c->valve[0], c->valve[1]};
-    crane_real stroke[2], s1, c1;
+    const int valve[4] = {c->valve[0], c->valve[1], 0, 0};
+    crane_real stroke[4] = {0, 0, 0, 0}, s1, c1;
     int i;
 
     for (i = 0; i < 2; ++i) {

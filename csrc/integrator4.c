@@ -27,50 +27,45 @@ typedef struct {
     size_t cursor[4];           /* sample segment last used, per joint */
     signed char mode[4];        /* CRANE__FREE, _HELD, _STOP_LO, _STOP_HI (in q terms) */
     signed char lo_flag[4];     /* stop flag (actuator terms) at the lower limit of q */
-    unsigned char valve[4];     /* joint j is valve-driven (lift and tilt only, so far) */
+    unsigned char valve[4];     /* joint j is valve-driven */
     int n;                      /* state entries in use: N_MECH, or N_ALL with valves */
     crane_real lo[4], hi[4];    /* limits of q: angle limits, [slew_min, slew_max], extension range */
-    crane_real area_a[2], area_b[2];   /* the slew drive's and the extension cylinder's */
     crane_real gf_ext;          /* the extension friction's slope at rest, N s/m */
 } c4;
 
 static int locked(const c4 *c, int j) { return c->mode[j] != CRANE__FREE; }
 
-/* The force along an actuator's stroke at rate v (docs/model.md, "Cylinders", "Four joints"). */
-static crane_real actuator_force(const c4 *c, int j, crane_real p_a, crane_real p_b, crane_real v)
-{
-    const crane_params *p = c->m->params;
-    if (j < 2)
-        return crane__cylinder_force(c->m, j, p_a, p_b, v);
-    return p_a * c->area_a[j - 2] - p_b * c->area_b[j - 2] -
-           crane__friction(j == CRANE_SLEW ? &p->slew_drive.friction
-                                           : &p->extension_cylinder.friction, v);
-}
-
 /* ds/dq of joint j at the configuration: the lift's from its triangle, the tilt's from the
- * four-bar, the rack's pinion radius for the slew, 1 for the extension. With stroke, the stroke. */
-static crane_real ratio(const c4 *c, const crane__conf4 *cf, int j, crane_real *stroke)
+ * four-bar, the rack's pinion radius for the slew, 1 for the extension. With stroke, the stroke
+ * (for the slew and the extension from their coordinate q: r_p (psi - slew_min), e - extension_min). */
+static crane_real ratio(const c4 *c, const crane__conf4 *cf, int j, crane_real q, crane_real *stroke)
 {
-    crane_real ds = 1, s = 0;
+    crane_real ds = 1, s;
 
-    if (j == CRANE_LIFT)
+    if (j == CRANE_LIFT) {
         crane__lift_from_angle(c->m, cf->c0, cf->s0, &s, &ds);
-    else if (j == CRANE_TILT) {
+    } else if (j == CRANE_TILT) {
         ds = cf->tk.ds;
         s = cf->tk.stroke;
-    } else if (j == CRANE_SLEW)
-        ds = c->m->params->slew_drive.pinion_radius;
+    } else {
+        if (j == CRANE_SLEW)
+            ds = c->m->params->slew_drive.pinion_radius;
+        s = ds * (q - c->lo[j]);
+    }
     if (stroke)
         *stroke = s;
     return ds;
 }
 
-/* The stroke of a locked valve-driven cylinder (lift or tilt): its initial one when held, its
- * stop's when stopped. */
+/* The stroke of a stopped valve-driven actuator: the end of its range that it stopped at (a
+ * valve-driven joint is never held). */
 static crane_real locked_stroke(const c4 *c, int j)
 {
     const int flag = c->mode[j] == CRANE__STOP_LO ? c->lo_flag[j] : -c->lo_flag[j];
-    return flag < 0 ? c->m->stroke_min[j] : c->m->stroke_max[j];
+    crane_real s_min, s_max;
+
+    crane__actuator_range(c->m, j, &s_min, &s_max);
+    return flag < 0 ? s_min : s_max;
 }
 
 /* Everything the accelerations need at (t, x): the configuration, the in-plane mass matrix Mp
@@ -104,7 +99,7 @@ static void forces4(c4 *c, crane_real t, const x4 *x, const int lk[4], dyn4 *d, 
             }
             continue;
         }
-        ds = ratio(c, &d->cf, j, &stroke);
+        ds = ratio(c, &d->cf, j, x->v[Q + j], &stroke);
         if (c->valve[j]) {
             p_a = x->v[P + 2 * j];
             p_b = x->v[P + 2 * j + 1];
@@ -115,7 +110,7 @@ static void forces4(c4 *c, crane_real t, const x4 *x, const int lk[4], dyn4 *d, 
         } else {
             crane__drive_pressures(&c->in->drive[j], &c->cursor[j], t, &p_a, &p_b);
         }
-        d->b[j] += actuator_force(c, j, p_a, p_b, ds * x->v[W + j]) * ds;
+        d->b[j] += crane__actuator_force(m, j, p_a, p_b, ds * x->v[W + j]) * ds;
     }
 }
 
@@ -179,7 +174,7 @@ static void accel4(c4 *c, crane_real t, const x4 *x, const int lk[4], crane_real
     }
 #if CRANE_HYDRAULICS
     if (dh)
-        for (j = 0; j < 2; ++j)
+        for (j = 0; j < 4; ++j)
             if (c->valve[j]) {
                 crane_real r[3];
                 crane__chamber_rates(c->m, j, crane__drive_lever(&c->in->drive[j], &c->cursor[j], t),
@@ -420,17 +415,17 @@ static CRANE__NOINLINE long substeps(c4 *c, const x4 *x, crane_real h)
     dyn4 d;
     crane__conf4_at(c->m, &c->b, x->v[Q], x->v[Q + 1], x->v[Q + 3], &d.cf);
 #if CRANE_HYDRAULICS
-    if (c->valve[0] || c->valve[1]) {
-        const int valve[2] = {c->valve[0], c->valve[1]};
-        crane_real stroke[2] = {0, 0};
+    if (c->n > N_MECH) {
+        const int valve[4] = {c->valve[0], c->valve[1], c->valve[2], c->valve[3]};
+        crane_real stroke[4] = {0, 0, 0, 0};
         int j;
-        for (j = 0; j < 2; ++j)
-            if (c->valve[j])
-                stroke[j] = c->mode[j] != CRANE__FREE ? locked_stroke(c, j) : 0;
-        if (c->valve[0] && c->mode[0] == CRANE__FREE)
-            (void)ratio(c, &d.cf, CRANE_LIFT, &stroke[0]);
-        if (c->valve[1] && c->mode[1] == CRANE__FREE)
-            stroke[1] = d.cf.tk.stroke;
+        for (j = 0; j < 4; ++j)
+            if (c->valve[j]) {
+                if (c->mode[j] != CRANE__FREE)
+                    stroke[j] = locked_stroke(c, j);
+                else
+                    (void)ratio(c, &d.cf, j, x->v[Q + j], &stroke[j]);
+            }
         n = crane__substeps(c->m, stroke, valve, h);
     }
 #endif
@@ -504,7 +499,7 @@ static void put_sample(c4 *c, crane_real t, const x4 *x, crane_sample *o)
         o->flow_a[i] = o->flow_b[i] = o->spool[i] = 0;
 #if CRANE_HYDRAULICS
         if (c->valve[i]) {
-            const crane_hydraulics *h = m->hyd[i];
+            const crane_hydraulics *h = crane__circuit(m, i);
             const crane_real y = h->spool_time_constant > 0
                                      ? x->v[Y + i]
                                      : crane__drive_lever(&c->in->drive[i], &c->cursor[i], t);
@@ -564,15 +559,7 @@ crane_status crane__integrate4(const crane_model *m, const crane_state *s0, cons
     c.n = N_MECH;
     for (i = 0; i < N_ALL; ++i)
         x.v[i] = 0;
-    {
-        const crane_real bore = p->slew_drive.bore;
-        c.area_a[0] = c.area_b[0] = crane__pi() * bore * bore / 4;
-        c.area_a[1] = crane__pi() * p->extension_cylinder.bore * p->extension_cylinder.bore / 4;
-        c.area_b[1] = crane__pi() *
-                      (p->extension_cylinder.bore * p->extension_cylinder.bore -
-                       p->extension_cylinder.rod * p->extension_cylinder.rod) / 4;
-        c.gf_ext = crane__extension_friction_slope(p);
-    }
+    c.gf_ext = crane__extension_friction_slope(p);
     for (i = 0; i < 4; ++i) {
         c.cursor[i] = 0;
         c.valve[i] = (unsigned char)(CRANE_HYDRAULICS && in->drive[i].mode == CRANE_DRIVE_VALVE);

@@ -74,7 +74,7 @@ static int chamber_ok(crane_real p)
     return p >= (crane_real)CRANE_CHAMBER_PRESSURE_MIN && p <= (crane_real)CRANE_PRESSURE_MAX;
 }
 
-/* A valve drive of joint i (docs/model.md, "Hydraulics", "Bad input"): the cylinder has a circuit,
+/* A valve drive of joint i (docs/model.md, "Hydraulics", "Bad input"): the actuator has a circuit,
  * the lever (or its samples) is in [-1, 1] and covers the horizon, the state's chamber pressures
  * and spool are in range. */
 static crane_status check_valve(const crane_model *model, int i, const crane_state *s,
@@ -82,8 +82,13 @@ static crane_status check_valve(const crane_model *model, int i, const crane_sta
 {
     size_t k;
 
-    if (!CRANE_HYDRAULICS || !model->hyd[i])
+#if CRANE_HYDRAULICS
+    if (!crane__circuit(model, i))
         return CRANE_E_VALVE;
+#else
+    (void)model;
+    return CRANE_E_VALVE;
+#endif
     if (!crane__finite(s->p_a[i]) || !crane__finite(s->p_b[i]) || !crane__finite(s->spool[i]))
         return CRANE_E_NONFINITE;
     if (!chamber_ok(s->p_a[i]) || !chamber_ok(s->p_b[i]) || !lever_ok(s->spool[i]))
@@ -131,8 +136,8 @@ static crane_status check_drive(const crane_drive *d, crane_real stroke_rate, cr
 }
 
 /* The slew's or the extension's drive (docs/model.md, "Four joints", "Bad input"): a hold, or a
- * pressure drive on a crane that has the actuator; the slew within its range when the crane has a
- * slew drive (the extension's range is the model's check). Valve drives on them: not yet. */
+ * pressure or valve drive on a crane that has the actuator; the slew within its range when the crane
+ * has a slew drive (the extension's range is the model's check). */
 static crane_status check_joint4(const crane_model *model, int j, const crane_state *s,
                                  const crane_drive *d, crane_real horizon)
 {
@@ -150,7 +155,7 @@ static crane_status check_joint4(const crane_model *model, int j, const crane_st
     if (!present)
         return CRANE_E_ACTUATOR;
     if (d->mode == CRANE_DRIVE_VALVE)
-        return CRANE_E_DRIVE;
+        return check_valve(model, j, s, d, horizon);
     return check_drive(d, rate, horizon);
 }
 
@@ -199,14 +204,14 @@ static crane_status check_work(const crane_model *m, const crane_inputs *in, cra
     const crane_real h = dt * (crane_real)1.25;
     long n_max = 1;
 #if CRANE_HYDRAULICS
-    const int valve[2] = {in->drive[0].mode == CRANE_DRIVE_VALVE,
-                          in->drive[1].mode == CRANE_DRIVE_VALVE};
+    int valve[4], j, any = 0;
 
-    if (valve[0] || valve[1]) {
-        const long a = crane__substeps(m, m->stroke_min, valve, h);
-        const long b = crane__substeps(m, m->stroke_max, valve, h);
-        n_max = a > b ? a : b;
+    for (j = 0; j < 4; ++j) {
+        valve[j] = in->drive[j].mode == CRANE_DRIVE_VALVE;
+        any = any || valve[j];
     }
+    if (any)
+        n_max = crane__substeps_bound(m, valve, h);
 #endif
     /* docs/model.md "Four joints": a moving extension's friction substeps, at their bound */
     if (in->drive[CRANE_EXTENSION].mode != CRANE_DRIVE_HOLD) {

@@ -25,7 +25,7 @@ N_POINTS = int(lib.CRANE_N_POINTS)
 
 #: Whether the core moves the slew and the extension (issue 11's four-joint dynamics); until it
 #: does, api.py refuses a slew or extension drive other than Hold on backend "c".
-MOVES_SLEW_AND_EXTENSION = False
+MOVES_SLEW_AND_EXTENSION = True
 
 # What each status means in terms of the crane file / the call's arguments.
 _CONTEXT = {
