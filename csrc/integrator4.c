@@ -188,7 +188,7 @@ static void accel4(c4 *c, crane_real t, const x4 *x, const int lk[4], crane_real
 #endif
 }
 
-static void lock_mask(const c4 *c, int lk[4])
+static void lock_mask4(const c4 *c, int lk[4])
 {
     int j;
     for (j = 0; j < 4; ++j)
@@ -196,14 +196,14 @@ static void lock_mask(const c4 *c, int lk[4])
 }
 
 /* Classic RK4 of size h from (t, x) into y (y != x): ((k1 + 2 k2) + 2 k3) + k4, as the planar one. */
-static void rk4(c4 *c, crane_real t, const x4 *x, crane_real h, x4 *y)
+static void rk4_4(c4 *c, crane_real t, const x4 *x, crane_real h, x4 *y)
 {
     const crane_real h2 = h / 2, h6 = h / 6;
     crane_real k[N_ALL];
     x4 xs = *x;
     int lk[4], s, i;
 
-    lock_mask(c, lk);
+    lock_mask4(c, lk);
     for (i = N_MECH; i < N_ALL; ++i)
         k[i] = 0;
     for (s = 0; s < 4; ++s) {
@@ -229,7 +229,7 @@ static void rk4(c4 *c, crane_real t, const x4 *x, crane_real h, x4 *y)
 /* Plastic impact on joint i (docs/model.md, "Four joints"): over the free joints F,
  * qd_F <- qd_F - Minv e_i (qd_i / Minv_ii); M is block diagonal, so a slew impact stops the slew
  * alone and an in-plane impact leaves the slew rate. */
-static void impact(c4 *c, x4 *x, int i)
+static void impact4(c4 *c, x4 *x, int i)
 {
     if (i != CRANE_SLEW) {
         dyn4 d;
@@ -250,10 +250,10 @@ static void impact(c4 *c, x4 *x, int i)
 }
 
 /* Puts joint i on its stop: q exactly at the limit, plastic impact, STOPPED. */
-static void stop_joint(c4 *c, x4 *x, int i, int upper)
+static void stop_joint4(c4 *c, x4 *x, int i, int upper)
 {
     x->v[Q + i] = upper ? c->hi[i] : c->lo[i];
-    impact(c, x, i);
+    impact4(c, x, i);
     c->mode[i] = (signed char)(upper ? CRANE__STOP_HI : CRANE__STOP_LO);
 }
 
@@ -261,7 +261,7 @@ static void stop_joint(c4 *c, x4 *x, int i, int upper)
  * candidate sets in the order of their bitmask (lift 1, tilt 2, slew 4, extension 8); the first
  * where every released joint accelerates into its range and every joint kept on its stop is
  * pressed onto it. */
-static int release_set(c4 *c, crane_real t, const x4 *x)
+static int release_set4(c4 *c, crane_real t, const x4 *x)
 {
     int held[4], cand, j, any = 0;
     dyn4 d;
@@ -305,9 +305,9 @@ static int release_set(c4 *c, crane_real t, const x4 *x)
     return 0;
 }
 
-static void release(c4 *c, crane_real t, const x4 *x)
+static void release4(c4 *c, crane_real t, const x4 *x)
 {
-    const int cand = release_set(c, t, x);
+    const int cand = release_set4(c, t, x);
     int j;
 
     for (j = 0; j < 4; ++j)
@@ -323,27 +323,27 @@ static int any_stopped(const c4 *c)
 
 /* Release inside a piece (docs/model.md, "Release inside a step"): bisects the piece size, advances
  * to hi and releases there; returns hi. y is scratch. */
-static crane_real release_in_piece(c4 *c, crane_real t, x4 *x, crane_real h, x4 *y)
+static crane_real release_in_piece4(c4 *c, crane_real t, x4 *x, crane_real h, x4 *y)
 {
     crane_real lo = 0, hi = h;
     int k;
 
     for (k = 0; k < CRANE__RELEASE_BISECTIONS; ++k) {
         const crane_real mid = (lo + hi) / 2;
-        rk4(c, t, x, mid, y);
-        if (release_set(c, t + mid, y))
+        rk4_4(c, t, x, mid, y);
+        if (release_set4(c, t + mid, y))
             hi = mid;
         else
             lo = mid;
     }
-    rk4(c, t, x, hi, y);
+    rk4_4(c, t, x, hi, y);
     *x = *y;
-    release(c, t + hi, x);
+    release4(c, t + hi, x);
     return hi;
 }
 
 /* One step of size h from t, cut at impacts and releases (as integrator.c's step, four joints). */
-static void step(c4 *c, crane_real t, x4 *x, crane_real h, crane_real t_end)
+static void step4(c4 *c, crane_real t, x4 *x, crane_real h, crane_real t_end)
 {
     crane_real rem = h;
     int piece;
@@ -354,7 +354,7 @@ static void step(c4 *c, crane_real t, x4 *x, crane_real h, crane_real t_end)
         x4 x1;
         int i;
 
-        rk4(c, t, x, rem, &x1);
+        rk4_4(c, t, x, rem, &x1);
         for (i = 0; i < 4; ++i) {
             if (c->mode[i] != CRANE__FREE)
                 continue;
@@ -365,8 +365,8 @@ static void step(c4 *c, crane_real t, x4 *x, crane_real h, crane_real t_end)
             out |= 1u << i;
         }
         if (!out) {
-            if (piece < CRANE__MAX_PIECES - 1 && any_stopped(c) && release_set(c, t_end, &x1)) {
-                const crane_real hi = release_in_piece(c, t, x, rem, &x1);
+            if (piece < CRANE__MAX_PIECES - 1 && any_stopped(c) && release_set4(c, t_end, &x1)) {
+                const crane_real hi = release_in_piece4(c, t, x, rem, &x1);
                 t += hi;
                 rem -= hi;
                 continue;
@@ -378,7 +378,7 @@ static void step(c4 *c, crane_real t, x4 *x, crane_real h, crane_real t_end)
             *x = x1;
             for (i = 0; i < 4; ++i)
                 if ((out >> i) & 1)
-                    stop_joint(c, x, i, (upper >> i) & 1);
+                    stop_joint4(c, x, i, (upper >> i) & 1);
             return;
         }
         for (i = 0; i < 4; ++i) {
@@ -391,7 +391,7 @@ static void step(c4 *c, crane_real t, x4 *x, crane_real h, crane_real t_end)
                     tmin = tau;
             }
         }
-        rk4(c, t, x, tmin, &x1);
+        rk4_4(c, t, x, tmin, &x1);
         *x = x1;
         t += tmin;
         rem -= tmin;
@@ -399,9 +399,9 @@ static void step(c4 *c, crane_real t, x4 *x, crane_real h, crane_real t_end)
             if (c->mode[i] != CRANE__FREE)
                 continue;
             if (x->v[Q + i] <= c->lo[i])
-                stop_joint(c, x, i, 0);
+                stop_joint4(c, x, i, 0);
             else if (x->v[Q + i] >= c->hi[i])
-                stop_joint(c, x, i, 1);
+                stop_joint4(c, x, i, 1);
         }
     }
 }
@@ -409,7 +409,7 @@ static void step(c4 *c, crane_real t, x4 *x, crane_real h, crane_real t_end)
 /* The substep count of a step of size h from x (docs/model.md, "Hydraulics" and "Four joints"):
  * the valve-driven cylinders' chamber stiffness and, with the extension not held, its friction's
  * rate lambda_e = G_f (M^-1)_ee over the joints that are not held; the larger count. */
-static CRANE__NOINLINE long substeps(c4 *c, const x4 *x, crane_real h)
+static CRANE__NOINLINE long substeps4(c4 *c, const x4 *x, crane_real h)
 {
     long n = 1;
     dyn4 d;
@@ -449,7 +449,7 @@ static CRANE__NOINLINE long substeps(c4 *c, const x4 *x, crane_real h)
     return n;
 }
 
-static void put_sample(c4 *c, crane_real t, const x4 *x, crane_sample *o)
+static void put_sample4(c4 *c, crane_real t, const x4 *x, crane_sample *o)
 {
     const crane_model *m = c->m;
     const crane_params *p = m->params;
@@ -532,7 +532,7 @@ static void put_sample(c4 *c, crane_real t, const x4 *x, crane_sample *o)
     o->tip[2] = tip.y;
 }
 
-static int finite_state(const c4 *c, const x4 *x)
+static int finite_state4(const c4 *c, const x4 *x)
 {
     int i;
     for (i = 0; i < c->n; ++i)
@@ -610,13 +610,13 @@ crane_status crane__integrate4(const crane_model *m, const crane_state *s0, cons
             else
                 continue;
         }
-        stop_joint(&c, &x, i, flag != c.lo_flag[i]);
+        stop_joint4(&c, &x, i, flag != c.lo_flag[i]);
     }
 
     *n_written = 0;
-    if (!finite_state(&c, &x))
+    if (!finite_state4(&c, &x))
         return CRANE_E_DIVERGED;
-    put_sample(&c, 0, &x, &out[0]);
+    put_sample4(&c, 0, &x, &out[0]);
     for (k = 0, next = 1; k < n_steps; ++k) {
         const crane_real t = (crane_real)k * dt;
         const int last = k == n_steps - 1;
@@ -626,23 +626,23 @@ crane_status crane__integrate4(const crane_model *m, const crane_state *s0, cons
         crane_real sub = h;
 
         if ((c.n > N_MECH || c.mode[CRANE_EXTENSION] != CRANE__HELD) && h > 0) {
-            n_sub = substeps(&c, &x, h);
+            n_sub = substeps4(&c, &x, h);
             sub = h / (crane_real)n_sub;
         }
         for (j = 0; j < n_sub; ++j) {
             const int final = j == n_sub - 1;
             const crane_real t_sub = j == 0 ? t : t + (crane_real)j * sub;
-            release(&c, t_sub, &x);
+            release4(&c, t_sub, &x);
             if (h > 0)
-                step(&c, t_sub, &x, final ? (j == 0 ? h : t_end - t_sub) : sub,
+                step4(&c, t_sub, &x, final ? (j == 0 ? h : t_end - t_sub) : sub,
                      final ? t_end : t_sub + sub);
         }
-        if (!finite_state(&c, &x)) {
+        if (!finite_state4(&c, &x)) {
             *n_written = next;
             return CRANE_E_DIVERGED;
         }
         if (last || (k + 1) % sample_every == 0)
-            put_sample(&c, last ? horizon : (crane_real)(k + 1) * dt, &x, &out[next++]);
+            put_sample4(&c, last ? horizon : (crane_real)(k + 1) * dt, &x, &out[next++]);
     }
     *n_written = next;
     return CRANE_OK;

@@ -11,8 +11,9 @@ Prints and checks:
     to each; crane_predict_many included): the frames of
     every function along the deepest path of the call graph, the core's from -fstack-usage (.su
     files) and everything else (libm, libc) from the prologues of the linked code, summed from
-    the entry point to the deepest leaf. Needs no recursion and no indirect calls on the way (both
-    are reported as errors);
+    the entry point to the deepest leaf. Needs no recursion and no indirect calls on the way, and
+    no two functions of one name (static functions in two files: the call graph is by name, so
+    one would be analysed with the other's frame and calls); all are reported as errors;
   * for information, the flash of everything crane_predict pulls in from the C library (libm).
 
 Nothing is excluded from the call graph: every function the linked code can call counts, whether
@@ -110,16 +111,21 @@ def sizes(size_tool, objs):
 
 
 def su_frames(build):
-    """-fstack-usage: function -> (bytes, qualifier)."""
-    frames = {}
-    for path in glob.glob(os.path.join(build, "*.su")):
+    """-fstack-usage: function -> (bytes, qualifier), and the names that two different functions
+    have (static functions of the same name in two files: the call graph, keyed by name, cannot
+    tell them apart; a header's static inline kept out of line in two objects is one function)."""
+    frames, where, ambiguous = {}, {}, set()
+    for path in sorted(glob.glob(os.path.join(build, "*.su"))):
         for line in open(path):
             parts = line.rstrip("\n").split("\t")
             if len(parts) != 3:
                 continue
-            name = parts[0].rsplit(":", 1)[-1]
-            frames[name] = (int(parts[1]), parts[2])
-    return frames
+            loc, name = parts[0].rsplit(":", 1)
+            if name in where and where[name] != loc:
+                ambiguous.add(name)
+            where[name] = loc
+            frames[name] = max((int(parts[1]), parts[2]), frames.get(name, (0, "")))
+    return frames, ambiguous
 
 
 REGLIST = re.compile(r"\{([^}]*)\}")
@@ -156,6 +162,10 @@ def parse_objdump(text):
             cur = m.group(2)
             start = int(m.group(1), 16)
             last_addr = None
+            # a second function of this name (static, in another file) gets a name of its own,
+            # which no call resolves to: the caller reports the name as ambiguous
+            if cur in funcs:
+                cur = f"{cur}@{m.group(1)}"
             funcs[cur] = {"frame": 0, "calls": set(), "indirect": False, "size": 0}
             continue
         if cur is None:
@@ -230,7 +240,17 @@ def main(argv=None):
              "--specs=nosys.specs", "-Wl,--gc-sections", "-lm", "-o", elf])
         dis = run([a.cross + "objdump", "-d", elf])
     funcs = parse_objdump(dis)
-    su = su_frames(a.build)
+    su, ambiguous = su_frames(a.build)
+    # -fstack-usage names a clone "f.isra" where the symbol is "f.isra.0"
+    for n in list(funcs):
+        base = re.sub(r"\.\d+$", "", n)
+        if n not in su and base != n and base in su:
+            su[n] = su[base]
+    twice = sorted({n.split("@")[0] for n in funcs if "@" in n})
+    for name in twice:
+        if name in ambiguous or name not in su:
+            print(f"  ERROR two functions are named {name}: rename one (the call graph is by name)")
+            ok = False
 
     def frame(name):
         f = funcs[name]["frame"]
