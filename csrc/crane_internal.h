@@ -275,13 +275,23 @@ typedef struct {
 void crane__conf4_at(const crane_model *m, const crane__bodies4 *b, crane_real th0, crane_real th1,
                      crane_real e, crane__conf4 *cf);
 
-/* Generalized forces [lift, tilt, slew, extension] for rates qd and accelerations qdd, gravity g. */
+/* Generalized forces [lift, tilt, slew, extension] for rates qd and accelerations qdd, gravity g,
+ * but for the slew's own inertia term: tau[2] is 0, and the caller adds crane__slew_torque (it
+ * has J_z from crane__slew_inertia for the mass matrix anyway, so that it is computed once). */
 void crane__id4(const crane_model *m, const crane__bodies4 *b, const crane__conf4 *cf,
                 const crane_real qd[4], const crane_real qdd[4], crane_real g, crane_real tau[4]);
 
 /* The slew inertia J_z and its rate of change Jdot_z at the rates qd. */
 void crane__slew_inertia(const crane_model *m, const crane__bodies4 *b, const crane__conf4 *cf,
                          const crane_real qd[4], crane_real *jz, crane_real *jdot);
+
+/* The slew equation's inertial term J_z alpha_s + Jdot_z omega_s (exactly 0 at rest without
+ * acceleration, whatever J_z). */
+static inline crane_real crane__slew_torque(crane_real jz, crane_real jdot, crane_real ws,
+                                            crane_real as)
+{
+    return ws != 0 || as != 0 ? jz * as + jdot * ws : 0;
+}
 
 /* The in-plane mass matrix over (lift, tilt, extension), symmetric, row-major upper triangle
  * Mp = (M00, M01, M0e, M11, M1e, Mee), in closed form (the columns ID(q, 0, e_j, 0) of crane__id4

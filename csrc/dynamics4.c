@@ -125,12 +125,9 @@ void crane__id4(const crane_model *m, const crane__bodies4 *b, const crane__conf
             tau[1] += fx * J.x + ng * cf->lp.k[k];
         }
     }
+    /* the slew's own J_z alpha_s + Jdot_z omega_s is the caller's (crane__slew_torque): the
+     * integrator has J_z for its mass matrix anyway, and needs neither with the slew locked */
     tau[2] = 0;
-    if (ws != 0 || qdd[2] != 0) {
-        crane_real jz, jdot;
-        crane__slew_inertia(m, b, cf, qd, &jz, &jdot);
-        tau[2] = jz * qdd[2] + jdot * ws;
-    }
 }
 
 void crane__slew_inertia(const crane_model *m, const crane__bodies4 *b, const crane__conf4 *cf,
@@ -219,6 +216,11 @@ crane_status crane_inverse_dynamics4(const crane_model *model, const crane_real 
     crane__bodies4_init(p, &b);
     crane__conf4_at(model, &b, q[0], q[1], q[3], &cf);
     crane__id4(model, &b, &cf, qd, qdd, p->gravity, t);
+    if (qd[2] != 0 || qdd[2] != 0) {
+        crane_real jz, jdot;
+        crane__slew_inertia(model, &b, &cf, qd, &jz, &jdot);
+        t[2] = crane__slew_torque(jz, jdot, qd[2], qdd[2]);
+    }
     /* squares of rates near 1e160 (double) overflow */
     for (i = 0; i < 4; ++i)
         if (!crane__finite(t[i]))

@@ -10,9 +10,10 @@
  */
 #include "crane_internal.h"
 
-/* State layout: q[4], qd[4], then with valve-driven cylinders the pressures (p_a, p_b of joint j
- * at 8 + 2j, 9 + 2j) and the spools (16 + j); entries of joints that are not valve-driven stay 0. */
-enum { Q = 0, W = 4, P = 8, Y = 16, N_MECH = 8, N_ALL = 20 };
+/* State layout: q[4], qd[4], then with valve-driven cylinders joint j's p_a, p_b and spool at
+ * H + 3j (the order of crane__chamber_rates's rates); entries of joints that are not valve-driven
+ * stay 0. */
+enum { Q = 0, W = 4, H = 8, N_MECH = 8, N_ALL = 20 };
 
 typedef struct {
     crane_real v[N_ALL];
@@ -28,12 +29,34 @@ typedef struct {
     signed char mode[4];        /* CRANE__FREE, _HELD, _STOP_LO, _STOP_HI (in q terms) */
     signed char lo_flag[4];     /* stop flag (actuator terms) at the lower limit of q */
     unsigned char valve[4];     /* joint j is valve-driven */
-    int n;                      /* state entries in use: N_MECH, or N_ALL with valves */
-    crane_real lo[4], hi[4];    /* limits of q: angle limits, [slew_min, slew_max], extension range */
+    unsigned char hyd;          /* some joint is: the state carries pressures and spools */
     crane_real gf_ext;          /* the extension friction's slope at rest, N s/m */
 } c4;
 
 static int locked(const c4 *c, int j) { return c->mode[j] != CRANE__FREE; }
+
+/* State entries in use: the pressures and spools only with valves. */
+static int n_used(const c4 *c) { return c->hyd ? N_ALL : N_MECH; }
+
+/* The lower (upper) limit of q of joint j: the angle limits, [slew_min, slew_max], the extension
+ * range. Read where needed rather than kept in c4 (the stack). */
+static crane_real lo4(const c4 *c, int j)
+{
+    if (j < 2)
+        return c->m->theta_min[j];
+    return j == CRANE_SLEW ? c->m->params->slew_drive.slew_min : c->m->params->extension_min;
+}
+
+static crane_real hi4(const c4 *c, int j)
+{
+    if (j < 2)
+        return c->m->theta_max[j];
+    return j == CRANE_SLEW ? c->m->params->slew_drive.slew_max : c->m->params->extension_max;
+}
+
+/* Joint j is in the set js (bit j: lift 1, tilt 2, slew 4, extension 8). Joint sets are masks
+ * rather than arrays of flags: RK4 keeps one for its four stages (the stack). */
+static int in_set(unsigned js, int j) { return (int)((js >> j) & 1u); }
 
 /* ds/dq of joint j at the configuration: the lift's from its triangle, the tilt's from the
  * four-bar, the rack's pinion radius for the slew, 1 for the extension. With stroke, the stroke
@@ -50,7 +73,7 @@ static crane_real ratio(const c4 *c, const crane__conf4 *cf, int j, crane_real q
     } else {
         if (j == CRANE_SLEW)
             ds = c->m->params->slew_drive.pinion_radius;
-        s = ds * (q - c->lo[j]);
+        s = ds * (q - lo4(c, j));
     }
     if (stroke)
         *stroke = s;
@@ -78,21 +101,27 @@ typedef struct {
     crane_real Mp[6], jz, b[4];
 } dyn4;
 
-static void forces4(c4 *c, crane_real t, const x4 *x, const int lk[4], dyn4 *d, crane_real *sv)
+static void forces4(c4 *c, crane_real t, const x4 *x, unsigned lk, dyn4 *d, crane_real *sv)
 {
     const crane_model *m = c->m;
     static const crane_real zero[4] = {0, 0, 0, 0};
-    crane_real h[4], jdot;
     int j;
 
     crane__conf4_at(m, &c->b, x->v[Q], x->v[Q + 1], x->v[Q + 3], &d->cf);
-    crane__id4(m, &c->b, &d->cf, &x->v[W], zero, m->params->gravity, h);
+    /* the bias h = ID(q, qd, 0) goes into b and is negated there (no array of its own: the stack) */
+    crane__id4(m, &c->b, &d->cf, &x->v[W], zero, m->params->gravity, d->b);
     crane__mass4(m, &c->b, &d->cf, d->Mp);
-    crane__slew_inertia(m, &c->b, &d->cf, &x->v[W], &d->jz, &jdot);
+    /* a locked slew's inertia and force are never read */
+    d->jz = 1;
+    if (!in_set(lk, CRANE_SLEW)) {
+        crane_real jdot;
+        crane__slew_inertia(m, &c->b, &d->cf, &x->v[W], &d->jz, &jdot);
+        d->b[CRANE_SLEW] = crane__slew_torque(d->jz, jdot, x->v[W + CRANE_SLEW], 0);
+    }
     for (j = 0; j < 4; ++j) {
         crane_real ds, p_a, p_b, stroke;
-        d->b[j] = -h[j];
-        if (lk[j]) {
+        d->b[j] = -d->b[j];
+        if (in_set(lk, j)) {
             if (sv && c->valve[j]) {
                 sv[j] = locked_stroke(c, j);
                 sv[4 + j] = 0;
@@ -101,8 +130,8 @@ static void forces4(c4 *c, crane_real t, const x4 *x, const int lk[4], dyn4 *d, 
         }
         ds = ratio(c, &d->cf, j, x->v[Q + j], &stroke);
         if (c->valve[j]) {
-            p_a = x->v[P + 2 * j];
-            p_b = x->v[P + 2 * j + 1];
+            p_a = x->v[H + 3 * j];
+            p_b = x->v[H + 3 * j + 1];
             if (sv) {
                 sv[j] = stroke;
                 sv[4 + j] = ds * x->v[W + j];
@@ -125,15 +154,15 @@ static crane_real mp(const crane_real Mp[6], int r, int k)
 
 /* Solves M a = b over the joints not in lk (the others get 0): the slew alone (M is block
  * diagonal), the free in-plane joints by Gaussian elimination (M is positive definite). */
-static void solve4(const dyn4 *d, const crane_real b[4], const int lk[4], crane_real a[4])
+static void solve4(const dyn4 *d, const crane_real b[4], unsigned lk, crane_real a[4])
 {
     crane_real A[3][4];
     int f[3], n = 0, r, k, i;
 
-    a[CRANE_SLEW] = lk[CRANE_SLEW] ? 0 : b[CRANE_SLEW] / d->jz;
+    a[CRANE_SLEW] = in_set(lk, CRANE_SLEW) ? 0 : b[CRANE_SLEW] / d->jz;
     for (k = 0; k < 3; ++k) {
         a[PLANE[k]] = 0;
-        if (!lk[PLANE[k]])
+        if (!in_set(lk, PLANE[k]))
             f[n++] = k;
     }
     for (r = 0; r < n; ++r) {
@@ -155,74 +184,83 @@ static void solve4(const dyn4 *d, const crane_real b[4], const int lk[4], crane_
     }
 }
 
-/* qdd at (t, x) with the joints in lk locked; with dh, the chamber and spool rates too. */
-static void accel4(c4 *c, crane_real t, const x4 *x, const int lk[4], crane_real a[4], crane_real *dh)
+/* qdd at (t, x) with the joints in lk locked, and the valve-driven joints' strokes (sv[j]) and
+ * stroke rates (sv[4 + j]) for their chamber rates, which the caller evaluates after this returns
+ * (so that the valve's frames do not stack on forces4's: the stack). */
+static void accel4(c4 *c, crane_real t, const x4 *x, unsigned lk, crane_real a[4], crane_real sv[8])
 {
-    crane_real sv[8] = {0, 0, 0, 0, 0, 0, 0, 0};
     int j;
 
-    if (lk[0] && lk[1] && lk[2] && lk[3]) {
+    if (lk == 15u) {
         for (j = 0; j < 4; ++j) {
             a[j] = 0;
-            if (c->valve[j])
-                sv[j] = locked_stroke(c, j);
+            sv[j] = c->valve[j] ? locked_stroke(c, j) : 0;
+            sv[4 + j] = 0;
         }
     } else {
         dyn4 d;
-        forces4(c, t, x, lk, &d, dh ? sv : NULL);
+        forces4(c, t, x, lk, &d, sv);
         solve4(&d, d.b, lk, a);
     }
-#if CRANE_HYDRAULICS
-    if (dh)
-        for (j = 0; j < 4; ++j)
-            if (c->valve[j]) {
-                crane_real r[3];
-                crane__chamber_rates(c->m, j, crane__drive_lever(&c->in->drive[j], &c->cursor[j], t),
-                                     sv[j], sv[4 + j], &x->v[P + 2 * j], x->v[Y + j], r);
-                dh[2 * j] = r[0];
-                dh[2 * j + 1] = r[1];
-                dh[8 + j] = r[2];
-            }
-#else
-    (void)dh;
-#endif
 }
 
-static void lock_mask4(const c4 *c, int lk[4])
+/* The joints that are held or stopped. */
+static unsigned lock_mask4(const c4 *c)
 {
+    unsigned lk = 0;
     int j;
     for (j = 0; j < 4; ++j)
-        lk[j] = locked(c, j);
+        if (locked(c, j))
+            lk |= 1u << j;
+    return lk;
 }
 
-/* Classic RK4 of size h from (t, x) into y (y != x): ((k1 + 2 k2) + 2 k3) + k4, as the planar one. */
+/* Classic RK4 of size h from (t, x) into y (y != x): ((k1 + 2 k2) + 2 k3) + k4, as the planar one,
+ * its four stages in one loop so that accel4 is inlined once. The stage sums accumulate in y and
+ * each stage's state is written over the last one's (xs), so that RK4 keeps no array of stage
+ * rates beside the accelerations and the chamber rates, which share the frame's storage with
+ * accel4's dynamics (the stack). */
 static void rk4_4(c4 *c, crane_real t, const x4 *x, crane_real h, x4 *y)
 {
     const crane_real h2 = h / 2, h6 = h / 6;
-    crane_real k[N_ALL];
+    const unsigned lk = lock_mask4(c);
+    const int n = n_used(c);
     x4 xs = *x;
-    int lk[4], s, i;
+    int s, i;
 
-    lock_mask4(c, lk);
-    for (i = N_MECH; i < N_ALL; ++i)
-        k[i] = 0;
     for (s = 0; s < 4; ++s) {
-        accel4(c, s == 0 ? t : s == 3 ? t + h : t + h2, &xs, lk, &k[W], c->n > N_MECH ? &k[P] : NULL);
-        for (i = 0; i < 4; ++i)
-            k[Q + i] = xs.v[W + i];
-        for (i = 0; i < c->n; ++i) {
-            if (s == 0)
-                y->v[i] = k[i];
-            else if (s < 3)
-                y->v[i] = y->v[i] + 2 * k[i];
-            else
-                y->v[i] = x->v[i] + h6 * (y->v[i] + k[i]);
+        const crane_real ts = s == 0 ? t : s == 3 ? t + h : t + h2, cs = s == 2 ? h : h2;
+        crane_real a[4], sv[8];
+        accel4(c, ts, &xs, lk, a, sv);
+        {
+            /* the rates of the pressures and spools (0 for joints that are not valve-driven) */
+            crane_real dh[N_ALL - H];
+            for (i = 0; i < N_ALL - H; ++i)
+                dh[i] = 0;
+#if CRANE_HYDRAULICS
+            for (i = 0; i < 4; ++i)
+                if (c->valve[i])
+                    crane__chamber_rates(c->m, i,
+                                         crane__drive_lever(&c->in->drive[i], &c->cursor[i], ts),
+                                         sv[i], sv[4 + i], &xs.v[H + 3 * i], xs.v[H + 3 * i + 2],
+                                         &dh[3 * i]);
+#endif
+            /* in entry order: a position's rate is the stage's velocity, read before it is
+             * overwritten */
+            for (i = 0; i < n; ++i) {
+                const crane_real k = i < W ? xs.v[W + i] : i < H ? a[i - W] : dh[i - H];
+                if (s == 0)
+                    y->v[i] = k;
+                else if (s < 3)
+                    y->v[i] = y->v[i] + 2 * k;
+                else
+                    y->v[i] = x->v[i] + h6 * (y->v[i] + k);
+                if (s < 3)
+                    xs.v[i] = x->v[i] + cs * k;
+            }
         }
-        if (s < 3)
-            for (i = 0; i < c->n; ++i)
-                xs.v[i] = x->v[i] + (s == 2 ? h : h2) * k[i];
     }
-    for (i = c->n; i < N_ALL; ++i)
+    for (i = n; i < N_ALL; ++i)
         y->v[i] = x->v[i];
 }
 
@@ -234,16 +272,15 @@ static void impact4(c4 *c, x4 *x, int i)
     if (i != CRANE_SLEW) {
         dyn4 d;
         crane_real e[4] = {0, 0, 0, 0}, col[4];
-        int lk[4], j;
+        const unsigned lk = (lock_mask4(c) & ~(1u << i)) | (1u << CRANE_SLEW);
+        int j;
         crane__conf4_at(c->m, &c->b, x->v[Q], x->v[Q + 1], x->v[Q + 3], &d.cf);
         crane__mass4(c->m, &c->b, &d.cf, d.Mp);
         d.jz = 1;
-        for (j = 0; j < 4; ++j)
-            lk[j] = j == CRANE_SLEW || (j != i && locked(c, j));
         e[i] = 1;
         solve4(&d, e, lk, col);
         for (j = 0; j < 4; ++j)
-            if (j != i && !lk[j])
+            if (j != i && !in_set(lk, j))
                 x->v[W + j] -= col[j] * (x->v[W + i] / col[i]);
     }
     x->v[W + i] = 0;
@@ -252,7 +289,7 @@ static void impact4(c4 *c, x4 *x, int i)
 /* Puts joint i on its stop: q exactly at the limit, plastic impact, STOPPED. */
 static void stop_joint4(c4 *c, x4 *x, int i, int upper)
 {
-    x->v[Q + i] = upper ? c->hi[i] : c->lo[i];
+    x->v[Q + i] = upper ? hi4(c, i) : lo4(c, i);
     impact4(c, x, i);
     c->mode[i] = (signed char)(upper ? CRANE__STOP_HI : CRANE__STOP_LO);
 }
@@ -263,28 +300,26 @@ static void stop_joint4(c4 *c, x4 *x, int i, int upper)
  * pressed onto it. */
 static int release_set4(c4 *c, crane_real t, const x4 *x)
 {
-    int held[4], cand, j, any = 0;
+    unsigned held = 0, stopped = 0, cand;
+    int j;
     dyn4 d;
 
     for (j = 0; j < 4; ++j) {
-        held[j] = c->mode[j] == CRANE__HELD;
-        any = any || c->mode[j] >= CRANE__STOP_LO;
+        if (c->mode[j] == CRANE__HELD)
+            held |= 1u << j;
+        else if (c->mode[j] >= CRANE__STOP_LO)
+            stopped |= 1u << j;
     }
-    if (!any)
+    if (!stopped)
         return 0;
     forces4(c, t, x, held, &d, NULL);
-    for (cand = 0; cand < 16; ++cand) {
-        int lk[4], ok = 1;
+    for (cand = 0; cand < 16u; ++cand) {
+        int ok = 1;
         crane_real a[4], r[4];
-        for (j = 0; j < 4; ++j) {
-            const int released = (cand >> j) & 1;
-            if (released && c->mode[j] < CRANE__STOP_LO)
-                ok = 0;
-            lk[j] = held[j] || (c->mode[j] >= CRANE__STOP_LO && !released);
-        }
-        if (!ok)
+        /* only stopped joints can be released */
+        if (cand & ~stopped)
             continue;
-        solve4(&d, d.b, lk, a);
+        solve4(&d, d.b, held | (stopped & ~cand), a);
         /* M a, for the reactions of the kept joints */
         for (j = 0; j < 3; ++j)
             r[PLANE[j]] = mp(d.Mp, j, 0) * a[CRANE_LIFT] + mp(d.Mp, j, 1) * a[CRANE_TILT] +
@@ -292,15 +327,15 @@ static int release_set4(c4 *c, crane_real t, const x4 *x)
         r[CRANE_SLEW] = d.jz * a[CRANE_SLEW];
         for (j = 0; j < 4; ++j) {
             const crane_real inward = c->mode[j] == CRANE__STOP_LO ? 1 : -1;
-            if (c->mode[j] < CRANE__STOP_LO)
+            if (!in_set(stopped, j))
                 continue;
-            if ((cand >> j) & 1)
+            if (in_set(cand, j))
                 ok = ok && inward * a[j] > 0;
             else
                 ok = ok && inward * (r[j] - d.b[j]) >= 0;
         }
         if (ok)
-            return cand;
+            return (int)cand;
     }
     return 0;
 }
@@ -358,9 +393,9 @@ static void step4(c4 *c, crane_real t, x4 *x, crane_real h, crane_real t_end)
         for (i = 0; i < 4; ++i) {
             if (c->mode[i] != CRANE__FREE)
                 continue;
-            if (x1.v[Q + i] > c->hi[i])
+            if (x1.v[Q + i] > hi4(c, i))
                 upper |= 1u << i;
-            else if (!(x1.v[Q + i] < c->lo[i]))
+            else if (!(x1.v[Q + i] < lo4(c, i)))
                 continue;
             out |= 1u << i;
         }
@@ -386,7 +421,7 @@ static void step4(c4 *c, crane_real t, x4 *x, crane_real h, crane_real t_end)
                 const int up = (upper >> i) & 1;
                 const crane_real tau = crane__crossing_time(x->v[Q + i], x->v[W + i], x1.v[Q + i],
                                                             x1.v[W + i], rem,
-                                                            up ? c->hi[i] : c->lo[i], up);
+                                                            up ? hi4(c, i) : lo4(c, i), up);
                 if (tau < tmin)
                     tmin = tau;
             }
@@ -398,9 +433,9 @@ static void step4(c4 *c, crane_real t, x4 *x, crane_real h, crane_real t_end)
         for (i = 0; i < 4; ++i) {
             if (c->mode[i] != CRANE__FREE)
                 continue;
-            if (x->v[Q + i] <= c->lo[i])
+            if (x->v[Q + i] <= lo4(c, i))
                 stop_joint4(c, x, i, 0);
-            else if (x->v[Q + i] >= c->hi[i])
+            else if (x->v[Q + i] >= hi4(c, i))
                 stop_joint4(c, x, i, 1);
         }
     }
@@ -415,7 +450,7 @@ static CRANE__NOINLINE long substeps4(c4 *c, const x4 *x, crane_real h)
     dyn4 d;
     crane__conf4_at(c->m, &c->b, x->v[Q], x->v[Q + 1], x->v[Q + 3], &d.cf);
 #if CRANE_HYDRAULICS
-    if (c->n > N_MECH) {
+    if (c->hyd) {
         const int valve[4] = {c->valve[0], c->valve[1], c->valve[2], c->valve[3]};
         crane_real stroke[4] = {0, 0, 0, 0};
         int j;
@@ -431,11 +466,13 @@ static CRANE__NOINLINE long substeps4(c4 *c, const x4 *x, crane_real h)
 #endif
     if (c->mode[CRANE_EXTENSION] != CRANE__HELD) {
         crane_real e[4] = {0, 0, 0, 0}, col[4], ne, minv;
-        int lk[4], j;
+        unsigned lk = 1u << CRANE_SLEW;
+        int j;
         crane__mass4(c->m, &c->b, &d.cf, d.Mp);
         d.jz = 1;
         for (j = 0; j < 4; ++j)
-            lk[j] = j == CRANE_SLEW || c->mode[j] == CRANE__HELD;
+            if (c->mode[j] == CRANE__HELD)
+                lk |= 1u << j;
         e[CRANE_EXTENSION] = 1;
         solve4(&d, e, lk, col);
         /* (M^-1)_ee at most 4 / m_ext: the bound that check_work counts (crane_internal.h) */
@@ -464,9 +501,9 @@ static void put_sample4(c4 *c, crane_real t, const x4 *x, crane_sample *o)
         crane_real coord = x->v[Q + i];
         /* a held joint reports its initial coordinate, a stopped one exactly its limit */
         if (c->mode[i] == CRANE__STOP_LO)
-            coord = c->lo[i];
+            coord = lo4(c, i);
         else if (c->mode[i] == CRANE__STOP_HI)
-            coord = c->hi[i];
+            coord = hi4(c, i);
         if (i == CRANE_SLEW) {
             o->slew = c->mode[i] == CRANE__HELD ? c->s0->slew : coord;
             o->slew_rate = x->v[W + i];
@@ -501,10 +538,10 @@ static void put_sample4(c4 *c, crane_real t, const x4 *x, crane_sample *o)
         if (c->valve[i]) {
             const crane_hydraulics *h = crane__circuit(m, i);
             const crane_real y = h->spool_time_constant > 0
-                                     ? x->v[Y + i]
+                                     ? x->v[H + 3 * i + 2]
                                      : crane__drive_lever(&c->in->drive[i], &c->cursor[i], t);
-            o->p_a[i] = x->v[P + 2 * i];
-            o->p_b[i] = x->v[P + 2 * i + 1];
+            o->p_a[i] = x->v[H + 3 * i];
+            o->p_b[i] = x->v[H + 3 * i + 1];
             crane__valve_flows(h, y, o->p_a[i], o->p_b[i], &o->flow_a[i], &o->flow_b[i]);
             o->spool[i] = y;
         } else
@@ -535,7 +572,7 @@ static void put_sample4(c4 *c, crane_real t, const x4 *x, crane_sample *o)
 static int finite_state4(const c4 *c, const x4 *x)
 {
     int i;
-    for (i = 0; i < c->n; ++i)
+    for (i = 0; i < n_used(c); ++i)
         if (!crane__finite(x->v[i]))
             return 0;
     return 1;
@@ -556,7 +593,7 @@ crane_status crane__integrate4(const crane_model *m, const crane_state *s0, cons
     c.in = in;
     c.s0 = s0;
     crane__bodies4_init(p, &c.b);
-    c.n = N_MECH;
+    c.hyd = 0;
     for (i = 0; i < N_ALL; ++i)
         x.v[i] = 0;
     c.gf_ext = crane__extension_friction_slope(p);
@@ -565,10 +602,10 @@ crane_status crane__integrate4(const crane_model *m, const crane_state *s0, cons
         c.valve[i] = (unsigned char)(CRANE_HYDRAULICS && in->drive[i].mode == CRANE_DRIVE_VALVE);
         c.mode[i] = (signed char)(in->drive[i].mode == CRANE_DRIVE_HOLD ? CRANE__HELD : CRANE__FREE);
         if (c.valve[i]) {
-            c.n = N_ALL;
-            x.v[P + 2 * i] = s0->p_a[i];
-            x.v[P + 2 * i + 1] = s0->p_b[i];
-            x.v[Y + i] = s0->spool[i];
+            c.hyd = 1;
+            x.v[H + 3 * i] = s0->p_a[i];
+            x.v[H + 3 * i + 1] = s0->p_b[i];
+            x.v[H + 3 * i + 2] = s0->spool[i];
         }
         if (i < 2) {
             crane_real ds;
@@ -578,14 +615,10 @@ crane_status crane__integrate4(const crane_model *m, const crane_state *s0, cons
                 (void)crane__tilt_from_stroke(m, s0->stroke[i], &x.v[Q + i], &ds, NULL, NULL);
             x.v[W + i] = s0->stroke_rate[i] / ds;
             c.lo_flag[i] = (signed char)(ds > 0 ? -1 : 1);
-            c.lo[i] = m->theta_min[i];
-            c.hi[i] = m->theta_max[i];
         } else {
             c.lo_flag[i] = -1;
             x.v[Q + i] = i == CRANE_SLEW ? s0->slew : s0->extension;
             x.v[W + i] = i == CRANE_SLEW ? s0->slew_rate : s0->extension_rate;
-            c.lo[i] = i == CRANE_SLEW ? p->slew_drive.slew_min : p->extension_min;
-            c.hi[i] = i == CRANE_SLEW ? p->slew_drive.slew_max : p->extension_max;
         }
     }
 
@@ -603,9 +636,9 @@ crane_status crane__integrate4(const crane_model *m, const crane_state *s0, cons
             else
                 continue;
         } else {
-            if (x.v[Q + i] <= c.lo[i] && x.v[W + i] <= 0)
+            if (x.v[Q + i] <= lo4(&c, i) && x.v[W + i] <= 0)
                 flag = -1;
-            else if (x.v[Q + i] >= c.hi[i] && x.v[W + i] >= 0)
+            else if (x.v[Q + i] >= hi4(&c, i) && x.v[W + i] >= 0)
                 flag = 1;
             else
                 continue;
@@ -625,7 +658,7 @@ crane_status crane__integrate4(const crane_model *m, const crane_state *s0, cons
         long j, n_sub = 1;
         crane_real sub = h;
 
-        if ((c.n > N_MECH || c.mode[CRANE_EXTENSION] != CRANE__HELD) && h > 0) {
+        if ((c.hyd || c.mode[CRANE_EXTENSION] != CRANE__HELD) && h > 0) {
             n_sub = substeps4(&c, &x, h);
             sub = h / (crane_real)n_sub;
         }
