@@ -19,6 +19,13 @@ typedef struct {
     crane_real v[N_ALL];
 } x4;
 
+/* Everything the accelerations need at (t, x): the configuration, the in-plane mass matrix Mp
+ * (lift, tilt, extension), J_z and the net generalized forces b = tau - h. */
+typedef struct {
+    crane__conf4 cf;
+    crane_real Mp[6], jz, b[4];
+} dyn4;
+
 /* Per-prediction working data, on the caller's stack. */
 typedef struct {
     const crane_model *m;
@@ -31,6 +38,10 @@ typedef struct {
     unsigned char valve[4];     /* joint j is valve-driven */
     unsigned char hyd;          /* some joint is: the state carries pressures and spools */
     crane_real gf_ext;          /* the extension friction's slope at rest, N s/m */
+    /* The one scratch of every evaluation of the dynamics (RK4's stages, the release rule, the
+     * impacts, the substep count), which never overlap: a frame of its own in each would stack
+     * on this one (the stack). */
+    dyn4 d;
 } c4;
 
 static int locked(const c4 *c, int j) { return c->mode[j] != CRANE__FREE; }
@@ -91,20 +102,32 @@ static crane_real locked_stroke(const c4 *c, int j)
     return flag < 0 ? s_min : s_max;
 }
 
-/* Everything the accelerations need at (t, x): the configuration, the in-plane mass matrix Mp
- * (lift, tilt, extension), J_z and the net generalized forces b = tau - h, with actuator forces
- * only for the joints not in lk (a joint in lk that is stopped needs its own force only to decide
- * its release, which passes lk = the held joints). With sv, the valve-driven joints' strokes
- * (sv[j]) and stroke rates (sv[4 + j]). */
-typedef struct {
-    crane__conf4 cf;
-    crane_real Mp[6], jz, b[4];
-} dyn4;
+#if CRANE_HYDRAULICS
+/* The chamber and spool rates at t of valve-driven joint j at stroke s and stroke rate v, written
+ * over its pressures and spool in x (which they are read from first): RK4 takes a stage's rates
+ * from there, and keeps no array of them (the stack). */
+static CRANE__ALWAYS_INLINE void valve_rates(c4 *c, crane_real t, x4 *x, int j, crane_real s, crane_real v)
+{
+    crane_real r[3];
+    int k;
 
-static void forces4(c4 *c, crane_real t, const x4 *x, unsigned lk, dyn4 *d, crane_real *sv)
+    crane__chamber_rates(c->m, j, crane__drive_lever(&c->in->drive[j], &c->cursor[j], t), s, v,
+                         &x->v[H + 3 * j], x->v[H + 3 * j + 2], r);
+    for (k = 0; k < 3; ++k)
+        x->v[H + 3 * j + k] = r[k];
+}
+#endif
+
+/* Fills c->d at (t, x): the configuration, Mp, J_z and b = tau - h, with actuator forces only for
+ * the joints not in lk (a joint in lk that is stopped needs its own force only to decide its
+ * release, which passes lk = the held joints). With rates (then x itself), each valve-driven
+ * joint's chamber and spool rates replace its pressures and spool in x, once its force has read
+ * them (valve_rates). */
+static CRANE__ALWAYS_INLINE void forces4(c4 *c, crane_real t, const x4 *x, unsigned lk, x4 *rates)
 {
     const crane_model *m = c->m;
     static const crane_real zero[4] = {0, 0, 0, 0};
+    dyn4 *const d = &c->d;
     int j;
 
     crane__conf4_at(m, &c->b, x->v[Q], x->v[Q + 1], x->v[Q + 3], &d->cf);
@@ -122,24 +145,27 @@ static void forces4(c4 *c, crane_real t, const x4 *x, unsigned lk, dyn4 *d, cran
         crane_real ds, p_a, p_b, stroke;
         d->b[j] = -d->b[j];
         if (in_set(lk, j)) {
-            if (sv && c->valve[j]) {
-                sv[j] = locked_stroke(c, j);
-                sv[4 + j] = 0;
-            }
+#if CRANE_HYDRAULICS
+            if (rates && c->valve[j])
+                valve_rates(c, t, rates, j, locked_stroke(c, j), 0);
+#endif
             continue;
         }
         ds = ratio(c, &d->cf, j, x->v[Q + j], &stroke);
         if (c->valve[j]) {
             p_a = x->v[H + 3 * j];
             p_b = x->v[H + 3 * j + 1];
-            if (sv) {
-                sv[j] = stroke;
-                sv[4 + j] = ds * x->v[W + j];
-            }
         } else {
             crane__drive_pressures(&c->in->drive[j], &c->cursor[j], t, &p_a, &p_b);
         }
         d->b[j] += crane__actuator_force(m, j, p_a, p_b, ds * x->v[W + j]) * ds;
+#if CRANE_HYDRAULICS
+        if (rates && c->valve[j])
+            valve_rates(c, t, rates, j, stroke, ds * x->v[W + j]);
+#else
+        (void)stroke;
+        (void)rates;
+#endif
     }
 }
 
@@ -189,26 +215,6 @@ static void solve4(const dyn4 *d, const crane_real b[4], unsigned lk, crane_real
     }
 }
 
-/* qdd at (t, x) with the joints in lk locked, and the valve-driven joints' strokes (sv[j]) and
- * stroke rates (sv[4 + j]) for their chamber rates, which the caller evaluates after this returns
- * (so that the valve's frames do not stack on forces4's: the stack). */
-static void accel4(c4 *c, crane_real t, const x4 *x, unsigned lk, crane_real a[4], crane_real sv[8])
-{
-    int j;
-
-    if (lk == 15u) {
-        for (j = 0; j < 4; ++j) {
-            a[j] = 0;
-            sv[j] = c->valve[j] ? locked_stroke(c, j) : 0;
-            sv[4 + j] = 0;
-        }
-    } else {
-        dyn4 d;
-        forces4(c, t, x, lk, &d, sv);
-        solve4(&d, d.b, lk, a);
-    }
-}
-
 /* The joints that are held or stopped. */
 static unsigned lock_mask4(const c4 *c)
 {
@@ -220,11 +226,33 @@ static unsigned lock_mask4(const c4 *c)
     return lk;
 }
 
+/* Entries [from, to) of RK4's bookkeeping at stage s, each entry's rate there being xs->v[i + off]:
+ * the stage sum ((k1 + 2 k2) + 2 k3) + k4 accumulates in y, and the next stage's state x + cs k is
+ * written over xs (the rate is read first). */
+static CRANE__ALWAYS_INLINE void stage4(const x4 *x, x4 *xs, x4 *y, int from, int to, int off, int s,
+                                        crane_real cs, crane_real h6)
+{
+    int i;
+
+    for (i = from; i < to; ++i) {
+        const crane_real k = xs->v[i + off];
+        if (s == 0)
+            y->v[i] = k;
+        else if (s < 3)
+            y->v[i] = y->v[i] + 2 * k;
+        else
+            y->v[i] = x->v[i] + h6 * (y->v[i] + k);
+        if (s < 3)
+            xs->v[i] = x->v[i] + cs * k;
+    }
+}
+
 /* Classic RK4 of size h from (t, x) into y (y != x): ((k1 + 2 k2) + 2 k3) + k4, as the planar one,
- * its four stages in one loop so that accel4 is inlined once. The stage sums accumulate in y and
- * each stage's state is written over the last one's (xs), so that RK4 keeps no array of stage
- * rates beside the accelerations and the chamber rates, which share the frame's storage with
- * accel4's dynamics (the stack). */
+ * its four stages in one loop so that the dynamics are called from one place. There is no array
+ * of stage rates: the stage state xs holds them where they are read (the velocities are the
+ * positions' rates, solve4 writes the accelerations over the velocities once the positions are
+ * done, the chamber rates replace the pressures), and it is then overwritten by the next stage's
+ * state (the stack). */
 static void rk4_4(c4 *c, crane_real t, const x4 *x, crane_real h, x4 *y)
 {
     const crane_real h2 = h / 2, h6 = h / 6;
@@ -235,35 +263,24 @@ static void rk4_4(c4 *c, crane_real t, const x4 *x, crane_real h, x4 *y)
 
     for (s = 0; s < 4; ++s) {
         const crane_real ts = s == 0 ? t : s == 3 ? t + h : t + h2, cs = s == 2 ? h : h2;
-        crane_real a[4], sv[8];
-        accel4(c, ts, &xs, lk, a, sv);
-        {
-            /* the rates of the pressures and spools (0 for joints that are not valve-driven) */
-            crane_real dh[N_ALL - H];
-            for (i = 0; i < N_ALL - H; ++i)
-                dh[i] = 0;
+        if (lk != 15u) {
+            forces4(c, ts, &xs, lk, &xs);
+        } else {
 #if CRANE_HYDRAULICS
             for (i = 0; i < 4; ++i)
                 if (c->valve[i])
-                    crane__chamber_rates(c->m, i,
-                                         crane__drive_lever(&c->in->drive[i], &c->cursor[i], ts),
-                                         sv[i], sv[4 + i], &xs.v[H + 3 * i], xs.v[H + 3 * i + 2],
-                                         &dh[3 * i]);
+                    valve_rates(c, ts, &xs, i, locked_stroke(c, i), 0);
 #endif
-            /* in entry order: a position's rate is the stage's velocity, read before it is
-             * overwritten */
-            for (i = 0; i < n; ++i) {
-                const crane_real k = i < W ? xs.v[W + i] : i < H ? a[i - W] : dh[i - H];
-                if (s == 0)
-                    y->v[i] = k;
-                else if (s < 3)
-                    y->v[i] = y->v[i] + 2 * k;
-                else
-                    y->v[i] = x->v[i] + h6 * (y->v[i] + k);
-                if (s < 3)
-                    xs.v[i] = x->v[i] + cs * k;
-            }
         }
+        stage4(x, &xs, y, Q, W, W - Q, s, cs, h6);
+        if (lk != 15u) {
+            solve4(&c->d, c->d.b, lk, &xs.v[W]);
+        } else {
+            for (i = W; i < H; ++i)
+                xs.v[i] = 0;
+        }
+        /* the entries of joints that are not valve-driven are 0, and so read as rates */
+        stage4(x, &xs, y, W, n, 0, s, cs, h6);
     }
     for (i = n; i < N_ALL; ++i)
         y->v[i] = x->v[i];
@@ -275,15 +292,15 @@ static void rk4_4(c4 *c, crane_real t, const x4 *x, crane_real h, x4 *y)
 static void impact4(c4 *c, x4 *x, int i)
 {
     if (i != CRANE_SLEW) {
-        dyn4 d;
+        dyn4 *const d = &c->d;
         crane_real e[4] = {0, 0, 0, 0}, col[4];
         const unsigned lk = (lock_mask4(c) & ~(1u << i)) | (1u << CRANE_SLEW);
         int j;
-        crane__conf4_at(c->m, &c->b, x->v[Q], x->v[Q + 1], x->v[Q + 3], &d.cf);
-        crane__mass4(c->m, &c->b, &d.cf, d.Mp);
-        d.jz = 1;
+        crane__conf4_at(c->m, &c->b, x->v[Q], x->v[Q + 1], x->v[Q + 3], &d->cf);
+        crane__mass4(c->m, &c->b, &d->cf, d->Mp);
+        d->jz = 1;
         e[i] = 1;
-        solve4(&d, e, lk, col);
+        solve4(d, e, lk, col);
         for (j = 0; j < 4; ++j)
             if (j != i && !in_set(lk, j))
                 x->v[W + j] -= col[j] * (x->v[W + i] / col[i]);
@@ -305,9 +322,9 @@ static void stop_joint4(c4 *c, x4 *x, int i, int upper)
  * pressed onto it. */
 static int release_set4(c4 *c, crane_real t, const x4 *x)
 {
+    const dyn4 *const d = &c->d;
     unsigned held = 0, stopped = 0, cand;
     int j;
-    dyn4 d;
 
     for (j = 0; j < 4; ++j) {
         if (c->mode[j] == CRANE__HELD)
@@ -317,19 +334,19 @@ static int release_set4(c4 *c, crane_real t, const x4 *x)
     }
     if (!stopped)
         return 0;
-    forces4(c, t, x, held, &d, NULL);
+    forces4(c, t, x, held, NULL);
     for (cand = 0; cand < 16u; ++cand) {
         int ok = 1;
         crane_real a[4], r[4];
         /* only stopped joints can be released */
         if (cand & ~stopped)
             continue;
-        solve4(&d, d.b, held | (stopped & ~cand), a);
+        solve4(d, d->b, held | (stopped & ~cand), a);
         /* M a, for the reactions of the kept joints */
         for (j = 0; j < 3; ++j)
-            r[PLANE[j]] = mp(d.Mp, j, 0) * a[CRANE_LIFT] + mp(d.Mp, j, 1) * a[CRANE_TILT] +
-                          mp(d.Mp, j, 2) * a[CRANE_EXTENSION];
-        r[CRANE_SLEW] = d.jz * a[CRANE_SLEW];
+            r[PLANE[j]] = mp(d->Mp, j, 0) * a[CRANE_LIFT] + mp(d->Mp, j, 1) * a[CRANE_TILT] +
+                          mp(d->Mp, j, 2) * a[CRANE_EXTENSION];
+        r[CRANE_SLEW] = d->jz * a[CRANE_SLEW];
         for (j = 0; j < 4; ++j) {
             const crane_real inward = c->mode[j] == CRANE__STOP_LO ? 1 : -1;
             if (!in_set(stopped, j))
@@ -337,7 +354,7 @@ static int release_set4(c4 *c, crane_real t, const x4 *x)
             if (in_set(cand, j))
                 ok = ok && inward * a[j] > 0;
             else
-                ok = ok && inward * (r[j] - d.b[j]) >= 0;
+                ok = ok && inward * (r[j] - d->b[j]) >= 0;
         }
         if (ok)
             return (int)cand;
@@ -451,9 +468,9 @@ static void step4(c4 *c, crane_real t, x4 *x, crane_real h, crane_real t_end)
  * rate lambda_e = G_f (M^-1)_ee over the joints that are not held; the larger count. */
 static CRANE__NOINLINE long substeps4(c4 *c, const x4 *x, crane_real h)
 {
+    dyn4 *const d = &c->d;
     long n = 1;
-    dyn4 d;
-    crane__conf4_at(c->m, &c->b, x->v[Q], x->v[Q + 1], x->v[Q + 3], &d.cf);
+    crane__conf4_at(c->m, &c->b, x->v[Q], x->v[Q + 1], x->v[Q + 3], &d->cf);
 #if CRANE_HYDRAULICS
     if (c->hyd) {
         const int valve[4] = {c->valve[0], c->valve[1], c->valve[2], c->valve[3]};
@@ -464,7 +481,7 @@ static CRANE__NOINLINE long substeps4(c4 *c, const x4 *x, crane_real h)
                 if (c->mode[j] != CRANE__FREE)
                     stroke[j] = locked_stroke(c, j);
                 else
-                    (void)ratio(c, &d.cf, j, x->v[Q + j], &stroke[j]);
+                    (void)ratio(c, &d->cf, j, x->v[Q + j], &stroke[j]);
             }
         n = crane__substeps(c->m, stroke, valve, h);
     }
@@ -473,13 +490,13 @@ static CRANE__NOINLINE long substeps4(c4 *c, const x4 *x, crane_real h)
         crane_real e[4] = {0, 0, 0, 0}, col[4], ne, minv;
         unsigned lk = 1u << CRANE_SLEW;
         int j;
-        crane__mass4(c->m, &c->b, &d.cf, d.Mp);
-        d.jz = 1;
+        crane__mass4(c->m, &c->b, &d->cf, d->Mp);
+        d->jz = 1;
         for (j = 0; j < 4; ++j)
             if (c->mode[j] == CRANE__HELD)
                 lk |= 1u << j;
         e[CRANE_EXTENSION] = 1;
-        solve4(&d, e, lk, col);
+        solve4(d, e, lk, col);
         /* (M^-1)_ee at most 4 / m_ext: the bound that check_work counts (crane_internal.h) */
         minv = col[CRANE_EXTENSION];
         if (minv > 4 / c->m->params->extension_boom.mass)
