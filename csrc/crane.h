@@ -428,9 +428,10 @@ typedef struct {
  * budget on a small target (docs/embedding.md) is why it refers rather than copies. */
 typedef struct {
     const crane_params *params;            /* p: gravity, the points O1, B1, E1, B2, P1, O2, the
-                                              link2_attach A and extension_mount, each cylinder's
-                                              length_retracted and friction are read from it */
-    crane_real stroke_min[2], stroke_max[2]; /* p.cylinder[i] */
+                                              link2_attach A, extension_mount and tip_distance
+                                              (the tip), each cylinder's length_retracted, stroke
+                                              range, friction and circuit, the lift boom's inertia
+                                              are read from it */
     crane_real extension;                  /* e, the argument of crane_model_init */
     /* Lift triangle: */
     crane_real lift_db;                    /* db = |B1 - O1| */
@@ -456,15 +457,13 @@ typedef struct {
     crane_real theta_min[2], theta_max[2]; /* angle limits: theta at the two stroke limits,
                                               ordered (docs/model.md, "End stops") */
     crane_real lift_cos_off, lift_sin_off; /* cos, sin of (eps - beta) */
-    crane_real j1, j2, m2_o2sq;            /* I1 + m1 |c1|^2, I2 + m2 |c2|^2, m2 |O2|^2 */
-    crane_vec2 tip;                        /* x_tip = extension_mount + (e + tip_distance, 0) */
+    crane_real j2;                         /* I2 + m2 |c2|^2 */
     int links;                             /* 1 if a side link has mass or inertia, else 0 */
     crane_real link_ca[2], link_cb[2];     /* side links 1, 2 (their mass and Izz: p.side_link1,
                                               p.side_link2): com = ca v + cb perp(v) with
                                               v = link_pin (link 1),
                                               link2_end (link 2): ca = com.v / |v|^2,
                                               cb = cross(v, com) / |v|^2 */
-    const crane_hydraulics *hyd[2];        /* the params' circuits (NULL: none), not copied */
 } crane_model;
 
 /* The crane's rules, the one validator of a crane (the Python layer and tools/crane2header.py call

@@ -86,6 +86,28 @@ static CRANE__ALWAYS_INLINE crane_vec2 crane__rot(crane_real c, crane_real s, cr
     return crane__v2(c * v.x - s * v.y, s * v.x + c * v.y);
 }
 
+/* ---- what crane_model refers to in crane_params rather than keeps (crane.h) ---- */
+
+/* Stroke limits of boom cylinder i (0, 1). */
+static inline crane_real crane__stroke_min(const crane_model *m, int i)
+{
+    return m->params->cylinder[i].stroke_min;
+}
+
+static inline crane_real crane__stroke_max(const crane_model *m, int i)
+{
+    return m->params->cylinder[i].stroke_max;
+}
+
+/* The tip in the outer boom frame at the model's extension: x_tip = extension_mount + (e, 0)
+ * + (tip_distance, 0) (the same sums as the lumped body's in crane__model_derive). */
+static inline crane_vec2 crane__tip(const crane_model *m)
+{
+    const crane_params *p = m->params;
+    return crane__add(crane__add(p->extension_mount, crane__v2(m->extension, 0)),
+                      crane__v2(p->tip_distance, 0));
+}
+
 /* ---- joint modes of the integrator ---- */
 
 enum { CRANE__FREE = 0, CRANE__HELD = 1, CRANE__STOP_LO = 2, CRANE__STOP_HI = 3 };

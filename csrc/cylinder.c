@@ -62,8 +62,8 @@ void crane__actuator_range(const crane_model *m, int joint, crane_real *stroke_m
     const crane_params *p = m->params;
 
     if (joint < 2) {
-        *stroke_min = m->stroke_min[joint];
-        *stroke_max = m->stroke_max[joint];
+        *stroke_min = crane__stroke_min(m, joint);
+        *stroke_max = crane__stroke_max(m, joint);
     } else {
         *stroke_min = 0;
         *stroke_max = joint == CRANE_SLEW

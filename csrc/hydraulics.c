@@ -110,8 +110,8 @@ const crane_hydraulics *crane__circuit(const crane_model *m, int joint)
     const crane_hydraulics *h;
 
     if (joint < 2)
-        return m->hyd[joint];
-    if (joint == CRANE_SLEW)
+        h = &p->cylinder[joint].hydraulics;
+    else if (joint == CRANE_SLEW)
         h = p->slew_drive.present ? &p->slew_drive.hydraulics : NULL;
     else
         h = p->extension_cylinder.present ? &p->extension_cylinder.hydraulics : NULL;

@@ -62,7 +62,7 @@ static inline int is_valve(const ctx_t *c, int i)
 /* The stroke at joint i's stop flag (-1: stroke_min, +1: stroke_max). */
 static crane_real flag_stroke(const ctx_t *c, int i, int flag)
 {
-    return flag < 0 ? c->m->stroke_min[i] : c->m->stroke_max[i];
+    return flag < 0 ? crane__stroke_min(c->m, i) : crane__stroke_max(c->m, i);
 }
 
 /* The four-bar at theta1 (cos c1, sin s1), computed only when the angle differs from the last. */
@@ -530,7 +530,7 @@ static void put_sample(ctx_t *c, crane_real t, const xstate *x, crane_real cpsi,
     crane__sincos(x->th[1], &s1, &c1);
     tip = crane__add(m->params->lift_pivot,
                      crane__rot(c0, s0,
-                                crane__add(m->params->tilt_pivot, crane__rot(c1, s1, m->tip))));
+                                crane__add(m->params->tilt_pivot, crane__rot(c1, s1, crane__tip(m)))));
 
     c->kin_valid = 1;
     c->kin_th[0] = x->th[0];
@@ -557,10 +557,10 @@ static void put_sample(ctx_t *c, crane_real t, const xstate *x, crane_real cpsi,
             }
             /* The stroke -> angle -> stroke round trip can land a few 1e-16 m outside the range
              * (docs/model.md, "End stops"): the reported stroke is clamped, the angle is not. */
-            if (s < m->stroke_min[i])
-                s = m->stroke_min[i];
-            else if (s > m->stroke_max[i])
-                s = m->stroke_max[i];
+            if (s < crane__stroke_min(m, i))
+                s = crane__stroke_min(m, i);
+            else if (s > crane__stroke_max(m, i))
+                s = crane__stroke_max(m, i);
             break;
         }
         o->stroke[i] = s;
@@ -569,7 +569,7 @@ static void put_sample(ctx_t *c, crane_real t, const xstate *x, crane_real cpsi,
         o->flow_a[i] = o->flow_b[i] = o->spool[i] = 0;
 #if CRANE_HYDRAULICS
         if (c->valve[i]) {
-            const crane_hydraulics *h = m->hyd[i];
+            const crane_hydraulics *h = crane__circuit(m, i);
             const crane_real y = h->spool_time_constant > 0 ? x->y[i] : lever(c, i, t);
             o->p_a[i] = x->p[2 * i];
             o->p_b[i] = x->p[2 * i + 1];
@@ -697,9 +697,9 @@ crane_status crane__integrate(const crane_model *m, const crane_state *s0, const
         int flag; /* the stop's flag: -1 stroke_min, +1 stroke_max */
         if (c.mode[i] != CRANE__FREE)
             continue;
-        if (s <= m->stroke_min[i] && v <= 0)
+        if (s <= crane__stroke_min(m, i) && v <= 0)
             flag = -1;
-        else if (s >= m->stroke_max[i] && v >= 0)
+        else if (s >= crane__stroke_max(m, i) && v >= 0)
             flag = 1;
         else
             continue;

@@ -545,10 +545,10 @@ static void put_sample4(c4 *c, crane_real t, const x4 *x, crane_sample *o)
                     crane__tilt_from_angle(m, c1, s1, &s, NULL, NULL, NULL);
                 }
                 /* the stroke -> angle -> stroke round trip can land a few 1e-16 m outside */
-                if (s < m->stroke_min[i])
-                    s = m->stroke_min[i];
-                else if (s > m->stroke_max[i])
-                    s = m->stroke_max[i];
+                if (s < crane__stroke_min(m, i))
+                    s = crane__stroke_min(m, i);
+                else if (s > crane__stroke_max(m, i))
+                    s = crane__stroke_max(m, i);
                 break;
             }
             o->stroke[i] = s;
@@ -651,9 +651,9 @@ crane_status crane__integrate4(const crane_model *m, const crane_state *s0, cons
             continue;
         if (i < 2) {
             const crane_real s = s0->stroke[i], v = s0->stroke_rate[i];
-            if (s <= m->stroke_min[i] && v <= 0)
+            if (s <= crane__stroke_min(m, i) && v <= 0)
                 flag = -1;
-            else if (s >= m->stroke_max[i] && v >= 0)
+            else if (s >= crane__stroke_max(m, i) && v >= 0)
                 flag = 1;
             else
                 continue;

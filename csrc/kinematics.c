@@ -292,7 +292,7 @@ crane_field crane__fourbar_check(crane_model *m)
     const crane_vec2 cv = crane__sub(m->params->link1_pivot, m->params->tilt_pivot);
     const crane_real d = crane__norm(b), c = crane__norm(cv);
     const crane_real l0 = m->params->cylinder[CRANE_TILT].length_retracted;
-    const crane_real len[2] = {l0 + m->stroke_min[CRANE_TILT], l0 + m->stroke_max[CRANE_TILT]};
+    const crane_real len[2] = {l0 + crane__stroke_min(m, CRANE_TILT), l0 + crane__stroke_max(m, CRANE_TILT)};
     const crane_field end_field[2] = {CRANE_FIELD_TILT_CYLINDER_STROKE_MIN,
                                       CRANE_FIELD_TILT_CYLINDER_STROKE_MAX};
     crane_real psi[2], e[2], pts[6], theta[2], ds[2], sign = 0, psi_c, e_lo, e_hi;
@@ -367,7 +367,7 @@ crane_field crane__fourbar_check(crane_model *m)
     /* D < 0 puts Q to the left of P1 -> A: the +1 intersection of angle -> stroke. */
     m->tilt_branch = -sign;
     for (k = 0; k < 2; ++k) {
-        const crane_real s = k == 0 ? m->stroke_min[CRANE_TILT] : m->stroke_max[CRANE_TILT];
+        const crane_real s = k == 0 ? crane__stroke_min(m, CRANE_TILT) : crane__stroke_max(m, CRANE_TILT);
         (void)crane__tilt_from_stroke(m, s, &theta[k], &ds[k], NULL, NULL);
         if (!(theta[k] > lo && theta[k] < hi) || !crane__finite(ds[k]) || !(ds[k] != 0))
             return CRANE_FIELD_GEOMETRY_LINK2_ATTACH;
@@ -388,7 +388,7 @@ crane_status crane_joint_angle(const crane_model *model, int joint, crane_real s
         return CRANE_E_CYLINDER;
     if (!crane__finite(stroke))
         return CRANE_E_NONFINITE;
-    if (stroke < model->stroke_min[joint] || stroke > model->stroke_max[joint])
+    if (stroke < crane__stroke_min(model, joint) || stroke > crane__stroke_max(model, joint))
         return CRANE_E_STROKE;
     if (joint == CRANE_LIFT)
         crane__lift_from_stroke(model, stroke, &th, &ds);
@@ -486,7 +486,7 @@ crane_status crane_points(const crane_model *model, crane_real slew, size_t n,
         pts[9] = crane__add(o1, crane__rot(c0, s0, crane__add(p->tilt_pivot,
                                                      crane__rot(c1, s1, p->extension_mount))));
         pts[10] = crane__add(o1, crane__rot(c0, s0, crane__add(p->tilt_pivot,
-                                                      crane__rot(c1, s1, model->tip))));
+                                                      crane__rot(c1, s1, crane__tip(model)))));
         for (i = 0; i < CRANE_N_POINTS; ++i)
             put_world(dst + 3 * i, pts[i], cpsi, spsi);
     }

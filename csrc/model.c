@@ -328,7 +328,8 @@ static crane_field lift_triangle_check(const crane_model *m)
 {
     const crane_real db = m->lift_db, dr = m->lift_dr;
     const crane_real l0 = m->params->cylinder[CRANE_LIFT].length_retracted;
-    const crane_real ends[2] = {l0 + m->stroke_min[CRANE_LIFT], l0 + m->stroke_max[CRANE_LIFT]};
+    const crane_real ends[2] = {l0 + crane__stroke_min(m, CRANE_LIFT),
+                                l0 + crane__stroke_max(m, CRANE_LIFT)};
     int k;
 
     if (!(db > 0))
@@ -361,13 +362,6 @@ crane_status crane__model_derive(crane_model *m, const crane_params *params, cra
         return CRANE_E_EXTENSION;
 
     m->params = p;
-    for (i = 0; i < 2; ++i) {
-        m->stroke_min[i] = p->cylinder[i].stroke_min;
-        m->stroke_max[i] = p->cylinder[i].stroke_max;
-        m->hyd[i] = p->cylinder[i].hydraulics.valve != CRANE_VALVE_NONE
-                        ? &p->cylinder[i].hydraulics
-                        : NULL;
-    }
     m->extension = extension;
 
     {
@@ -405,10 +399,7 @@ crane_status crane__model_derive(crane_model *m, const crane_params *params, cra
     m->i2 = p->outer_boom.izz + m_ob * crane__norm2(crane__sub(p->outer_boom.com, m->c2)) +
            p->extension_boom.izz + m_ext * crane__norm2(crane__sub(x_ext, m->c2)) +
            m_load * crane__norm2(crane__sub(x_tip, m->c2));
-    m->tip = x_tip;
-    m->j1 = p->lift_boom.izz + p->lift_boom.mass * crane__norm2(p->lift_boom.com);
     m->j2 = m->i2 + m->m2 * crane__norm2(m->c2);
-    m->m2_o2sq = m->m2 * crane__norm2(p->tilt_pivot);
 
     /* Side links: each centre of mass in the basis (v, perp v) of its link's vector, v = link_pin
      * (P1 to Q) or link2_end (Q to A), so that R(phi) cL = ca v' + cb perp(v') with v' = R(phi) v

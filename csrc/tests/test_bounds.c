@@ -10,6 +10,7 @@
 #include <math.h>
 #include <stdint.h>
 #include <stdio.h>
+#include <string.h>
 #include "crane.h"
 #include "crane_patu655.h"
 
@@ -40,6 +41,8 @@ static const crane_params params = CRANE_PATU655_INIT;
 
 static void held(crane_inputs *in)
 {
+    /* all four drives are read (the slew's and the extension's too): all held */
+    memset(in, 0, sizeof *in);
     in->drive[0].mode = CRANE_DRIVE_HOLD;
     in->drive[1].mode = CRANE_DRIVE_HOLD;
     in->drive[0].n_samples = in->drive[1].n_samples = 0;
