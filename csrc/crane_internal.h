@@ -286,12 +286,12 @@ void crane__bodies4_init(const crane_params *p, crane__bodies4 *b);
 /* Everything about one configuration (theta0, theta1, e) that the four-joint inverse dynamics
  * reads, computed once for the bias and the mass matrix: trig of theta0 and theta0 + theta1, the
  * rotated vectors C1 = R(th0) c1, C2 = R(th0 + th1) c_ob, C3 = R(th0 + th1) (mount + (e, 0) + c3),
- * r12 = R(th0) O2, the four-bar and (with side links) the links' poses. */
+ * r12 = R(th0) O2 and the four-bar (the side links' poses, which only the slew needs, are
+ * crane__slew_inertia's). */
 typedef struct {
     crane_real c0, s0, c01, s01;
     crane_vec2 C1, C2, C3, r12;
     crane__tilt_kin tk;
-    crane__link_poses lp;
 } crane__conf4;
 
 void crane__conf4_at(const crane_model *m, const crane__bodies4 *b, crane_real th0, crane_real th1,
@@ -303,9 +303,11 @@ void crane__conf4_at(const crane_model *m, const crane__bodies4 *b, crane_real t
 void crane__id4(const crane_model *m, const crane__bodies4 *b, const crane__conf4 *cf,
                 const crane_real qd[4], const crane_real qdd[4], crane_real g, crane_real tau[4]);
 
-/* The slew inertia J_z and its rate of change Jdot_z at the rates qd. */
+/* The slew inertia J_z and its rate of change Jdot_z at the rates qd; and the slew's loads on the
+ * side links (their centripetal force and gyroscopic moment at omega_s = qd[2]) added to tau[0],
+ * tau[1], which complete crane__id4's. */
 void crane__slew_inertia(const crane_model *m, const crane__bodies4 *b, const crane__conf4 *cf,
-                         const crane_real qd[4], crane_real *jz, crane_real *jdot);
+                         const crane_real qd[4], crane_real *jz, crane_real *jdot, crane_real tau[2]);
 
 /* The slew equation's inertial term J_z alpha_s + Jdot_z omega_s (exactly 0 at rest without
  * acceleration, whatever J_z). */

@@ -43,8 +43,6 @@ void crane__conf4_at(const crane_model *m, const crane__bodies4 *b, crane_real t
                         crane__add(p->extension_mount, crane__add(crane__v2(e, 0), b->c3)));
     cf->r12 = crane__rot(cf->c0, cf->s0, p->tilt_pivot);
     crane__tilt_kinematics(m, c1, s1, &cf->tk);
-    if (m->links)
-        crane__side_link_poses(m, &cf->tk, &cf->lp);
 }
 
 /* A body's inertia about a vertical axis through its centre when turned by phi in the boom plane,
@@ -112,32 +110,19 @@ void crane__id4(const crane_model *m, const crane__bodies4 *b, const crane__conf
     tau[1] = n2;
     if (m->links) {
         const crane_real w[2] = {qd[0], qd[1]}, a[2] = {qdd[0], qdd[1]};
-        int k;
         crane__side_link_torques(&cf->tk, cf->c0, cf->s0, w, a, g, tau);
-        /* The slew's share on the links: the centripetal force along the boom plane's x and the
-         * gyroscopic moment, by virtual work like the rest of their loads. */
-        for (k = 0; s2 != 0 && k < 2; ++k) {
-            const crane_body *lb = k == 0 ? &p->side_link1 : &p->side_link2;
-            const crane_vec2 D = crane__rot(cf->c0, cf->s0, cf->lp.d[k]);
-            const crane_vec2 J = crane__rot(cf->c0, cf->s0, cf->lp.v[k]);
-            const crane_real cp = cf->c0 * cf->lp.c[k] - cf->s0 * cf->lp.s[k];
-            const crane_real sp = cf->s0 * cf->lp.c[k] + cf->c0 * cf->lp.s[k];
-            const crane_real fx = -lb->mass * s2 * (x0 + D.x);
-            const crane_real ng = (crane_real)-0.5 * s2 * body_jv_prime(lb, cp, sp);
-            tau[0] += -D.y * fx + ng;
-            tau[1] += fx * J.x + ng * cf->lp.k[k];
-        }
     }
-    /* the slew's own J_z alpha_s + Jdot_z omega_s is the caller's (crane__slew_torque): the
-     * integrator has J_z for its mass matrix anyway, and needs neither with the slew locked */
+    /* the slew's own J_z alpha_s + Jdot_z omega_s and its loads on the side links are the
+     * caller's (crane__slew_inertia, crane__slew_torque): the integrator has J_z for its mass
+     * matrix anyway, and needs none of them with the slew locked */
     tau[2] = 0;
 }
 
 void crane__slew_inertia(const crane_model *m, const crane__bodies4 *b, const crane__conf4 *cf,
-                         const crane_real qd[4], crane_real *jz, crane_real *jdot)
+                         const crane_real qd[4], crane_real *jz, crane_real *jdot, crane_real tau[2])
 {
     const crane_params *p = m->params;
-    const crane_real w1 = qd[0], w2 = qd[0] + qd[1], ve = qd[3];
+    const crane_real w1 = qd[0], w2 = qd[0] + qd[1], ve = qd[3], s2 = qd[2] * qd[2];
     const crane_real x0 = p->lift_pivot.x, x2 = x0 + cf->r12.x;
     const crane_body *lb = &p->lift_boom, *ob = &p->outer_boom;
     /* J_z = J_P + sum m x^2 + J_v(phi); Jdot_z = sum 2 m x xdot + J_v'(phi) phidot: x is a centre
@@ -146,6 +131,7 @@ void crane__slew_inertia(const crane_model *m, const crane__bodies4 *b, const cr
     const crane_real x_2 = x2 + cf->C2.x, xd_2 = -w1 * cf->r12.y - w2 * cf->C2.y;
     const crane_real x_3 = x2 + cf->C3.x, xd_3 = -w1 * cf->r12.y - w2 * cf->C3.y + ve * cf->c01;
     crane_real j = b->jp, jd = 0;
+    crane__link_poses lp;
     int k;
 
     j += lb->mass * x_1 * x_1 + jv(lb->ixx, lb->iyy, lb->ixy, cf->c0, cf->s0);
@@ -154,15 +140,28 @@ void crane__slew_inertia(const crane_model *m, const crane__bodies4 *b, const cr
     jd += 2 * ob->mass * x_2 * xd_2 + body_jv_prime(ob, cf->c01, cf->s01) * w2;
     j += b->m3 * x_3 * x_3 + jv(b->t3[0], b->t3[1], b->t3[2], cf->c01, cf->s01);
     jd += 2 * b->m3 * x_3 * xd_3 + jv_prime(b->t3[0], b->t3[1], b->t3[2], cf->c01, cf->s01) * w2;
+    /* The side links' poses: only the slew needs them one by one, so they are worked here, on
+     * a frame beside the inverse dynamics' rather than kept in crane__conf4 (the stack). */
+    if (m->links)
+        crane__side_link_poses(m, &cf->tk, &lp);
     for (k = 0; m->links && k < 2; ++k) {
         const crane_body *l = k == 0 ? &p->side_link1 : &p->side_link2;
-        const crane_vec2 D = crane__rot(cf->c0, cf->s0, cf->lp.d[k]);
-        const crane_vec2 J = crane__rot(cf->c0, cf->s0, cf->lp.v[k]);
-        const crane_real cp = cf->c0 * cf->lp.c[k] - cf->s0 * cf->lp.s[k];
-        const crane_real sp = cf->s0 * cf->lp.c[k] + cf->c0 * cf->lp.s[k];
+        const crane_vec2 D = crane__rot(cf->c0, cf->s0, lp.d[k]);
+        const crane_vec2 J = crane__rot(cf->c0, cf->s0, lp.v[k]);
+        const crane_real cp = cf->c0 * lp.c[k] - cf->s0 * lp.s[k];
+        const crane_real sp = cf->s0 * lp.c[k] + cf->c0 * lp.s[k];
         const crane_real x = x0 + D.x, xd = qd[1] * J.x - w1 * D.y;
+        const crane_real jvp = body_jv_prime(l, cp, sp);
         j += l->mass * x * x + jv(l->ixx, l->iyy, l->ixy, cp, sp);
-        jd += 2 * l->mass * x * xd + body_jv_prime(l, cp, sp) * (w1 + cf->lp.k[k] * qd[1]);
+        jd += 2 * l->mass * x * xd + jvp * (w1 + lp.k[k] * qd[1]);
+        /* The slew's share on the links: the centripetal force along the boom plane's x and the
+         * gyroscopic moment, by virtual work like the rest of their loads. */
+        if (s2 != 0) {
+            const crane_real fx = -l->mass * s2 * (x0 + D.x);
+            const crane_real ng = (crane_real)-0.5 * s2 * jvp;
+            tau[0] += -D.y * fx + ng;
+            tau[1] += fx * J.x + ng * lp.k[k];
+        }
     }
     *jz = j;
     *jdot = jd;
@@ -221,7 +220,7 @@ crane_status crane_inverse_dynamics4(const crane_model *model, const crane_real 
     crane__id4(model, &b, &cf, qd, qdd, p->gravity, t);
     if (qd[2] != 0 || qdd[2] != 0) {
         crane_real jz, jdot;
-        crane__slew_inertia(model, &b, &cf, qd, &jz, &jdot);
+        crane__slew_inertia(model, &b, &cf, qd, &jz, &jdot, t);
         t[2] = crane__slew_torque(jz, jdot, qd[2], qdd[2]);
     }
     /* squares of rates near 1e160 (double) overflow */

@@ -120,9 +120,9 @@ static CRANE__ALWAYS_INLINE void valve_rates(c4 *c, crane_real t, x4 *x, int j, 
 
 /* Fills c->d at (t, x): the configuration, Mp, J_z and b = tau - h, with actuator forces only for
  * the joints not in lk (a joint in lk that is stopped needs its own force only to decide its
- * release, which passes lk = the held joints). With rates (then x itself), each valve-driven
- * joint's chamber and spool rates replace its pressures and spool in x, once its force has read
- * them (valve_rates). */
+ * release, which passes lk = the held joints); nothing when all four are locked. With rates (then
+ * x itself), each valve-driven joint's chamber and spool rates replace its pressures and spool in
+ * x, once its force has read them (valve_rates). */
 static CRANE__ALWAYS_INLINE void forces4(c4 *c, crane_real t, const x4 *x, unsigned lk, x4 *rates)
 {
     const crane_model *m = c->m;
@@ -130,38 +130,41 @@ static CRANE__ALWAYS_INLINE void forces4(c4 *c, crane_real t, const x4 *x, unsig
     dyn4 *const d = &c->d;
     int j;
 
-    crane__conf4_at(m, &c->b, x->v[Q], x->v[Q + 1], x->v[Q + 3], &d->cf);
-    /* the bias h = ID(q, qd, 0) goes into b and is negated there (no array of its own: the stack) */
-    crane__id4(m, &c->b, &d->cf, &x->v[W], zero, m->params->gravity, d->b);
-    crane__mass4(m, &c->b, &d->cf, d->Mp);
-    /* a locked slew's inertia and force are never read */
-    d->jz = 1;
-    if (!in_set(lk, CRANE_SLEW)) {
-        crane_real jdot;
-        crane__slew_inertia(m, &c->b, &d->cf, &x->v[W], &d->jz, &jdot);
-        d->b[CRANE_SLEW] = crane__slew_torque(d->jz, jdot, x->v[W + CRANE_SLEW], 0);
+    if (lk != 15u) {
+        crane__conf4_at(m, &c->b, x->v[Q], x->v[Q + 1], x->v[Q + 3], &d->cf);
+        /* the bias h = ID(q, qd, 0) goes into b, negated there (no array of its own: the stack) */
+        crane__id4(m, &c->b, &d->cf, &x->v[W], zero, m->params->gravity, d->b);
+        crane__mass4(m, &c->b, &d->cf, d->Mp);
+        /* a locked slew's inertia and force are never read */
+        d->jz = 1;
+        if (!in_set(lk, CRANE_SLEW)) {
+            crane_real jdot;
+            crane__slew_inertia(m, &c->b, &d->cf, &x->v[W], &d->jz, &jdot, d->b);
+            d->b[CRANE_SLEW] = crane__slew_torque(d->jz, jdot, x->v[W + CRANE_SLEW], 0);
+        }
+        for (j = 0; j < 4; ++j)
+            d->b[j] = -d->b[j];
     }
     for (j = 0; j < 4; ++j) {
-        crane_real ds, p_a, p_b, stroke;
-        d->b[j] = -d->b[j];
+        crane_real stroke = 0, v = 0;
         if (in_set(lk, j)) {
-#if CRANE_HYDRAULICS
-            if (rates && c->valve[j])
-                valve_rates(c, t, rates, j, locked_stroke(c, j), 0);
-#endif
-            continue;
-        }
-        ds = ratio(c, &d->cf, j, x->v[Q + j], &stroke);
-        if (c->valve[j]) {
-            p_a = x->v[H + 3 * j];
-            p_b = x->v[H + 3 * j + 1];
+            if (c->valve[j])
+                stroke = locked_stroke(c, j);
         } else {
-            crane__drive_pressures(&c->in->drive[j], &c->cursor[j], t, &p_a, &p_b);
+            const crane_real ds = ratio(c, &d->cf, j, x->v[Q + j], &stroke);
+            crane_real p_a, p_b;
+            v = ds * x->v[W + j];
+            if (c->valve[j]) {
+                p_a = x->v[H + 3 * j];
+                p_b = x->v[H + 3 * j + 1];
+            } else {
+                crane__drive_pressures(&c->in->drive[j], &c->cursor[j], t, &p_a, &p_b);
+            }
+            d->b[j] += crane__actuator_force(m, j, p_a, p_b, v) * ds;
         }
-        d->b[j] += crane__actuator_force(m, j, p_a, p_b, ds * x->v[W + j]) * ds;
 #if CRANE_HYDRAULICS
         if (rates && c->valve[j])
-            valve_rates(c, t, rates, j, stroke, ds * x->v[W + j]);
+            valve_rates(c, t, rates, j, stroke, v);
 #else
         (void)stroke;
         (void)rates;
@@ -263,22 +266,10 @@ static void rk4_4(c4 *c, crane_real t, const x4 *x, crane_real h, x4 *y)
 
     for (s = 0; s < 4; ++s) {
         const crane_real ts = s == 0 ? t : s == 3 ? t + h : t + h2, cs = s == 2 ? h : h2;
-        if (lk != 15u) {
-            forces4(c, ts, &xs, lk, &xs);
-        } else {
-#if CRANE_HYDRAULICS
-            for (i = 0; i < 4; ++i)
-                if (c->valve[i])
-                    valve_rates(c, ts, &xs, i, locked_stroke(c, i), 0);
-#endif
-        }
+        forces4(c, ts, &xs, lk, &xs);
         stage4(x, &xs, y, Q, W, W - Q, s, cs, h6);
-        if (lk != 15u) {
-            solve4(&c->d, c->d.b, lk, &xs.v[W]);
-        } else {
-            for (i = W; i < H; ++i)
-                xs.v[i] = 0;
-        }
+        /* all four locked: zeros, without reading c->d */
+        solve4(&c->d, c->d.b, lk, &xs.v[W]);
         /* the entries of joints that are not valve-driven are 0, and so read as rates */
         stage4(x, &xs, y, W, n, 0, s, cs, h6);
     }
