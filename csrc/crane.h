@@ -436,19 +436,12 @@ typedef struct {
     /* Lift triangle: */
     crane_real lift_db;                    /* db = |B1 - O1| */
     crane_real lift_dr;                    /* dr = |E1| */
-    crane_real lift_beta;                  /* beta = atan2(B1.y - O1.y, B1.x - O1.x) */
-    crane_real lift_eps;                   /* eps = atan2(E1.y, E1.x) */
     /* Tilt four-bar: */
     crane_real tilt_l1;                    /* l1 = |p.link_pin| */
     crane_real tilt_l2;                    /* l2 = |p.link2_end| */
-    crane_real tilt_ra;                    /* ra = |p.link2_attach| */
-    crane_real tilt_alpha_a;               /* alpha_a = atan2(link2_attach.y, link2_attach.x) */
     crane_real tilt_branch;                /* -sign(cross(Q - P1, A - Q)), constant over the
                                               stroke: the side of P1 -> A on which angle ->
                                               stroke finds Q (+1 left, the PATU's) */
-    /* Cylinders: */
-    crane_real area_a[2];                  /* pi bore^2 / 4 (bore side) */
-    crane_real area_b[2];                  /* pi (bore^2 - rod^2) / 4 (rod side) */
     /* Bodies (body 2 lumped at e: docs/model.md, "Bodies and the lumped outer boom"): */
     crane_real m2;                         /* m2 = m_ob + m_ext + m_load (m1 = p.lift_boom.mass) */
     crane_real i2;                         /* I2 about c2, parallel axes (I1 = p.lift_boom.izz) */

@@ -108,6 +108,15 @@ static inline crane_vec2 crane__tip(const crane_model *m)
                       crane__v2(p->tip_distance, 0));
 }
 
+/* The lift triangle's angles: eps = atan2(E1.y, E1.x) of the rod eye in the lift boom frame and
+ * beta = atan2 of B1 - O1 (docs/model.md, "Lift kinematics"). */
+static inline void crane__lift_offsets(const crane_params *p, crane_real *eps, crane_real *beta)
+{
+    const crane_vec2 b = crane__sub(p->lift_cylinder_base, p->lift_pivot);
+    *eps = crane__atan2(p->lift_cylinder_rod.y, p->lift_cylinder_rod.x);
+    *beta = crane__atan2(b.y, b.x);
+}
+
 /* ---- joint modes of the integrator ---- */
 
 enum { CRANE__FREE = 0, CRANE__HELD = 1, CRANE__STOP_LO = 2, CRANE__STOP_HI = 3 };

@@ -31,11 +31,22 @@ crane_real crane__friction(const crane_friction *f, crane_real v)
            f->viscous * TANH_4 * v;
 }
 
+/* A cylinder's piston areas: pi bore^2 / 4 (bore side) and pi (bore^2 - rod^2) / 4 (rod side),
+ * worked where needed rather than kept in the model (the stack). */
+static void piston_areas(crane_real bore, crane_real rod, crane_real *area_a, crane_real *area_b)
+{
+    *area_a = crane__pi() * bore * bore / 4;
+    *area_b = crane__pi() * (bore * bore - rod * rod) / 4;
+}
+
 crane_real crane__cylinder_force(const crane_model *m, int joint, crane_real p_a, crane_real p_b,
                                  crane_real v)
 {
-    return p_a * m->area_a[joint] - p_b * m->area_b[joint] -
-           crane__friction(&m->params->cylinder[joint].friction, v);
+    const crane_cylinder *c = &m->params->cylinder[joint];
+    crane_real a_a, a_b;
+
+    piston_areas(c->bore, c->rod, &a_a, &a_b);
+    return p_a * a_a - p_b * a_b - crane__friction(&c->friction, v);
 }
 
 void crane__actuator_areas(const crane_model *m, int joint, crane_real *area_a, crane_real *area_b)
@@ -43,16 +54,13 @@ void crane__actuator_areas(const crane_model *m, int joint, crane_real *area_a, 
     const crane_params *p = m->params;
 
     if (joint < 2) {
-        *area_a = m->area_a[joint];
-        *area_b = m->area_b[joint];
+        piston_areas(p->cylinder[joint].bore, p->cylinder[joint].rod, area_a, area_b);
     } else if (joint == CRANE_SLEW) {
         /* the rack's two bores push against each other: the equivalent cylinder has A_a = A_b */
         *area_a = crane__pi() * p->slew_drive.bore * p->slew_drive.bore / 4;
         *area_b = *area_a;
     } else {
-        const crane_real bore = p->extension_cylinder.bore, rod = p->extension_cylinder.rod;
-        *area_a = crane__pi() * bore * bore / 4;
-        *area_b = crane__pi() * (bore * bore - rod * rod) / 4;
+        piston_areas(p->extension_cylinder.bore, p->extension_cylinder.rod, area_a, area_b);
     }
 }
 

@@ -58,7 +58,13 @@ void crane__lift_from_stroke(const crane_model *m, crane_real stroke, crane_real
     else if (cg < -1)
         cg = -1;
     gamma = crane__acos(cg);
-    *theta = gamma - m->lift_eps + m->lift_beta;
+    /* theta = gamma - eps + beta (eps, beta: crane__lift_offsets; this inverse runs only at the
+     * start of a prediction and in queries, so they are not kept in the model) */
+    {
+        crane_real eps, beta;
+        crane__lift_offsets(m->params, &eps, &beta);
+        *theta = gamma - eps + beta;
+    }
     *ds = db * dr * crane__sin(gamma) / L;
 }
 
@@ -98,10 +104,12 @@ int crane__tilt_from_stroke(const crane_model *m, crane_real stroke, crane_real 
 
     if (!(circle(p->link1_pivot, m->tilt_l1, p->tilt_cylinder_base, L, -1, &Q) > 0))
         ok = 0;
-    if (!(circle(p->tilt_pivot, m->tilt_ra, Q, m->tilt_l2, -1, &A) > 0))
+    if (!(circle(p->tilt_pivot, crane__norm(p->link2_attach), Q, m->tilt_l2, -1, &A) > 0))
         ok = 0;
     oa = crane__sub(A, p->tilt_pivot);
-    *theta = crane__wrap_tilt(crane__atan2(oa.y, oa.x) - m->tilt_alpha_a);
+    /* alpha_a = atan2(A.y, A.x) of link2_attach in the outer boom frame */
+    *theta = crane__wrap_tilt(crane__atan2(oa.y, oa.x) -
+                              crane__atan2(p->link2_attach.y, p->link2_attach.x));
     *ds = tilt_ds(p, Q, A, L);
     if (q)
         *q = Q;
@@ -268,7 +276,8 @@ static crane_real fourbar_d(const crane_model *m, crane_vec2 u, crane_real psi)
 
     crane__sincos(psi, &s, &c);
     q = crane__add(m->params->link1_pivot, crane__scale(m->tilt_l1, crane__rot(c, -s, u)));
-    (void)circle(m->params->tilt_pivot, m->tilt_ra, q, m->tilt_l2, -1, &a);
+    (void)circle(m->params->tilt_pivot, crane__norm(m->params->link2_attach), q, m->tilt_l2, -1,
+                 &a);
     return crane__cross(crane__sub(q, m->params->link1_pivot), crane__sub(a, q));
 }
 
@@ -287,12 +296,13 @@ static crane_real fourbar_d(const crane_model *m, crane_vec2 u, crane_real psi)
 crane_field crane__fourbar_check(crane_model *m)
 {
     const crane_real lo = -3 * crane__pi() / 2, hi = crane__pi() / 2;
-    const crane_real l1 = m->tilt_l1, l2 = m->tilt_l2, ra = m->tilt_ra;
+    const crane_real l1 = m->tilt_l1, l2 = m->tilt_l2, ra = crane__norm(m->params->link2_attach);
     const crane_vec2 b = crane__sub(m->params->tilt_cylinder_base, m->params->link1_pivot);
     const crane_vec2 cv = crane__sub(m->params->link1_pivot, m->params->tilt_pivot);
     const crane_real d = crane__norm(b), c = crane__norm(cv);
     const crane_real l0 = m->params->cylinder[CRANE_TILT].length_retracted;
-    const crane_real len[2] = {l0 + crane__stroke_min(m, CRANE_TILT), l0 + crane__stroke_max(m, CRANE_TILT)};
+    const crane_real len[2] = {l0 + crane__stroke_min(m, CRANE_TILT),
+                               l0 + crane__stroke_max(m, CRANE_TILT)};
     const crane_field end_field[2] = {CRANE_FIELD_TILT_CYLINDER_STROKE_MIN,
                                       CRANE_FIELD_TILT_CYLINDER_STROKE_MAX};
     crane_real psi[2], e[2], pts[6], theta[2], ds[2], sign = 0, psi_c, e_lo, e_hi;

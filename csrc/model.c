@@ -365,24 +365,14 @@ crane_status crane__model_derive(crane_model *m, const crane_params *params, cra
     m->extension = extension;
 
     {
-        const crane_vec2 b = crane__sub(p->lift_cylinder_base, p->lift_pivot);
-        const crane_vec2 e = p->lift_cylinder_rod;
-        m->lift_db = crane__norm(b);
-        m->lift_dr = crane__norm(e);
-        m->lift_beta = crane__atan2(b.y, b.x);
-        m->lift_eps = crane__atan2(e.y, e.x);
-        crane__sincos(m->lift_eps - m->lift_beta, &m->lift_sin_off, &m->lift_cos_off);
+        crane_real eps, beta;
+        m->lift_db = crane__norm(crane__sub(p->lift_cylinder_base, p->lift_pivot));
+        m->lift_dr = crane__norm(p->lift_cylinder_rod);
+        crane__lift_offsets(p, &eps, &beta);
+        crane__sincos(eps - beta, &m->lift_sin_off, &m->lift_cos_off);
     }
     m->tilt_l1 = crane__norm(p->link_pin);
     m->tilt_l2 = crane__norm(p->link2_end);
-    m->tilt_ra = crane__norm(p->link2_attach);
-    m->tilt_alpha_a = crane__atan2(p->link2_attach.y, p->link2_attach.x);
-
-    for (i = 0; i < 2; ++i) {
-        const crane_real bore = p->cylinder[i].bore, rod = p->cylinder[i].rod;
-        m->area_a[i] = crane__pi() * bore * bore / 4;
-        m->area_b[i] = crane__pi() * (bore * bore - rod * rod) / 4;
-    }
 
     /* Body 2: outer boom + extension boom at this extension + the load at the tip. */
     m_ob = p->outer_boom.mass;
