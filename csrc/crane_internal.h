@@ -298,8 +298,7 @@ void crane__bodies4_init(const crane_params *p, crane__bodies4 *b);
  * r12 = R(th0) O2 and the four-bar (the side links' poses, which only the slew needs, are
  * crane__slew_inertia's). */
 typedef struct {
-    crane_real c0, s0, c01, s01;
-    crane_vec2 C1, C2, C3, r12;
+    crane_real c0, s0, c01, s01, e;
     crane__tilt_kin tk;
 } crane__conf4;
 

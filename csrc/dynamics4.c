@@ -30,19 +30,33 @@ void crane__bodies4_init(const crane_params *p, crane__bodies4 *b)
 void crane__conf4_at(const crane_model *m, const crane__bodies4 *b, crane_real th0, crane_real th1,
                      crane_real e, crane__conf4 *cf)
 {
-    const crane_params *p = m->params;
     crane_real c1, s1;
 
     crane__sincos(th0, &cf->s0, &cf->c0);
     crane__sincos(th1, &s1, &c1);
     cf->c01 = cf->c0 * c1 - cf->s0 * s1;
     cf->s01 = cf->s0 * c1 + cf->c0 * s1;
-    cf->C1 = crane__rot(cf->c0, cf->s0, p->lift_boom.com);
-    cf->C2 = crane__rot(cf->c01, cf->s01, p->outer_boom.com);
-    cf->C3 = crane__rot(cf->c01, cf->s01,
-                        crane__add(p->extension_mount, crane__add(crane__v2(e, 0), b->c3)));
-    cf->r12 = crane__rot(cf->c0, cf->s0, p->tilt_pivot);
+    cf->e = e;
+    (void)b;
     crane__tilt_kinematics(m, c1, s1, &cf->tk);
+}
+
+/* The rotated arms of a configuration: C1 = R(th0) c1, C2 = R(th0 + th1) c_ob,
+ * C3 = R(th0 + th1) (mount + (e, 0) + c3), r12 = R(th0) O2. Worked by each of their readers
+ * rather than kept in crane__conf4, which is on the stack budget's deepest path. */
+typedef struct {
+    crane_vec2 C1, C2, C3, r12;
+} arms4;
+
+static CRANE__ALWAYS_INLINE void arms_at(const crane_model *m, const crane__bodies4 *b,
+                                         const crane__conf4 *cf, arms4 *a)
+{
+    const crane_params *p = m->params;
+    a->C1 = crane__rot(cf->c0, cf->s0, p->lift_boom.com);
+    a->C2 = crane__rot(cf->c01, cf->s01, p->outer_boom.com);
+    a->C3 = crane__rot(cf->c01, cf->s01,
+                       crane__add(p->extension_mount, crane__add(crane__v2(cf->e, 0), b->c3)));
+    a->r12 = crane__rot(cf->c0, cf->s0, p->tilt_pivot);
 }
 
 /* A body's inertia about a vertical axis through its centre when turned by phi in the boom plane,
@@ -71,13 +85,21 @@ void crane__id4(const crane_model *m, const crane__bodies4 *b, const crane__conf
     const crane_real w1 = qd[0], w2 = qd[0] + qd[1], ws = qd[2], ve = qd[3];
     const crane_real a1 = qdd[0], a2 = qdd[0] + qdd[1], ae = qdd[3];
     const crane_real s2 = ws * ws;
-    const crane_real x0 = p->lift_pivot.x, x2 = x0 + cf->r12.x;   /* O1's and O2's distance from the slew axis */
-    const crane_vec2 C1 = cf->C1, C2 = cf->C2, C3 = cf->C3, r12 = cf->r12;
+    arms4 ar;
+    crane_real x0, x2;
+    crane_vec2 C1, C2, C3, r12;
     const crane_vec2 u = crane__v2(cf->c01, cf->s01);             /* the extension's direction */
     const crane_real m1 = p->lift_boom.mass, m2 = p->outer_boom.mass;
     crane_real n_g1 = 0, n_g23 = 0, cor, n1, n2;
     crane_vec2 acc_c1, acc_o2, acc_c2, acc_c3, f3, f2c, f2;
 
+    arms_at(m, b, cf, &ar);
+    C1 = ar.C1;
+    C2 = ar.C2;
+    C3 = ar.C3;
+    r12 = ar.r12;
+    x0 = p->lift_pivot.x;     /* O1's and O2's distance from the slew axis */
+    x2 = x0 + r12.x;
     /* The slew's gyroscopic moment on each body, -1/2 omega_s^2 J_v'(phi) (Euler's w x J w). */
     if (s2 != 0) {
         n_g1 = (crane_real)-0.5 * s2 * body_jv_prime(&p->lift_boom, cf->c0, cf->s0);
@@ -123,16 +145,24 @@ void crane__slew_inertia(const crane_model *m, const crane__bodies4 *b, const cr
 {
     const crane_params *p = m->params;
     const crane_real w1 = qd[0], w2 = qd[0] + qd[1], ve = qd[3], s2 = qd[2] * qd[2];
-    const crane_real x0 = p->lift_pivot.x, x2 = x0 + cf->r12.x;
     const crane_body *lb = &p->lift_boom, *ob = &p->outer_boom;
-    /* J_z = J_P + sum m x^2 + J_v(phi); Jdot_z = sum 2 m x xdot + J_v'(phi) phidot: x is a centre
-     * of mass's distance from the slew axis, xdot its rate (docs/model.md, "Four joints"). */
-    const crane_real x_1 = x0 + cf->C1.x, xd_1 = -w1 * cf->C1.y;
-    const crane_real x_2 = x2 + cf->C2.x, xd_2 = -w1 * cf->r12.y - w2 * cf->C2.y;
-    const crane_real x_3 = x2 + cf->C3.x, xd_3 = -w1 * cf->r12.y - w2 * cf->C3.y + ve * cf->c01;
+    const crane_real x0 = p->lift_pivot.x;
+    crane_real x2, x_1, xd_1, x_2, xd_2, x_3, xd_3;
     crane_real j = b->jp, jd = 0;
     crane__link_poses lp;
+    arms4 ar;
     int k;
+
+    /* J_z = J_P + sum m x^2 + J_v(phi); Jdot_z = sum 2 m x xdot + J_v'(phi) phidot: x is a centre
+     * of mass's distance from the slew axis, xdot its rate (docs/model.md, "Four joints"). */
+    arms_at(m, b, cf, &ar);
+    x2 = x0 + ar.r12.x;
+    x_1 = x0 + ar.C1.x;
+    xd_1 = -w1 * ar.C1.y;
+    x_2 = x2 + ar.C2.x;
+    xd_2 = -w1 * ar.r12.y - w2 * ar.C2.y;
+    x_3 = x2 + ar.C3.x;
+    xd_3 = -w1 * ar.r12.y - w2 * ar.C3.y + ve * cf->c01;
 
     j += lb->mass * x_1 * x_1 + jv(lb->ixx, lb->iyy, lb->ixy, cf->c0, cf->s0);
     jd += 2 * lb->mass * x_1 * xd_1 + body_jv_prime(lb, cf->c0, cf->s0) * w1;
@@ -173,18 +203,24 @@ void crane__mass4(const crane_model *m, const crane__bodies4 *b, const crane__co
     const crane_params *p = m->params;
     const crane_real m2 = p->outer_boom.mass, m3 = b->m3;
     const crane_vec2 u = crane__v2(cf->c01, cf->s01);
-    const crane_vec2 R2 = crane__add(cf->r12, cf->C2), R3 = crane__add(cf->r12, cf->C3);
     const crane_real i23 = p->outer_boom.izz + b->izz3;
-    const crane_real j1 = p->lift_boom.izz + p->lift_boom.mass * crane__norm2(cf->C1);
+    arms4 ar;
+    crane_vec2 R2, R3;
+    crane_real j1;
+
+    arms_at(m, b, cf, &ar);
+    R2 = crane__add(ar.r12, ar.C2);
+    R3 = crane__add(ar.r12, ar.C3);
+    j1 = p->lift_boom.izz + p->lift_boom.mass * crane__norm2(ar.C1);
 
     /* crane__id4's recursion at zero rates and gravity with a unit acceleration of one joint,
      * worked by hand (cross(a, perp(b)) = a.b; R2, R3: the centres of bodies 2 and 3 from O1):
      * lift: body b accelerates by perp(R_b); tilt: by perp(C_b); extension: body 3 by u. */
     Mp[0] = j1 + i23 + m2 * crane__norm2(R2) + m3 * crane__norm2(R3);
-    Mp[1] = i23 + m2 * crane__dot(cf->C2, R2) + m3 * crane__dot(cf->C3, R3);
+    Mp[1] = i23 + m2 * crane__dot(ar.C2, R2) + m3 * crane__dot(ar.C3, R3);
     Mp[2] = m3 * crane__cross(R3, u);
-    Mp[3] = i23 + m2 * crane__norm2(cf->C2) + m3 * crane__norm2(cf->C3);
-    Mp[4] = m3 * crane__cross(cf->C3, u);
+    Mp[3] = i23 + m2 * crane__norm2(ar.C2) + m3 * crane__norm2(ar.C3);
+    Mp[4] = m3 * crane__cross(ar.C3, u);
     Mp[5] = m3;
     if (m->links) {
         Mp[0] += cf->tk.M[0];
