@@ -34,10 +34,10 @@ typedef struct {
     crane__bodies4 b;
     size_t cursor[4];           /* sample segment last used, per joint */
     signed char mode[4];        /* CRANE__FREE, _HELD, _STOP_LO, _STOP_HI (in q terms) */
-    signed char lo_flag[4];     /* stop flag (actuator terms) at the lower limit of q */
-    unsigned char valve[4];     /* joint j is valve-driven */
-    unsigned char hyd;          /* some joint is: the state carries pressures and spools */
-    crane_real gf_ext;          /* the extension friction's slope at rest, N s/m */
+    /* Bit j: joint j's lower limit of q is its actuator's stroke_max (stop flag +1 there; else
+     * -1), and joint j is valve-driven (some joint is: the state carries pressures and spools).
+     * Masks, not arrays of flags: this context is on the stack budget's deepest path. */
+    unsigned char lo_is_max, valves;
     /* The one scratch of every evaluation of the dynamics (RK4's stages, the release rule, the
      * impacts, the substep count), which never overlap: a frame of its own in each would stack
      * on this one (the stack). */
@@ -46,8 +46,13 @@ typedef struct {
 
 static int locked(const c4 *c, int j) { return c->mode[j] != CRANE__FREE; }
 
+static int valve(const c4 *c, int j) { return (c->valves >> j) & 1; }
+
+/* The stop flag (actuator terms: -1 stroke_min, +1 stroke_max) at the lower limit of q. */
+static int lo_flag(const c4 *c, int j) { return (c->lo_is_max >> j) & 1 ? 1 : -1; }
+
 /* State entries in use: the pressures and spools only with valves. */
-static int n_used(const c4 *c) { return c->hyd ? N_ALL : N_MECH; }
+static int n_used(const c4 *c) { return c->valves ? N_ALL : N_MECH; }
 
 /* The lower (upper) limit of q of joint j: the angle limits, [slew_min, slew_max], the extension
  * range. Read where needed rather than kept in c4 (the stack). */
@@ -95,7 +100,7 @@ static crane_real ratio(const c4 *c, const crane__conf4 *cf, int j, crane_real q
  * valve-driven joint is never held). */
 static crane_real locked_stroke(const c4 *c, int j)
 {
-    const int flag = c->mode[j] == CRANE__STOP_LO ? c->lo_flag[j] : -c->lo_flag[j];
+    const int flag = c->mode[j] == CRANE__STOP_LO ? lo_flag(c, j) : -lo_flag(c, j);
     crane_real s_min, s_max;
 
     crane__actuator_range(c->m, j, &s_min, &s_max);
@@ -148,13 +153,13 @@ static CRANE__ALWAYS_INLINE void forces4(c4 *c, crane_real t, const x4 *x, unsig
     for (j = 0; j < 4; ++j) {
         crane_real stroke = 0, v = 0;
         if (in_set(lk, j)) {
-            if (c->valve[j])
+            if (valve(c, j))
                 stroke = locked_stroke(c, j);
         } else {
             const crane_real ds = ratio(c, &d->cf, j, x->v[Q + j], &stroke);
             crane_real p_a, p_b;
             v = ds * x->v[W + j];
-            if (c->valve[j]) {
+            if (valve(c, j)) {
                 p_a = x->v[H + 3 * j];
                 p_b = x->v[H + 3 * j + 1];
             } else {
@@ -163,7 +168,7 @@ static CRANE__ALWAYS_INLINE void forces4(c4 *c, crane_real t, const x4 *x, unsig
             d->b[j] += crane__actuator_force(m, j, p_a, p_b, v) * ds;
         }
 #if CRANE_HYDRAULICS
-        if (rates && c->valve[j])
+        if (rates && valve(c, j))
             valve_rates(c, t, rates, j, stroke, v);
 #else
         (void)stroke;
@@ -463,18 +468,18 @@ static CRANE__NOINLINE long substeps4(c4 *c, const x4 *x, crane_real h)
     long n = 1;
     crane__conf4_at(c->m, &c->b, x->v[Q], x->v[Q + 1], x->v[Q + 3], &d->cf);
 #if CRANE_HYDRAULICS
-    if (c->hyd) {
-        const int valve[4] = {c->valve[0], c->valve[1], c->valve[2], c->valve[3]};
+    if (c->valves) {
+        const int driven[4] = {valve(c, 0), valve(c, 1), valve(c, 2), valve(c, 3)};
         crane_real stroke[4] = {0, 0, 0, 0};
         int j;
         for (j = 0; j < 4; ++j)
-            if (c->valve[j]) {
+            if (driven[j]) {
                 if (c->mode[j] != CRANE__FREE)
                     stroke[j] = locked_stroke(c, j);
                 else
                     (void)ratio(c, &d->cf, j, x->v[Q + j], &stroke[j]);
             }
-        n = crane__substeps(c->m, stroke, valve, h);
+        n = crane__substeps(c->m, stroke, driven, h);
     }
 #endif
     if (c->mode[CRANE_EXTENSION] != CRANE__HELD) {
@@ -492,7 +497,7 @@ static CRANE__NOINLINE long substeps4(c4 *c, const x4 *x, crane_real h)
         minv = col[CRANE_EXTENSION];
         if (minv > 4 / c->m->params->extension_boom.mass)
             minv = 4 / c->m->params->extension_boom.mass;
-        ne = crane__ceil(h * c->gf_ext * minv / (crane_real)2.5);
+        ne = crane__ceil(h * crane__extension_friction_slope(c->m->params) * minv / (crane_real)2.5);
         if (ne > (crane_real)n)
             n = (long)ne;
     }
@@ -548,7 +553,7 @@ static void put_sample4(c4 *c, crane_real t, const x4 *x, crane_sample *o)
         }
         o->flow_a[i] = o->flow_b[i] = o->spool[i] = 0;
 #if CRANE_HYDRAULICS
-        if (c->valve[i]) {
+        if (valve(c, i)) {
             const crane_hydraulics *h = crane__circuit(m, i);
             const crane_real y = h->spool_time_constant > 0
                                      ? x->v[H + 3 * i + 2]
@@ -564,8 +569,8 @@ static void put_sample4(c4 *c, crane_real t, const x4 *x, crane_sample *o)
         } else {
             crane__drive_pressures(&c->in->drive[i], &c->cursor[i], t, &o->p_a[i], &o->p_b[i]);
         }
-        o->stop[i] = c->mode[i] == CRANE__STOP_LO   ? c->lo_flag[i]
-                     : c->mode[i] == CRANE__STOP_HI ? -c->lo_flag[i]
+        o->stop[i] = c->mode[i] == CRANE__STOP_LO   ? lo_flag(c, i)
+                     : c->mode[i] == CRANE__STOP_HI ? -lo_flag(c, i)
                                                     : 0;
     }
     /* tip = O1 + R(th0) (O2 + R(th1) (mount + (e + tip_distance, 0))), then the slew */
@@ -606,16 +611,15 @@ crane_status crane__integrate4(const crane_model *m, const crane_state *s0, cons
     c.in = in;
     c.s0 = s0;
     crane__bodies4_init(p, &c.b);
-    c.hyd = 0;
+    c.valves = 0;
+    c.lo_is_max = 0;
     for (i = 0; i < N_ALL; ++i)
         x.v[i] = 0;
-    c.gf_ext = crane__extension_friction_slope(p);
     for (i = 0; i < 4; ++i) {
         c.cursor[i] = 0;
-        c.valve[i] = (unsigned char)(CRANE_HYDRAULICS && in->drive[i].mode == CRANE_DRIVE_VALVE);
         c.mode[i] = (signed char)(in->drive[i].mode == CRANE_DRIVE_HOLD ? CRANE__HELD : CRANE__FREE);
-        if (c.valve[i]) {
-            c.hyd = 1;
+        if (CRANE_HYDRAULICS && in->drive[i].mode == CRANE_DRIVE_VALVE) {
+            c.valves = (unsigned char)(c.valves | (1u << i));
             x.v[H + 3 * i] = s0->p_a[i];
             x.v[H + 3 * i + 1] = s0->p_b[i];
             x.v[H + 3 * i + 2] = s0->spool[i];
@@ -627,9 +631,9 @@ crane_status crane__integrate4(const crane_model *m, const crane_state *s0, cons
             else
                 (void)crane__tilt_from_stroke(m, s0->stroke[i], &x.v[Q + i], &ds, NULL, NULL);
             x.v[W + i] = s0->stroke_rate[i] / ds;
-            c.lo_flag[i] = (signed char)(ds > 0 ? -1 : 1);
+            if (!(ds > 0))
+                c.lo_is_max = (unsigned char)(c.lo_is_max | (1u << i));
         } else {
-            c.lo_flag[i] = -1;
             x.v[Q + i] = i == CRANE_SLEW ? s0->slew : s0->extension;
             x.v[W + i] = i == CRANE_SLEW ? s0->slew_rate : s0->extension_rate;
         }
@@ -656,7 +660,7 @@ crane_status crane__integrate4(const crane_model *m, const crane_state *s0, cons
             else
                 continue;
         }
-        stop_joint4(&c, &x, i, flag != c.lo_flag[i]);
+        stop_joint4(&c, &x, i, flag != lo_flag(&c, i));
     }
 
     *n_written = 0;
@@ -671,7 +675,7 @@ crane_status crane__integrate4(const crane_model *m, const crane_state *s0, cons
         long j, n_sub = 1;
         crane_real sub = h;
 
-        if ((c.hyd || c.mode[CRANE_EXTENSION] != CRANE__HELD) && h > 0) {
+        if ((c.valves || c.mode[CRANE_EXTENSION] != CRANE__HELD) && h > 0) {
             n_sub = substeps4(&c, &x, h);
             sub = h / (crane_real)n_sub;
         }
