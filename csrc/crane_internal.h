@@ -239,18 +239,44 @@ typedef struct {
 void crane__tilt_kinematics(const crane_model *m, crane_real c1, crane_real s1,
                             crane__tilt_kin *tk);
 
-/* Per side link k (0, 1), in the lift boom frame: its centre of mass d from O1, that centre's
- * velocity relative to the lift boom per unit tilt rate v, its turn rate per unit tilt rate k, and
- * cos c, sin s of its turn phi relative to the lift boom (docs/model.md, "Side links"). The
- * four-joint model needs them one by one (centripetal loads, the slew inertia), the planar one
- * only their sums (crane__tilt_kin). */
+/* Side links by velocity ratios (docs/model.md, "Side links"). With qp = Q - P1, aq = A - Q,
+ * ra = A - O2 and D = cross(qp, aq) = perp(qp).aq: k1 = perp(ra).aq / D, k2 = perp(ra).qp / -D;
+ * at alpha1 = 0 and omega1 = 1 the closure's acceleration gives rhs = -ra + k1^2 qp + k2^2 aq,
+ * g1 = rhs.aq / D, g2 = rhs.qp / -D (ddphi_i = k_i alpha1 + g_i omega1^2). The centres of mass
+ * relative to their link's origin are e1 = R(phi1) cL1 = ca1 qp + cb1 perp(qp) and
+ * e2 = ca2 aq + cb2 perp(aq) (R(phi1) takes link_pin to qp, R(phi2) link2_end to aq; ca, cb are
+ * cL's coordinates in those bases, from crane_model). Then each link's d, v, w (as defined at
+ * crane__tilt_kin) and the sums over both links that the inverse dynamics needs
+ * (kinematics.c); the four-joint model's slew inertia takes the links one by one from the same
+ * vectors (dynamics4.c). Inline in both, so that neither adds a frame to the stack budget's
+ * deepest path. */
 typedef struct {
-    crane_vec2 d[2], v[2];
-    crane_real k[2], c[2], s[2];
-} crane__link_poses;
+    crane_vec2 qp, aq, e1, e2, d1, d2, v1, v2;
+    crane_real inv_d, k1, k2;
+} crane__link_vec;
 
-/* The side links' poses at the four-bar *tk (computed by crane__tilt_kinematics). */
-void crane__side_link_poses(const crane_model *m, const crane__tilt_kin *tk, crane__link_poses *lp);
+static CRANE__ALWAYS_INLINE void crane__link_vectors(const crane_model *m,
+                                                     const crane__tilt_kin *tk, crane__link_vec *l)
+{
+    const crane_params *p = m->params;
+    const crane_vec2 ra = crane__sub(tk->a, p->tilt_pivot);
+
+    l->qp = crane__sub(tk->q, p->link1_pivot);
+    l->aq = crane__sub(tk->a, tk->q);
+    l->inv_d = 1 / crane__cross(l->qp, l->aq);
+    l->k1 = crane__cross(ra, l->aq) * l->inv_d;
+    l->k2 = -crane__cross(ra, l->qp) * l->inv_d;
+    l->e1 = crane__add(crane__scale(m->link_ca[0], l->qp),
+                       crane__scale(m->link_cb[0], crane__perp(l->qp)));
+    l->e2 = crane__add(crane__scale(m->link_ca[1], l->aq),
+                       crane__scale(m->link_cb[1], crane__perp(l->aq)));
+    /* Link 1 turns about P1: d1 = P1 + e1. */
+    l->d1 = crane__add(p->link1_pivot, l->e1);
+    l->v1 = crane__scale(l->k1, crane__perp(l->e1));
+    /* Link 2 rides on Q (dQ = k1 perp(qp) per unit tilt rate) and turns: d2 = Q + e2. */
+    l->d2 = crane__add(tk->q, l->e2);
+    l->v2 = crane__add(crane__scale(l->k1, crane__perp(l->qp)), crane__scale(l->k2, crane__perp(l->e2)));
+}
 
 /* The exact validity of the tilt four-bar over the tilt stroke (docs/model.md, "Tilt kinematics")
  * on a model whose lengths are derived: the field at fault, or CRANE_FIELD_NONE; sets tilt_branch. */

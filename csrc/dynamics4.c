@@ -149,7 +149,7 @@ void crane__slew_inertia(const crane_model *m, const crane__bodies4 *b, const cr
     const crane_real x0 = p->lift_pivot.x;
     crane_real x2, x_1, xd_1, x_2, xd_2, x_3, xd_3;
     crane_real j = b->jp, jd = 0;
-    crane__link_poses lp;
+    crane__link_vec l;
     arms4 ar;
     int k;
 
@@ -170,27 +170,33 @@ void crane__slew_inertia(const crane_model *m, const crane__bodies4 *b, const cr
     jd += 2 * ob->mass * x_2 * xd_2 + body_jv_prime(ob, cf->c01, cf->s01) * w2;
     j += b->m3 * x_3 * x_3 + jv(b->t3[0], b->t3[1], b->t3[2], cf->c01, cf->s01);
     jd += 2 * b->m3 * x_3 * xd_3 + jv_prime(b->t3[0], b->t3[1], b->t3[2], cf->c01, cf->s01) * w2;
-    /* The side links' poses: only the slew needs them one by one, so they are worked here, on
-     * a frame beside the inverse dynamics' rather than kept in crane__conf4 (the stack). */
+    /* The side links one by one (only the slew needs them so; the planar terms take their sums
+     * from crane__tilt_kin): per link its centre of mass d, its velocity per unit tilt rate v,
+     * its turn rate per unit tilt rate kl and cos cl, sin sl of its turn relative to the lift
+     * boom (R(phi1) takes link_pin to qp, R(phi2) link2_end to aq: the dot and cross products
+     * over the equal lengths). Worked here from the four-bar rather than kept (the stack). */
     if (m->links)
-        crane__side_link_poses(m, &cf->tk, &lp);
+        crane__link_vectors(m, &cf->tk, &l);
     for (k = 0; m->links && k < 2; ++k) {
-        const crane_body *l = k == 0 ? &p->side_link1 : &p->side_link2;
-        const crane_vec2 D = crane__rot(cf->c0, cf->s0, lp.d[k]);
-        const crane_vec2 J = crane__rot(cf->c0, cf->s0, lp.v[k]);
-        const crane_real cp = cf->c0 * lp.c[k] - cf->s0 * lp.s[k];
-        const crane_real sp = cf->s0 * lp.c[k] + cf->c0 * lp.s[k];
+        const crane_body *lbody = k == 0 ? &p->side_link1 : &p->side_link2;
+        const crane_vec2 pin = k == 0 ? p->link_pin : p->link2_end, rel = k == 0 ? l.qp : l.aq;
+        const crane_real n = crane__norm2(pin), kl = k == 0 ? l.k1 : l.k2;
+        const crane_real cl = crane__dot(pin, rel) / n, sl = crane__cross(pin, rel) / n;
+        const crane_vec2 D = crane__rot(cf->c0, cf->s0, k == 0 ? l.d1 : l.d2);
+        const crane_vec2 J = crane__rot(cf->c0, cf->s0, k == 0 ? l.v1 : l.v2);
+        const crane_real cp = cf->c0 * cl - cf->s0 * sl;
+        const crane_real sp = cf->s0 * cl + cf->c0 * sl;
         const crane_real x = x0 + D.x, xd = qd[1] * J.x - w1 * D.y;
-        const crane_real jvp = body_jv_prime(l, cp, sp);
-        j += l->mass * x * x + jv(l->ixx, l->iyy, l->ixy, cp, sp);
-        jd += 2 * l->mass * x * xd + jvp * (w1 + lp.k[k] * qd[1]);
+        const crane_real jvp = body_jv_prime(lbody, cp, sp);
+        j += lbody->mass * x * x + jv(lbody->ixx, lbody->iyy, lbody->ixy, cp, sp);
+        jd += 2 * lbody->mass * x * xd + jvp * (w1 + kl * qd[1]);
         /* The slew's share on the links: the centripetal force along the boom plane's x and the
          * gyroscopic moment, by virtual work like the rest of their loads. */
         if (s2 != 0) {
-            const crane_real fx = -l->mass * s2 * (x0 + D.x);
+            const crane_real fx = -lbody->mass * s2 * (x0 + D.x);
             const crane_real ng = (crane_real)-0.5 * s2 * jvp;
             tau[0] += -D.y * fx + ng;
-            tau[1] += fx * J.x + ng * lp.k[k];
+            tau[1] += fx * J.x + ng * kl;
         }
     }
     *jz = j;

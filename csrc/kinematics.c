@@ -138,51 +138,14 @@ void crane__tilt_from_angle(const crane_model *m, crane_real c1, crane_real s1,
         *a = A;
 }
 
-/* Side links by velocity ratios (docs/model.md, "Side links"). With qp = Q - P1, aq = A - Q,
- * ra = A - O2 and D = cross(qp, aq) = perp(qp).aq: k1 = perp(ra).aq / D, k2 = perp(ra).qp / -D;
- * at alpha1 = 0 and omega1 = 1 the closure's acceleration gives rhs = -ra + k1^2 qp + k2^2 aq,
- * g1 = rhs.aq / D, g2 = rhs.qp / -D (ddphi_i = k_i alpha1 + g_i omega1^2). The centres of mass
- * relative to their link's origin are e1 = R(phi1) cL1 = ca1 qp + cb1 perp(qp) and
- * e2 = ca2 aq + cb2 perp(aq) (R(phi1) takes link_pin to qp, R(phi2) link2_end to aq; ca, cb are
- * cL's coordinates in those bases, from crane_model). Then each link's d, v, w (as defined at
- * crane__tilt_kin) and the sums over both links that the inverse dynamics needs. link_vectors
- * is the part that the four-joint model shares (crane__side_link_poses). */
-typedef struct {
-    crane_vec2 qp, aq, e1, e2, d1, d2, v1, v2;
-    crane_real inv_d, k1, k2;
-} link_vec;
-
-static CRANE__ALWAYS_INLINE void link_vectors(const crane_model *m, const crane__tilt_kin *tk,
-                                              link_vec *l)
-{
-    const crane_params *p = m->params;
-    const crane_vec2 ra = crane__sub(tk->a, p->tilt_pivot);
-
-    l->qp = crane__sub(tk->q, p->link1_pivot);
-    l->aq = crane__sub(tk->a, tk->q);
-    l->inv_d = 1 / crane__cross(l->qp, l->aq);
-    l->k1 = crane__cross(ra, l->aq) * l->inv_d;
-    l->k2 = -crane__cross(ra, l->qp) * l->inv_d;
-    l->e1 = crane__add(crane__scale(m->link_ca[0], l->qp),
-                       crane__scale(m->link_cb[0], crane__perp(l->qp)));
-    l->e2 = crane__add(crane__scale(m->link_ca[1], l->aq),
-                       crane__scale(m->link_cb[1], crane__perp(l->aq)));
-    /* Link 1 turns about P1: d1 = P1 + e1. */
-    l->d1 = crane__add(p->link1_pivot, l->e1);
-    l->v1 = crane__scale(l->k1, crane__perp(l->e1));
-    /* Link 2 rides on Q (dQ = k1 perp(qp) per unit tilt rate) and turns: d2 = Q + e2. */
-    l->d2 = crane__add(tk->q, l->e2);
-    l->v2 = crane__add(crane__scale(l->k1, crane__perp(l->qp)), crane__scale(l->k2, crane__perp(l->e2)));
-}
-
 static void side_links(const crane_model *m, crane__tilt_kin *tk)
 {
     const crane_params *p = m->params;
-    link_vec l;
+    crane__link_vec l;
     crane_vec2 ra, rhs, w1, w2, d1, d2, v1, v2;
     crane_real k1, k2, g1, g2;
 
-    link_vectors(m, tk, &l);
+    crane__link_vectors(m, tk, &l);
     ra = crane__sub(tk->a, p->tilt_pivot);
     k1 = l.k1;
     k2 = l.k2;
@@ -212,27 +175,6 @@ static void side_links(const crane_model *m, crane__tilt_kin *tk)
         tk->huu[1] = m1 * crane__dot(w1, v1) + i1 * g1 * k1 + m2 * crane__dot(w2, v2) + i2 * g2 * k2;
         tk->dv = m1 * crane__dot(d1, v1) + m2 * crane__dot(d2, v2);
     }
-}
-
-void crane__side_link_poses(const crane_model *m, const crane__tilt_kin *tk, crane__link_poses *lp)
-{
-    const crane_params *p = m->params;
-    const crane_real n1 = crane__norm2(p->link_pin), n2 = crane__norm2(p->link2_end);
-    link_vec l;
-
-    link_vectors(m, tk, &l);
-    lp->d[0] = l.d1;
-    lp->d[1] = l.d2;
-    lp->v[0] = l.v1;
-    lp->v[1] = l.v2;
-    lp->k[0] = l.k1;
-    lp->k[1] = l.k2;
-    /* R(phi1) takes link_pin to qp, R(phi2) link2_end to aq (equal lengths): cos and sin of phi
-     * from the dot and cross products. */
-    lp->c[0] = crane__dot(p->link_pin, l.qp) / n1;
-    lp->s[0] = crane__cross(p->link_pin, l.qp) / n1;
-    lp->c[1] = crane__dot(p->link2_end, l.aq) / n2;
-    lp->s[1] = crane__cross(p->link2_end, l.aq) / n2;
 }
 
 void crane__tilt_kinematics(const crane_model *m, crane_real c1, crane_real s1,
