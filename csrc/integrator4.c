@@ -107,7 +107,20 @@ static crane_real locked_stroke(const c4 *c, int j)
     return flag < 0 ? s_min : s_max;
 }
 
+/* Joint j's drive at t (crane__drive_pressures, crane__drive_lever). The lever's interpolation
+ * is out of line, one copy for RK4's stages and the samples (the code budget); the pressures'
+ * stay inline, since their outputs would otherwise take stack on the deepest path. */
+static CRANE__ALWAYS_INLINE void pressures4(c4 *c, int j, crane_real t, crane_real *p_a, crane_real *p_b)
+{
+    crane__drive_pressures(&c->in->drive[j], &c->cursor[j], t, p_a, p_b);
+}
+
 #if CRANE_HYDRAULICS
+static crane_real lever4(c4 *c, int j, crane_real t)
+{
+    return crane__drive_lever(&c->in->drive[j], &c->cursor[j], t);
+}
+
 /* The chamber and spool rates at t of valve-driven joint j at stroke s and stroke rate v, written
  * over its pressures and spool in x (which they are read from first): RK4 takes a stage's rates
  * from there, and keeps no array of them (the stack). */
@@ -116,7 +129,7 @@ static CRANE__ALWAYS_INLINE void valve_rates(c4 *c, crane_real t, x4 *x, int j, 
     crane_real r[3];
     int k;
 
-    crane__chamber_rates(c->m, j, crane__drive_lever(&c->in->drive[j], &c->cursor[j], t), s, v,
+    crane__chamber_rates(c->m, j, lever4(c, j, t), s, v,
                          &x->v[H + 3 * j], x->v[H + 3 * j + 2], r);
     for (k = 0; k < 3; ++k)
         x->v[H + 3 * j + k] = r[k];
@@ -163,7 +176,7 @@ static CRANE__ALWAYS_INLINE void forces4(c4 *c, crane_real t, const x4 *x, unsig
                 p_a = x->v[H + 3 * j];
                 p_b = x->v[H + 3 * j + 1];
             } else {
-                crane__drive_pressures(&c->in->drive[j], &c->cursor[j], t, &p_a, &p_b);
+                pressures4(c, j, t, &p_a, &p_b);
             }
             d->b[j] += crane__actuator_force(m, j, p_a, p_b, v) * ds;
         }
@@ -557,7 +570,7 @@ static void put_sample4(c4 *c, crane_real t, const x4 *x, crane_sample *o)
             const crane_hydraulics *h = crane__circuit(m, i);
             const crane_real y = h->spool_time_constant > 0
                                      ? x->v[H + 3 * i + 2]
-                                     : crane__drive_lever(&c->in->drive[i], &c->cursor[i], t);
+                                     : lever4(c, i, t);
             o->p_a[i] = x->v[H + 3 * i];
             o->p_b[i] = x->v[H + 3 * i + 1];
             crane__valve_flows(h, y, o->p_a[i], o->p_b[i], &o->flow_a[i], &o->flow_b[i]);
@@ -567,7 +580,7 @@ static void put_sample4(c4 *c, crane_real t, const x4 *x, crane_sample *o)
         if (c->mode[i] == CRANE__HELD) {
             o->p_a[i] = o->p_b[i] = 0;
         } else {
-            crane__drive_pressures(&c->in->drive[i], &c->cursor[i], t, &o->p_a[i], &o->p_b[i]);
+            pressures4(c, i, t, &o->p_a[i], &o->p_b[i]);
         }
         o->stop[i] = c->mode[i] == CRANE__STOP_LO   ? lo_flag(c, i)
                      : c->mode[i] == CRANE__STOP_HI ? -lo_flag(c, i)
