@@ -19,11 +19,11 @@ typedef struct {
     crane_real v[N_ALL];
 } x4;
 
-/* Everything the accelerations need at (t, x): the configuration, the in-plane mass matrix Mp
- * (lift, tilt, extension), J_z and the net generalized forces b = tau - h. */
+/* Everything the accelerations need at (t, x): the configuration (for the in-plane mass matrix,
+ * which solve4 works from it), J_z and the net generalized forces b = tau - h. */
 typedef struct {
     crane__conf4 cf;
-    crane_real Mp[6], jz, b[4];
+    crane_real jz, b[4];
 } dyn4;
 
 /* Per-prediction working data, on the caller's stack. */
@@ -136,7 +136,7 @@ static CRANE__ALWAYS_INLINE void valve_rates(c4 *c, crane_real t, x4 *x, int j, 
 }
 #endif
 
-/* Fills c->d at (t, x): the configuration, Mp, J_z and b = tau - h, with actuator forces only for
+/* Fills c->d at (t, x): the configuration, J_z and b = tau - h, with actuator forces only for
  * the joints not in lk (a joint in lk that is stopped needs its own force only to decide its
  * release, which passes lk = the held joints); nothing when all four are locked. With rates (then
  * x itself), each valve-driven joint's chamber and spool rates replace its pressures and spool in
@@ -152,7 +152,6 @@ static CRANE__ALWAYS_INLINE void forces4(c4 *c, crane_real t, const x4 *x, unsig
         crane__conf4_at(m, &c->b, x->v[Q], x->v[Q + 1], x->v[Q + 3], &d->cf);
         /* the bias h = ID(q, qd, 0) goes into b, negated there (no array of its own: the stack) */
         crane__id4(m, &c->b, &d->cf, &x->v[W], zero, m->params->gravity, d->b);
-        crane__mass4(m, &c->b, &d->cf, d->Mp);
         /* a locked slew's inertia and force are never read */
         d->jz = 1;
         if (!in_set(lk, CRANE_SLEW)) {
@@ -200,16 +199,22 @@ static crane_real mp(const crane_real Mp[6], int r, int k)
 }
 
 /* Solves M a = b over the joints not in lk (the others get 0): the slew alone (M is block
- * diagonal), the free in-plane joints by Gaussian elimination (M is positive definite). */
-static void solve4(const dyn4 *d, const crane_real b[4], unsigned lk, crane_real a[4])
+ * diagonal, J_z = c->d.jz), the free in-plane joints by Gaussian elimination (M is positive
+ * definite) on Mp, or without it on the mass matrix at c->d.cf. That one is worked here into the
+ * last six places of the elimination's own matrix A (6..11, in Mp's order; A's rows are 4 long,
+ * the free joints' columns, then b): A is filled row by row from the front, and each place is
+ * written only after the last read of the Mp entry it held (so for every set of free joints), so
+ * that Mp takes no storage of its own beside the dynamics (the stack). */
+static void solve4(const c4 *c, const crane_real *Mp, const crane_real b[4], unsigned lk,
+                   crane_real a[4])
 {
-    crane_real A[3][4];
+    crane_real A[3 * 4];
     int f[3], n = 0, r, k, i;
 
     /* cppcheck 2.10's whole-program check sizes a with the float build's crane_real and indexes
      * it with the double build's (a false "ctuArrayIndex"; every caller passes crane_real[4]) */
     /* cppcheck-suppress ctuArrayIndex */
-    a[CRANE_SLEW] = in_set(lk, CRANE_SLEW) ? 0 : b[CRANE_SLEW] / d->jz;
+    a[CRANE_SLEW] = in_set(lk, CRANE_SLEW) ? 0 : b[CRANE_SLEW] / c->d.jz;
     for (k = 0; k < 3; ++k) {
         a[PLANE[k]] = 0;
         if (!in_set(lk, PLANE[k])) {
@@ -217,22 +222,28 @@ static void solve4(const dyn4 *d, const crane_real b[4], unsigned lk, crane_real
             ++n;
         }
     }
+    if (n == 0)
+        return;
+    if (!Mp) {
+        crane__mass4(c->m, &c->b, &c->d.cf, &A[6]);
+        Mp = &A[6];
+    }
     for (r = 0; r < n; ++r) {
         for (k = 0; k < n; ++k)
-            A[r][k] = mp(d->Mp, f[r], f[k]);
-        A[r][n] = b[PLANE[f[r]]];
+            A[4 * r + k] = mp(Mp, f[r], f[k]);
+        A[4 * r + n] = b[PLANE[f[r]]];
     }
     for (i = 0; i < n; ++i)
         for (r = i + 1; r < n; ++r) {
-            const crane_real l = A[r][i] / A[i][i];
+            const crane_real l = A[4 * r + i] / A[4 * i + i];
             for (k = i; k <= n; ++k)
-                A[r][k] -= l * A[i][k];
+                A[4 * r + k] -= l * A[4 * i + k];
         }
     for (i = n - 1; i >= 0; --i) {
-        crane_real s = A[i][n];
+        crane_real s = A[4 * i + n];
         for (k = i + 1; k < n; ++k)
-            s -= A[i][k] * a[PLANE[f[k]]];
-        a[PLANE[f[i]]] = s / A[i][i];
+            s -= A[4 * i + k] * a[PLANE[f[k]]];
+        a[PLANE[f[i]]] = s / A[4 * i + i];
     }
 }
 
@@ -287,7 +298,7 @@ static void rk4_4(c4 *c, crane_real t, const x4 *x, crane_real h, x4 *y)
         forces4(c, ts, &xs, lk, &xs);
         stage4(x, &xs, y, Q, W, W - Q, s, cs, h6);
         /* all four locked: zeros, without reading c->d */
-        solve4(&c->d, c->d.b, lk, &xs.v[W]);
+        solve4(c, NULL, c->d.b, lk, &xs.v[W]);
         /* the entries of joints that are not valve-driven are 0, and so read as rates */
         stage4(x, &xs, y, W, n, 0, s, cs, h6);
     }
@@ -306,10 +317,8 @@ static void impact4(c4 *c, x4 *x, int i)
         const unsigned lk = (lock_mask4(c) & ~(1u << i)) | (1u << CRANE_SLEW);
         int j;
         crane__conf4_at(c->m, &c->b, x->v[Q], x->v[Q + 1], x->v[Q + 3], &d->cf);
-        crane__mass4(c->m, &c->b, &d->cf, d->Mp);
-        d->jz = 1;
         e[i] = 1;
-        solve4(d, e, lk, col);
+        solve4(c, NULL, e, lk, col);
         for (j = 0; j < 4; ++j)
             if (j != i && !in_set(lk, j))
                 x->v[W + j] -= col[j] * (x->v[W + i] / col[i]);
@@ -333,6 +342,7 @@ static int release_set4(c4 *c, crane_real t, const x4 *x)
 {
     const dyn4 *const d = &c->d;
     unsigned held = 0, stopped = 0, cand;
+    crane_real Mp[6];
     int j;
 
     for (j = 0; j < 4; ++j) {
@@ -344,17 +354,18 @@ static int release_set4(c4 *c, crane_real t, const x4 *x)
     if (!stopped)
         return 0;
     forces4(c, t, x, held, NULL);
+    crane__mass4(c->m, &c->b, &d->cf, Mp);
     for (cand = 0; cand < 16u; ++cand) {
         int ok = 1;
         crane_real a[4], r[4];
         /* only stopped joints can be released */
         if (cand & ~stopped)
             continue;
-        solve4(d, d->b, held | (stopped & ~cand), a);
+        solve4(c, Mp, d->b, held | (stopped & ~cand), a);
         /* M a, for the reactions of the kept joints */
         for (j = 0; j < 3; ++j)
-            r[PLANE[j]] = mp(d->Mp, j, 0) * a[CRANE_LIFT] + mp(d->Mp, j, 1) * a[CRANE_TILT] +
-                          mp(d->Mp, j, 2) * a[CRANE_EXTENSION];
+            r[PLANE[j]] = mp(Mp, j, 0) * a[CRANE_LIFT] + mp(Mp, j, 1) * a[CRANE_TILT] +
+                          mp(Mp, j, 2) * a[CRANE_EXTENSION];
         r[CRANE_SLEW] = d->jz * a[CRANE_SLEW];
         for (j = 0; j < 4; ++j) {
             const crane_real inward = c->mode[j] == CRANE__STOP_LO ? 1 : -1;
@@ -499,13 +510,11 @@ static CRANE__NOINLINE long substeps4(c4 *c, const x4 *x, crane_real h)
         crane_real e[4] = {0, 0, 0, 0}, col[4], ne, minv;
         unsigned lk = 1u << CRANE_SLEW;
         int j;
-        crane__mass4(c->m, &c->b, &d->cf, d->Mp);
-        d->jz = 1;
         for (j = 0; j < 4; ++j)
             if (c->mode[j] == CRANE__HELD)
                 lk |= 1u << j;
         e[CRANE_EXTENSION] = 1;
-        solve4(d, e, lk, col);
+        solve4(c, NULL, e, lk, col);
         /* (M^-1)_ee at most 4 / m_ext: the bound that check_work counts (crane_internal.h) */
         minv = col[CRANE_EXTENSION];
         if (minv > 4 / c->m->params->extension_boom.mass)
