@@ -59,14 +59,13 @@ void crane__valve_flows(const crane_hydraulics *h, crane_real y, crane_real p_a,
     const crane_real dl = h->laminar_pressure_drop;
 
     if (h->valve != CRANE_VALVE_COMPENSATED) {
+        /* the pressure drops before the square roots: fewer values are held across the calls,
+         * which keeps this frame (on the stack budget's deepest path) smaller */
+        const crane_real dp_a = y >= 0 ? h->supply_pressure - p_a : p_a - h->tank_pressure;
+        const crane_real dp_b = y >= 0 ? p_b - h->tank_pressure : h->supply_pressure - p_b;
         const crane_real k = y * gain(h);
-        if (y >= 0) {
-            *q_a = k * orifice(h->supply_pressure - p_a, dl);
-            *q_b = k * orifice(p_b - h->tank_pressure, dl);
-        } else {
-            *q_a = k * orifice(p_a - h->tank_pressure, dl);
-            *q_b = k * orifice(h->supply_pressure - p_b, dl);
-        }
+        *q_a = k * orifice(dp_a, dl);
+        *q_b = k * orifice(dp_b, dl);
         return;
     }
     {
