@@ -260,8 +260,9 @@ static unsigned lock_mask4(const c4 *c)
 
 /* Entries [from, to) of RK4's bookkeeping at stage s, each entry's rate there being xs->v[i + off]:
  * the stage sum ((k1 + 2 k2) + 2 k3) + k4 accumulates in y, and the next stage's state x + cs k is
- * written over xs (the rate is read first). */
-static CRANE__ALWAYS_INLINE void stage4(const x4 *x, x4 *xs, x4 *y, int from, int to, int off, int s,
+ * written over xs (the rate is read first). Out of line, a leaf: its loop then takes none of
+ * rk4_4's registers, whose frame is on the stack budget's deepest path. */
+static CRANE__NOINLINE void stage4(const x4 *x, x4 *xs, x4 *y, int from, int to, int off, int s,
                                         crane_real cs, crane_real h6)
 {
     int i;
