@@ -137,23 +137,28 @@ static void chambers_at(const crane_model *m, int joint, crane_real stroke, cham
 void crane__chamber_rates(const crane_model *m, int joint, crane_real lever, crane_real stroke,
                           crane_real v, const crane_real p[2], crane_real y, crane_real rate[3])
 {
-    chambers c;
-    crane_real g, q_l, q_a, q_b;
+    const crane_hydraulics *const h = crane__circuit(m, joint);
+    crane_real g, q_l, q_a, q_b, v_a, v_b;
+    /* the piston areas and the stroke range (no chambers struct: the stack's deepest path) */
+    crane_real ab[4];
 
-    chambers_at(m, joint, stroke, &c);
-    g = gradient(c.h);
-    q_l = c.h->leakage * (p[0] - p[1]);
-    if (c.h->spool_time_constant > 0) {
-        rate[2] = (lever - y) / c.h->spool_time_constant;
+    /* the valve and the gradient (the calls) first, the chambers after: fewer values are held
+     * across the calls, which keeps this frame, on the stack budget's deepest path, smaller */
+    if (h->spool_time_constant > 0) {
+        rate[2] = (lever - y) / h->spool_time_constant;
     } else {
         y = lever;
         rate[2] = 0;
     }
-    crane__valve_flows(c.h, y, p[0], p[1], &q_a, &q_b);
-    rate[0] = (q_a - c.area_a * v - q_l + limit_flow(c.h, g, p[0])) /
-              compliance(c.h, c.v_a, c.h->hose_volume_a);
-    rate[1] = (c.area_b * v - q_b + q_l + limit_flow(c.h, g, p[1])) /
-              compliance(c.h, c.v_b, c.h->hose_volume_b);
+    crane__valve_flows(h, y, p[0], p[1], &q_a, &q_b);
+    g = gradient(h);
+    crane__actuator_areas(m, joint, &ab[0], &ab[1]);
+    crane__actuator_range(m, joint, &ab[2], &ab[3]);
+    v_a = h->hose_volume_a + ab[0] * (stroke - ab[2]);
+    v_b = h->hose_volume_b + ab[1] * (ab[3] - stroke);
+    q_l = h->leakage * (p[0] - p[1]);
+    rate[0] = (q_a - ab[0] * v - q_l + limit_flow(h, g, p[0])) / compliance(h, v_a, h->hose_volume_a);
+    rate[1] = (ab[1] * v - q_b + q_l + limit_flow(h, g, p[1])) / compliance(h, v_b, h->hose_volume_b);
 }
 
 static crane_real substep_count(crane_real lam, crane_real h)
