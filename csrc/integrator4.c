@@ -192,6 +192,9 @@ static CRANE__ALWAYS_INLINE void forces4(c4 *c, crane_real t, const x4 *x, unsig
 /* Index of in-plane joint k (0, 1, 2) in Mp's (lift, tilt, extension) and in the joint arrays. */
 static const int PLANE[3] = {CRANE_LIFT, CRANE_TILT, CRANE_EXTENSION};
 
+/* The r-th of the free joints packed by solve4. */
+static int free_at(unsigned f, int r) { return (int)((f >> (2 * r)) & 3u); }
+
 static crane_real mp(const crane_real Mp[6], int r, int k)
 {
     static const int idx[3][3] = {{0, 1, 2}, {1, 3, 4}, {2, 4, 5}};
@@ -209,7 +212,9 @@ static void solve4(const c4 *c, const crane_real *Mp, const crane_real b[4], uns
                    crane_real a[4])
 {
     crane_real A[3 * 4];
-    int f[3], n = 0, r, k, i;
+    /* the free in-plane joints (their indices into PLANE), two bits each (the stack) */
+    unsigned f = 0;
+    int n = 0, r, k, i;
 
     /* cppcheck 2.10's whole-program check sizes a with the float build's crane_real and indexes
      * it with the double build's (a false "ctuArrayIndex"; every caller passes crane_real[4]) */
@@ -218,7 +223,7 @@ static void solve4(const c4 *c, const crane_real *Mp, const crane_real b[4], uns
     for (k = 0; k < 3; ++k) {
         a[PLANE[k]] = 0;
         if (!in_set(lk, PLANE[k])) {
-            f[n] = k;
+            f |= (unsigned)k << (2 * n);
             ++n;
         }
     }
@@ -230,8 +235,8 @@ static void solve4(const c4 *c, const crane_real *Mp, const crane_real b[4], uns
     }
     for (r = 0; r < n; ++r) {
         for (k = 0; k < n; ++k)
-            A[4 * r + k] = mp(Mp, f[r], f[k]);
-        A[4 * r + n] = b[PLANE[f[r]]];
+            A[4 * r + k] = mp(Mp, free_at(f, r), free_at(f, k));
+        A[4 * r + n] = b[PLANE[free_at(f, r)]];
     }
     for (i = 0; i < n; ++i)
         for (r = i + 1; r < n; ++r) {
@@ -242,8 +247,8 @@ static void solve4(const c4 *c, const crane_real *Mp, const crane_real b[4], uns
     for (i = n - 1; i >= 0; --i) {
         crane_real s = A[4 * i + n];
         for (k = i + 1; k < n; ++k)
-            s -= A[4 * i + k] * a[PLANE[f[k]]];
-        a[PLANE[f[i]]] = s / A[4 * i + i];
+            s -= A[4 * i + k] * a[PLANE[free_at(f, k)]];
+        a[PLANE[free_at(f, i)]] = s / A[4 * i + i];
     }
 }
 
