@@ -238,10 +238,11 @@ static void solve4(const c4 *c, const crane_real *Mp, const crane_real b[4], uns
             A[4 * r + k] = mp(Mp, free_at(f, r), free_at(f, k));
         A[4 * r + n] = b[PLANE[free_at(f, r)]];
     }
+    /* (column i below the pivot is not read again: its update is skipped) */
     for (i = 0; i < n; ++i)
         for (r = i + 1; r < n; ++r) {
             const crane_real l = A[4 * r + i] / A[4 * i + i];
-            for (k = i; k <= n; ++k)
+            for (k = i + 1; k <= n; ++k)
                 A[4 * r + k] -= l * A[4 * i + k];
         }
     for (i = n - 1; i >= 0; --i) {
@@ -268,20 +269,26 @@ static unsigned lock_mask4(const c4 *c)
  * written over xs (the rate is read first). Out of line, a leaf: its loop then takes none of
  * rk4_4's registers, whose frame is on the stack budget's deepest path. */
 static CRANE__NOINLINE void stage4(const x4 *x, x4 *xs, x4 *y, int from, int to, int off, int s,
-                                        crane_real cs, crane_real h6)
+                                   crane_real cs, crane_real h6)
 {
     int i;
 
-    for (i = from; i < to; ++i) {
-        const crane_real k = xs->v[i + off];
-        if (s == 0)
+    /* one loop per kind of stage (the branch out of the loop: this runs 8 times a step) */
+    if (s == 0) {
+        for (i = from; i < to; ++i) {
+            const crane_real k = xs->v[i + off];
             y->v[i] = k;
-        else if (s < 3)
-            y->v[i] = y->v[i] + 2 * k;
-        else
-            y->v[i] = x->v[i] + h6 * (y->v[i] + k);
-        if (s < 3)
             xs->v[i] = x->v[i] + cs * k;
+        }
+    } else if (s < 3) {
+        for (i = from; i < to; ++i) {
+            const crane_real k = xs->v[i + off];
+            y->v[i] = y->v[i] + 2 * k;
+            xs->v[i] = x->v[i] + cs * k;
+        }
+    } else {
+        for (i = from; i < to; ++i)
+            y->v[i] = x->v[i] + h6 * (y->v[i] + xs->v[i + off]);
     }
 }
 
