@@ -302,9 +302,17 @@ void crane__side_link_torques(const crane__tilt_kin *tk, crane_real c0, crane_re
                               crane_real tau[2]);
 
 /* Mass matrix (M00, M01, M11) from cos/sin of theta1 alone (it does not depend on theta0), with
- * the side links' share from tk (NULL when the model has no side links). */
-void crane__mass_matrix(const crane_model *m, crane_real c1, crane_real s1,
+ * the side links' share from tk (NULL when the model has no side links); j0 is
+ * crane__mass_matrix_j0, which the caller keeps (the model does not: the stack). */
+void crane__mass_matrix(const crane_model *m, crane_real j0, crane_real c1, crane_real s1,
                         const crane__tilt_kin *tk, crane_real M[3]);
+
+/* I1 + m1 |c1|^2 + m2 |O2|^2: the constant part of M00. */
+static inline crane_real crane__mass_matrix_j0(const crane_model *m)
+{
+    const crane_body *const b1 = &m->params->lift_boom;
+    return (b1->izz + b1->mass * crane__norm2(b1->com)) + m->m2 * crane__norm2(m->params->tilt_pivot);
+}
 
 /* ---- dynamics4.c (docs/model.md, "Four joints") ---- */
 

@@ -60,14 +60,11 @@ void crane__inverse_dynamics(const crane_model *m, crane_vec2 C1, crane_vec2 C2,
 
 /* The Newton-Euler recursion with omega = 0, g = 0 and alpha = e_j, simplified by hand:
  * cross(a, perp(b)) = a.b, and r12.C2 = O2.R(theta1)c2 does not depend on theta0. */
-void crane__mass_matrix(const crane_model *m, crane_real c1, crane_real s1,
+void crane__mass_matrix(const crane_model *m, crane_real j0, crane_real c1, crane_real s1,
                         const crane__tilt_kin *tk, crane_real M[3])
 {
     const crane_real k = m->m2 * crane__dot(m->params->tilt_pivot, crane__rot(c1, s1, m->c2));
-    const crane_body *const b1 = &m->params->lift_boom;
-    /* I1 + m1 |c1|^2 and m2 |O2|^2: read from the params, not kept in the model (the stack) */
-    M[0] = (b1->izz + b1->mass * crane__norm2(b1->com)) +
-           m->m2 * crane__norm2(m->params->tilt_pivot) + m->j2 + 2 * k;
+    M[0] = j0 + m->j2 + 2 * k;
     M[1] = m->j2 + k;
     M[2] = m->j2;
     if (tk) {

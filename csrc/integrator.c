@@ -39,6 +39,7 @@ typedef struct {
     crane_real kin_th[2];
     crane_real kin_c0, kin_s0, kin_c1, kin_s1;
     crane_real kin_ds_lift;
+    crane_real j0;              /* crane__mass_matrix_j0, worked once */
     /* The four-bar (tilt ds/dtheta, stroke, side links) at the last tilt angle it was needed at:
      * with the tilt held or stopped the angle never changes, and with it free the last sample,
      * the next release check and the next step's first RK4 stage share one angle. */
@@ -148,7 +149,7 @@ static void forces(ctx_t *c, crane_real t, const xstate *x, const int lk[2], cra
         tk = tilt_kin(c, x->th[1], c1, s1);
     crane__inverse_dynamics(m, C1, C2, r12, c0, s0, m->links ? tk : NULL, x->w, zero,
                             m->params->gravity, h);
-    crane__mass_matrix(m, c1, s1, m->links ? tk : NULL, M);
+    crane__mass_matrix(m, c->j0, c1, s1, m->links ? tk : NULL, M);
 
     for (i = 0; i < 2; ++i) {
         crane_real ds, p_a, p_b, stroke = 0;
@@ -343,7 +344,8 @@ static void impact(ctx_t *c, xstate *x, int i)
     if (c->mode[j] == CRANE__FREE) {
         crane_real M[3], c1, s1;
         crane__sincos(x->th[1], &s1, &c1);
-        crane__mass_matrix(c->m, c1, s1, c->m->links ? tilt_kin(c, x->th[1], c1, s1) : NULL, M);
+        crane__mass_matrix(c->m, c->j0, c1, s1, c->m->links ? tilt_kin(c, x->th[1], c1, s1) : NULL,
+                           M);
         /* omega - Minv e_i omega_i / Minv_ii, written without the inverse. */
         x->w[j] += M[1] / M[j == 0 ? 0 : 2] * x->w[i];
     }
@@ -665,6 +667,7 @@ crane_status crane__integrate(const crane_model *m, const crane_state *s0, const
     c.kin_valid = 0;
     c.kin_has_lift = 0;
     c.tk_valid = 0;
+    c.j0 = crane__mass_matrix_j0(m);
     c.release_clear = 0;
 #if CRANE_HYDRAULICS
     c.hyd = 0;
