@@ -124,7 +124,7 @@ static crane_real lever4(c4 *c, int j, crane_real t)
 /* The chamber and spool rates at t of valve-driven joint j at stroke s and stroke rate v, written
  * over its pressures and spool in x (which they are read from first): RK4 takes a stage's rates
  * from there, and keeps no array of them (the stack). */
-static CRANE__ALWAYS_INLINE void valve_rates(c4 *c, crane_real t, x4 *x, int j, crane_real s, crane_real v)
+static CRANE__ALWAYS_INLINE void valve_rates4(c4 *c, crane_real t, x4 *x, int j, crane_real s, crane_real v)
 {
     crane_real r[3];
     int k;
@@ -140,7 +140,7 @@ static CRANE__ALWAYS_INLINE void valve_rates(c4 *c, crane_real t, x4 *x, int j, 
  * the joints not in lk (a joint in lk that is stopped needs its own force only to decide its
  * release, which passes lk = the held joints); nothing when all four are locked. With rates (then
  * x itself), each valve-driven joint's chamber and spool rates replace its pressures and spool in
- * x, once its force has read them (valve_rates). */
+ * x, once its force has read them (valve_rates4). */
 static CRANE__ALWAYS_INLINE void forces4(c4 *c, crane_real t, const x4 *x, unsigned lk, x4 *rates)
 {
     const crane_model *m = c->m;
@@ -181,7 +181,7 @@ static CRANE__ALWAYS_INLINE void forces4(c4 *c, crane_real t, const x4 *x, unsig
         }
 #if CRANE_HYDRAULICS
         if (rates && valve(c, j))
-            valve_rates(c, t, rates, j, stroke, v);
+            valve_rates4(c, t, rates, j, stroke, v);
 #else
         (void)stroke;
         (void)rates;
@@ -212,6 +212,7 @@ static void solve4(const c4 *c, const crane_real *Mp, const crane_real b[4], uns
                    crane_real a[4])
 {
     crane_real A[3 * 4];
+    const crane_real *M = Mp;
     /* the free in-plane joints (their indices into PLANE), two bits each (the stack) */
     unsigned f = 0;
     int n = 0, r, k, i;
@@ -231,11 +232,11 @@ static void solve4(const c4 *c, const crane_real *Mp, const crane_real b[4], uns
         return;
     if (!Mp) {
         crane__mass4(c->m, &c->b, &c->d.cf, &A[6]);
-        Mp = &A[6];
+        M = &A[6];
     }
     for (r = 0; r < n; ++r) {
         for (k = 0; k < n; ++k)
-            A[4 * r + k] = mp(Mp, free_at(f, r), free_at(f, k));
+            A[4 * r + k] = mp(M, free_at(f, r), free_at(f, k));
         A[4 * r + n] = b[PLANE[free_at(f, r)]];
     }
     /* (column i below the pivot is not read again: its update is skipped) */
