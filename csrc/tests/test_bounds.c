@@ -10,6 +10,7 @@
 #include <math.h>
 #include <stdint.h>
 #include <stdio.h>
+#include <string.h>
 #include "crane.h"
 #include "crane_patu655.h"
 
@@ -40,10 +41,9 @@ static const crane_params params = CRANE_PATU655_INIT;
 
 static void held(crane_inputs *in)
 {
+    memset(in, 0, sizeof *in);   /* all four drives (slew and extension too): holds */
     in->drive[0].mode = CRANE_DRIVE_HOLD;
     in->drive[1].mode = CRANE_DRIVE_HOLD;
-    in->drive[0].n_samples = in->drive[1].n_samples = 0;
-    in->drive[0].p_a = in->drive[0].p_b = in->drive[1].p_a = in->drive[1].p_b = 0;
 }
 
 /* Finding 3: horizon = 1e9 s (or dt = 1e-12 s) was accepted; sample_every = 10^12 ran for hours. */
