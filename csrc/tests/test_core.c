@@ -90,6 +90,7 @@ static crane_inputs constant_inputs(double pa0, double pb0, int mode1, double pa
 static crane_state state(double s0, double s1, double v0, double v1, double slew, double ext)
 {
     crane_state s;
+    memset(&s, 0, sizeof s);   /* the slew and extension rates, chambers and spools: 0 */
     s.stroke[0] = R(s0);
     s.stroke[1] = R(s1);
     s.stroke_rate[0] = R(v0);
