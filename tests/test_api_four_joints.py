@@ -70,6 +70,24 @@ def test_batch_carries_the_four_joints(crane):
         np.testing.assert_allclose(one.points()["tip"], one.tip, rtol=0, atol=1e-12)
 
 
+@pytest.mark.parametrize("threads", [1, 2])
+def test_batch_of_moving_slews_and_extensions_is_predict_future_by_future(threads):
+    """predict_many over the spatial scenarios (valves and pressures on the slew and the
+    telescope, end stops) gives exactly predict()'s numbers for each future."""
+    names = [n for n in cp.scenarios.names() if cp.scenarios.get(n).spatial]
+    scs = [cp.scenarios.get(n) for n in names]
+    crane = scs[0].crane
+    same = [sc for sc in scs if sc.crane == crane and sc.horizon == scs[0].horizon]
+    assert len(same) >= 4, names
+    batch = cp.predict_many(crane, [sc.initial for sc in same] * 2, [sc.inputs for sc in same] * 2,
+                            same[0].horizon, threads=threads)
+    for k, sc in enumerate(same * 2):
+        one = cp.predict(crane, sc.initial, sc.inputs, sc.horizon)
+        assert np.ptp(one.slew) > 0 or np.ptp(one.extension) > 0, sc.name
+        for name in cp.types.ARRAYS:
+            assert np.array_equal(getattr(batch[k], name), getattr(one, name)), (sc.name, name)
+
+
 # -- lift-and-tilt code keeps its meaning -------------------------------------------------------------
 
 @pytest.mark.parametrize("backend", ["c", "python"])
@@ -189,16 +207,6 @@ def test_bad_four_joint_input_is_named(crane, backend):
 def test_bad_four_joint_types_are_rejected_at_construction(make, exc, words):
     with pytest.raises(exc, match=words):
         make()
-
-
-def test_c_core_refuses_a_moving_slew_or_extension_until_it_moves_them(crane, monkeypatch):
-    monkeypatch.setattr(_core, "MOVES_SLEW_AND_EXTENSION", False)
-    initial = cp.State(0.1, 0.3)
-    with pytest.raises(ValueError, match=r"Inputs.slew: the C core does not move the slew yet"):
-        cp.predict(crane, initial, cp.Inputs(H, H, slew=cp.Pressure(20e5, 0.0)), HORIZON)
-    with pytest.raises(ValueError, match=r"future 1 .*Inputs.extension: the C core does not move"):
-        cp.predict_many(crane, [initial] * 2,
-                        [cp.Inputs(H, H), cp.Inputs(H, H, extension=cp.Pressure(20e5, 0.0))], HORIZON)
 
 
 def test_nothing_passed_in_is_modified(crane):

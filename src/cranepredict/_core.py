@@ -23,10 +23,6 @@ if TYPE_CHECKING:  # pragma: no cover
 PRESSURE_MAX = float(lib.CRANE_PRESSURE_MAX)
 N_POINTS = int(lib.CRANE_N_POINTS)
 
-#: Whether the core moves the slew and the extension (issue 11's four-joint dynamics); until it
-#: does, api.py refuses a slew or extension drive other than Hold on backend "c".
-MOVES_SLEW_AND_EXTENSION = True
-
 # What each status means in terms of the crane file / the call's arguments.
 _CONTEXT = {
     lib.CRANE_E_GEOMETRY: "the lift triangle must keep the rod eye counterclockwise of the cylinder "
@@ -442,6 +438,15 @@ def inverse_dynamics(crane: "Crane", extension: float, theta: Sequence[float],
     ensure(lib.crane_inverse_dynamics(model(crane, extension), list(theta), list(omega),
                                       list(alpha), tau), "inverse_dynamics")
     return float(tau[0]), float(tau[1])
+
+
+def inverse_dynamics4(crane: "Crane", q: Sequence[float], qd: Sequence[float],
+                      qdd: Sequence[float]) -> Tuple[float, float, float, float]:
+    """The generalized forces [lift, tilt, slew, extension] of the four-joint model."""
+    tau = ffi.new("crane_real[4]")
+    ensure(lib.crane_inverse_dynamics4(model(crane, q[3]), list(q), list(qd), list(qdd), tau),
+           "inverse_dynamics4")
+    return float(tau[0]), float(tau[1]), float(tau[2]), float(tau[3])
 
 
 def cylinder_force(crane: "Crane", joint: int, p_a: float, p_b: float, stroke_rate: float) -> float:

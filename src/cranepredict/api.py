@@ -134,16 +134,6 @@ def _check_drive(joint: str, hydraulics: Any, actuator: str, drive: Any, initial
                                  "cranepredict.state_at_rest(...)")
 
 
-def _check_core_can(inputs: Inputs, where: str = "") -> None:
-    """backend "c": refuse a moving slew or extension while the C core cannot move them."""
-    if _core_module().MOVES_SLEW_AND_EXTENSION:
-        return
-    for joint in ("slew", "extension"):
-        if not isinstance(getattr(inputs, joint), Hold):
-            raise ValueError(f"{where}Inputs.{joint}: the C core does not move the {joint} yet "
-                             "(issue 11): hold it (Hold()) or run the twin, backend=\"python\"")
-
-
 def predict(crane: Crane, initial: State, inputs: Inputs, horizon: float, *,
             dt: Optional[float] = None, backend: str = "c") -> Trajectory:
     """Predicts the crane's motion over ``horizon`` seconds from rest (or the given stroke rates).
@@ -160,7 +150,6 @@ def predict(crane: Crane, initial: State, inputs: Inputs, horizon: float, *,
     _check(crane, initial, inputs, horizon, dt, backend)
     points: Any
     if backend == "c":
-        _check_core_can(inputs)
         _core = _core_module()
         arrays = _sample_arrays(_core.predict(crane, initial, inputs, float(horizon), float(dt)))
 
@@ -249,14 +238,13 @@ def state_at_rest(crane: Crane, lift_stroke: float, tilt_stroke: float, *, slew:
 
 def _extension_holding_force(crane: Crane, state: State) -> float:
     """The extension cylinder's force (N, positive extends) that holds the telescope still: the
-    extension's generalized gravity force at rest (ds/de = 1), from the four-joint inverse dynamics
-    of the twin until the C core has it (docs/model.md, "Four joints")."""
-    from . import twin
-
-    model = twin.TwinModel(crane, state.extension)
-    q = (model.joint_angle(twin.LIFT, state.lift_stroke)[0],
-         model.joint_angle(twin.TILT, state.tilt_stroke)[0], state.slew, state.extension)
-    return model.inverse_dynamics4(q, (0.0,) * 4, (0.0,) * 4)[twin.EXTENSION]
+    extension's generalized gravity force at rest (ds/de = 1), from the core's four-joint inverse
+    dynamics (docs/model.md, "Four joints")."""
+    _core = _core_module()
+    q = (_core.joint_angle(crane, 0, state.lift_stroke, state.extension)[0],
+         _core.joint_angle(crane, 1, state.tilt_stroke, state.extension)[0],
+         state.slew, state.extension)
+    return _core.inverse_dynamics4(crane, q, (0.0,) * 4, (0.0,) * 4)[3]
 
 
 def _sequence(value: Any, name: str, kind: type) -> list:
@@ -305,7 +293,6 @@ def predict_many(crane: Crane, initials: Sequence[State], inputs_list: Sequence[
     for k, (initial, inputs) in enumerate(zip(initials, inputs_list)):
         try:
             _check_future(crane, initial, inputs, horizon)
-            _check_core_can(inputs)
         except (TypeError, ValueError) as e:
             raise type(e)(f"future {k} (initials[{k}], inputs_list[{k}]): {e}") from None
     if threads is None:

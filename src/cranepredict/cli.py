@@ -24,11 +24,7 @@ def _demo(args: argparse.Namespace) -> int:
     if args.plot:
         _check_plot_dir(args.plot)
     dt = args.dt if args.dt is not None else api.DEFAULT_DT
-    backend, note = args.backend, ""
-    if backend is None:
-        backend = "c"
-        if sc.spatial and not api._core_module().MOVES_SLEW_AND_EXTENSION:
-            backend, note = "python", " (the C core does not move the slew and the extension yet)"
+    backend = args.backend or "c"
     traj = api.predict(sc.crane, sc.initial, sc.inputs, sc.horizon, dt=dt, backend=backend)
     repeat = args.repeat if args.repeat is not None else (201 if backend == "c" else 3)
     walls = []
@@ -41,7 +37,7 @@ def _demo(args: argparse.Namespace) -> int:
     print(f"scenario   {sc.name}: {sc.description}")
     print(f"crane      {sc.crane.name}, load {sc.crane.load_mass:g} kg, horizon {sc.horizon:g} s, "
           f"dt {dt:g} s ({len(traj.t)} samples)")
-    print(f"backend    {'C core' if backend == 'c' else 'twin (pure Python)'}{note}")
+    print(f"backend    {'C core' if backend == 'c' else 'twin (pure Python)'}")
     for k, word in ((0, "start"), (-1, "end  ")):
         x, y, z = traj.tip[k]
         print(f"tip {word}  x {x:7.3f} m  y {y:7.3f} m  z {z:7.3f} m   "
