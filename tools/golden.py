@@ -140,6 +140,8 @@ def scenarios_header() -> str:
  *   CRANE_SCENARIO_X_INPUTS      a crane_inputs initializer: the four drives [lift, tilt, slew,
  *                                extension] (sampled drives as compound literals)
  *   CRANE_SCENARIO_X_HORIZON     s
+ * CRANE_SCENARIO_LIST(ENTRY) calls ENTRY("name", X) for every scenario X, in the order of the
+ * names (csrc/bench/bench_core.c picks one by name through it).
  * Every scenario uses the PATU 655 (crane_patu655.h).
 """)]
     out.append("#ifndef CRANE_SCENARIOS_H\n#define CRANE_SCENARIOS_H\n\n#include \"crane.h\"\n\n"
@@ -159,6 +161,8 @@ def scenarios_header() -> str:
         out.append(f"#define CRANE_SCENARIO_{x}_INPUTS {{.drive = {{ \\\n    "
                    + ", \\\n    ".join(_drive(d) for d in _drives(sc)) + "}}")
         out.append(f"#define CRANE_SCENARIO_{x}_HORIZON {_r(sc.horizon)}")
+    out.append("\n/* Every scenario above: ENTRY(\"name\", X) */\n#define CRANE_SCENARIO_LIST(ENTRY) \\\n"
+               + " \\\n".join(f"    ENTRY(\"{sc.name}\", {_ident(sc.name)})" for sc in written()))
     out.append("\n#endif\n")
     return "\n".join(out)
 

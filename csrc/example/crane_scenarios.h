@@ -11,6 +11,8 @@
  *   CRANE_SCENARIO_X_INPUTS      a crane_inputs initializer: the four drives [lift, tilt, slew,
  *                                extension] (sampled drives as compound literals)
  *   CRANE_SCENARIO_X_HORIZON     s
+ * CRANE_SCENARIO_LIST(ENTRY) calls ENTRY("name", X) for every scenario X, in the order of the
+ * names (csrc/bench/bench_core.c picks one by name through it).
  * Every scenario uses the PATU 655 (crane_patu655.h).
  */
 
@@ -73,7 +75,7 @@
     .stroke_rate = {CRANE_R(0.0), CRANE_R(0.0)}, \
     .slew = CRANE_R(0.5), .extension = CRANE_R(0.1), \
     .slew_rate = CRANE_R(0.0), .extension_rate = CRANE_R(0.0), \
-    .p_a = {CRANE_R(6818184.960655068), CRANE_R(100000.0), CRANE_R(100000.0), CRANE_R(112373.36320531777)}, \
+    .p_a = {CRANE_R(6818184.960655068), CRANE_R(100000.0), CRANE_R(100000.0), CRANE_R(112373.36320531779)}, \
     .p_b = {CRANE_R(100000.0), CRANE_R(3325773.0566978203), CRANE_R(100000.0), CRANE_R(100000.0)}, \
     .spool = {CRANE_R(0.0), CRANE_R(0.0), CRANE_R(0.0), CRANE_R(0.0)}}
 #define CRANE_SCENARIO_EXTEND_WHILE_SLEWING_INPUTS {.drive = { \
@@ -205,7 +207,7 @@
     .stroke_rate = {CRANE_R(0.0), CRANE_R(0.0)}, \
     .slew = CRANE_R(-1.0), .extension = CRANE_R(1.0), \
     .slew_rate = CRANE_R(0.0), .extension_rate = CRANE_R(0.0), \
-    .p_a = {CRANE_R(14332452.625685323), CRANE_R(100000.0), CRANE_R(100000.0), CRANE_R(174930.9163199776)}, \
+    .p_a = {CRANE_R(14332452.625685323), CRANE_R(100000.0), CRANE_R(100000.0), CRANE_R(174930.91631997767)}, \
     .p_b = {CRANE_R(100000.0), CRANE_R(10031808.243325735), CRANE_R(100000.0), CRANE_R(100000.0)}, \
     .spool = {CRANE_R(0.0), CRANE_R(0.0), CRANE_R(0.0), CRANE_R(0.0)}}
 #define CRANE_SCENARIO_SLEW_STOP_LOAD_OUT_INPUTS {.drive = { \
@@ -237,7 +239,7 @@
     .slew = CRANE_R(0.0), .extension = CRANE_R(0.3), \
     .slew_rate = CRANE_R(0.0), .extension_rate = CRANE_R(0.0), \
     .p_a = {CRANE_R(7371446.176554985), CRANE_R(100000.0), CRANE_R(100000.0), CRANE_R(100000.0)}, \
-    .p_b = {CRANE_R(100000.0), CRANE_R(2871255.427821799), CRANE_R(100000.0), CRANE_R(675475.5281161433)}, \
+    .p_b = {CRANE_R(100000.0), CRANE_R(2871255.427821799), CRANE_R(100000.0), CRANE_R(675475.5281161432)}, \
     .spool = {CRANE_R(0.0), CRANE_R(0.0), CRANE_R(0.0), CRANE_R(0.0)}}
 #define CRANE_SCENARIO_SLEW_WHILE_LIFTING_INPUTS {.drive = { \
     {.mode = CRANE_DRIVE_VALVE, .u = CRANE_R(0.6)}, \
@@ -267,7 +269,7 @@
     .stroke_rate = {CRANE_R(0.0), CRANE_R(0.0)}, \
     .slew = CRANE_R(0.0), .extension = CRANE_R(0.7), \
     .slew_rate = CRANE_R(0.0), .extension_rate = CRANE_R(0.0), \
-    .p_a = {CRANE_R(7321886.204681703), CRANE_R(100000.0), CRANE_R(100000.0), CRANE_R(112373.36320531777)}, \
+    .p_a = {CRANE_R(7321886.204681703), CRANE_R(100000.0), CRANE_R(100000.0), CRANE_R(112373.36320531779)}, \
     .p_b = {CRANE_R(100000.0), CRANE_R(4117208.333435491), CRANE_R(100000.0), CRANE_R(100000.0)}, \
     .spool = {CRANE_R(0.0), CRANE_R(0.0), CRANE_R(0.0), CRANE_R(0.0)}}
 #define CRANE_SCENARIO_TELESCOPE_END_STOP_INPUTS {.drive = { \
@@ -316,7 +318,7 @@
     .slew = CRANE_R(0.0), .extension = CRANE_R(0.0), \
     .slew_rate = CRANE_R(0.0), .extension_rate = CRANE_R(0.0), \
     .p_a = {CRANE_R(6178987.191041451), CRANE_R(100000.0), CRANE_R(100000.0), CRANE_R(100000.0)}, \
-    .p_b = {CRANE_R(100000.0), CRANE_R(2333301.382765359), CRANE_R(100000.0), CRANE_R(839174.8498331382)}, \
+    .p_b = {CRANE_R(100000.0), CRANE_R(2333301.382765359), CRANE_R(100000.0), CRANE_R(839174.8498331379)}, \
     .spool = {CRANE_R(0.0), CRANE_R(0.0), CRANE_R(0.0), CRANE_R(0.0)}}
 #define CRANE_SCENARIO_VALVE_BOTH_LEVERS_INPUTS {.drive = { \
     {.mode = CRANE_DRIVE_VALVE, .u = CRANE_R(0.7)}, \
@@ -333,7 +335,7 @@
     .slew = CRANE_R(0.0), .extension = CRANE_R(0.0), \
     .slew_rate = CRANE_R(0.0), .extension_rate = CRANE_R(0.0), \
     .p_a = {CRANE_R(10982290.630781185), CRANE_R(100000.0), CRANE_R(100000.0), CRANE_R(100000.0)}, \
-    .p_b = {CRANE_R(100000.0), CRANE_R(4793972.433945876), CRANE_R(100000.0), CRANE_R(1798786.3888854464)}, \
+    .p_b = {CRANE_R(100000.0), CRANE_R(4793972.433945876), CRANE_R(100000.0), CRANE_R(1798786.3888854461)}, \
     .spool = {CRANE_R(0.0), CRANE_R(0.0), CRANE_R(0.0), CRANE_R(0.0)}}
 #define CRANE_SCENARIO_VALVE_CLOSED_500_INPUTS {.drive = { \
     {.mode = CRANE_DRIVE_VALVE, .u = CRANE_R(0.0)}, \
@@ -349,7 +351,7 @@
     .stroke_rate = {CRANE_R(0.0), CRANE_R(0.0)}, \
     .slew = CRANE_R(0.0), .extension = CRANE_R(0.0), \
     .slew_rate = CRANE_R(0.0), .extension_rate = CRANE_R(0.0), \
-    .p_a = {CRANE_R(5206049.449543527), CRANE_R(100000.0), CRANE_R(100000.0), CRANE_R(215646.39045977851)}, \
+    .p_a = {CRANE_R(5206049.449543527), CRANE_R(100000.0), CRANE_R(100000.0), CRANE_R(215646.39045977846)}, \
     .p_b = {CRANE_R(100000.0), CRANE_R(2745699.107438475), CRANE_R(100000.0), CRANE_R(100000.0)}, \
     .spool = {CRANE_R(0.0), CRANE_R(0.0), CRANE_R(0.0), CRANE_R(0.0)}}
 #define CRANE_SCENARIO_VALVE_END_STOP_INPUTS {.drive = { \
@@ -400,7 +402,7 @@
     .stroke_rate = {CRANE_R(0.0), CRANE_R(0.0)}, \
     .slew = CRANE_R(0.0), .extension = CRANE_R(0.0), \
     .slew_rate = CRANE_R(0.0), .extension_rate = CRANE_R(0.0), \
-    .p_a = {CRANE_R(11435648.948466873), CRANE_R(100000.0), CRANE_R(100000.0), CRANE_R(201663.69871383507)}, \
+    .p_a = {CRANE_R(11435648.948466873), CRANE_R(100000.0), CRANE_R(100000.0), CRANE_R(201663.69871383518)}, \
     .p_b = {CRANE_R(100000.0), CRANE_R(6086345.682005782), CRANE_R(100000.0), CRANE_R(100000.0)}, \
     .spool = {CRANE_R(0.0), CRANE_R(0.0), CRANE_R(0.0), CRANE_R(0.0)}}
 #define CRANE_SCENARIO_VALVE_LOWER_HEAVY_INPUTS {.drive = { \
@@ -426,5 +428,34 @@
     {.mode = CRANE_DRIVE_HOLD}, \
     {.mode = CRANE_DRIVE_HOLD}}}
 #define CRANE_SCENARIO_VALVE_SLOW_RAMP_HORIZON CRANE_R(2.0)
+
+/* Every scenario above: ENTRY("name", X) */
+#define CRANE_SCENARIO_LIST(ENTRY) \
+    ENTRY("both-driven", BOTH_DRIVEN) \
+    ENTRY("end-stop-lift-lower", END_STOP_LIFT_LOWER) \
+    ENTRY("end-stop-tilt", END_STOP_TILT) \
+    ENTRY("extend-while-slewing", EXTEND_WHILE_SLEWING) \
+    ENTRY("lever-open", LEVER_OPEN) \
+    ENTRY("load-0", LOAD_0) \
+    ENTRY("load-200", LOAD_200) \
+    ENTRY("load-500", LOAD_500) \
+    ENTRY("lower-gravity", LOWER_GRAVITY) \
+    ENTRY("paper-fig4", PAPER_FIG4) \
+    ENTRY("pressure-ramps", PRESSURE_RAMPS) \
+    ENTRY("slew-folded", SLEW_FOLDED) \
+    ENTRY("slew-stop-load-out", SLEW_STOP_LOAD_OUT) \
+    ENTRY("slew-stretched", SLEW_STRETCHED) \
+    ENTRY("slew-while-lifting", SLEW_WHILE_LIFTING) \
+    ENTRY("slewed-extended", SLEWED_EXTENDED) \
+    ENTRY("telescope-end-stop", TELESCOPE_END_STOP) \
+    ENTRY("tilt-alone", TILT_ALONE) \
+    ENTRY("valve-all-four", VALVE_ALL_FOUR) \
+    ENTRY("valve-both-levers", VALVE_BOTH_LEVERS) \
+    ENTRY("valve-closed-500", VALVE_CLOSED_500) \
+    ENTRY("valve-end-stop", VALVE_END_STOP) \
+    ENTRY("valve-lift-reverse", VALVE_LIFT_REVERSE) \
+    ENTRY("valve-lift-step", VALVE_LIFT_STEP) \
+    ENTRY("valve-lower-heavy", VALVE_LOWER_HEAVY) \
+    ENTRY("valve-slow-ramp", VALVE_SLOW_RAMP)
 
 #endif
