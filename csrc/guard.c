@@ -126,7 +126,7 @@ static void part_solid(const crane_model *m, const crane_part *pt, const pose *p
 }
 
 /* The index of side link 1's angle phi in a part's rates (after the four joints). */
-enum { LINK = 4, RATES = 5 };
+enum guard_slot { LINK = 4, RATES = 5 };
 
 static crane_real larger(crane_real a, crane_real b)
 {
@@ -601,7 +601,7 @@ crane_status crane_guard(const crane_model *model, const crane_part *parts, size
                          crane_real *work, size_t work_capacity, crane_guard_result *result)
 {
     const size_t n_pairs = n_parts * n_obstacles;
-    enum { CUM = RATES, MIN_KEY = RATES + 1 };
+    enum guard_key { CUM = RATES, MIN_KEY = RATES + 1 };
     crane_real *key, *per;
     crane_real margin, hit_rate[4] = {0, 0, 0, 0}, e_lo, e_hi;
     scene sc;

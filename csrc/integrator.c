@@ -5,7 +5,7 @@
  */
 #include "crane_internal.h"
 
-enum { RELEASE_BISECTIONS = CRANE__RELEASE_BISECTIONS };
+enum integrator_bisections { RELEASE_BISECTIONS = CRANE__RELEASE_BISECTIONS };
 
 /* theta, omega; with valve-driven cylinders also (p_a, p_b) of each joint and the spools (the
  * entries of joints that are not valve-driven stay 0). */
@@ -443,7 +443,7 @@ static crane_real release_in_piece(ctx_t *c, crane_real t, xstate *x, crane_real
  * again a hair later (as the specification reads). MAX_PIECES only bounds that in pathological
  * cases: the last piece takes the whole rest, puts any joint that overshot on its limit and does
  * no release search. */
-enum { MAX_PIECES = CRANE__MAX_PIECES };
+enum integrator_pieces { MAX_PIECES = CRANE__MAX_PIECES };
 
 static void step(ctx_t *c, crane_real t, xstate *x, crane_real h, crane_real t_end)
 {

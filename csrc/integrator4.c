@@ -12,7 +12,7 @@
 
 /* State layout: q[4], qd[4], then with valve-driven cylinders the pressures (p_a, p_b of joint j
  * at 8 + 2j, 9 + 2j) and the spools (16 + j); entries of joints that are not valve-driven stay 0. */
-enum { Q = 0, W = 4, P = 8, Y = 16, N_MECH = 8, N_ALL = 20 };
+enum x4_slot { Q = 0, W = 4, P = 8, Y = 16, N_MECH = 8, N_ALL = 20 };
 
 typedef struct {
     crane_real v[N_ALL];
@@ -130,11 +130,16 @@ static void solve4(const dyn4 *d, const crane_real b[4], const int lk[4], crane_
     crane_real A[3][4];
     int f[3], n = 0, r, k, i;
 
+    /* cppcheck 2.10's whole-program check sizes a with the float build's crane_real and indexes
+     * it with the double build's (a false "ctuArrayIndex"; every caller passes crane_real[4]) */
+    /* cppcheck-suppress ctuArrayIndex */
     a[CRANE_SLEW] = lk[CRANE_SLEW] ? 0 : b[CRANE_SLEW] / d->jz;
     for (k = 0; k < 3; ++k) {
         a[PLANE[k]] = 0;
-        if (!lk[PLANE[k]])
-            f[n++] = k;
+        if (!lk[PLANE[k]]) {
+            f[n] = k;
+            ++n;
+        }
     }
     for (r = 0; r < n; ++r) {
         for (k = 0; k < n; ++k)

@@ -218,7 +218,7 @@ static const char *const HYDRAULICS_RULES[] = {
     "> 0 for a compensated valve, >= 0 otherwise", "> 0 for a compensated valve, >= 0 otherwise",
     "in [0, 10]", "> 0", ">= -1e5 and <= tank_pressure", "> 0", "> 0", "> 0", "> 0", "> 0",
     "in [0, 1e-6]"};
-enum {
+enum model_rule_counts {
     N_FRICTION = (int)(sizeof FRICTION_RULES / sizeof FRICTION_RULES[0]),
     N_HYDRAULICS = (int)(sizeof HYDRAULICS_RULES / sizeof HYDRAULICS_RULES[0])
 };
