@@ -111,6 +111,28 @@ def test_twin_agrees_with_the_spatial_reference(name):
         assert impacts, "the scenario must reach its end stop"
 
 
+def _c_core(crane, start, drives, horizon=2.0):
+    lift, tilt, slew, extension = start
+    return cp.predict(crane, cp.State(lift_stroke=lift, tilt_stroke=tilt, slew=slew, extension=extension),
+                      cp.Inputs(**{k: drives.get(k, H) for k in rs.JOINTS}), horizon, backend="c")
+
+
+@pytest.mark.parametrize("name", list(_scenarios()))
+def test_c_core_agrees_with_the_spatial_reference_on_the_twins_scenarios(name):
+    """The same scenarios with the C core at its default step as the fast model."""
+    crane, start, drives = _scenarios()[name]
+    fast = _c_core(crane, start, drives)
+    run = _reference(crane, start, drives)
+    tip_max, tip_rms = _tip_error(fast.t, fast.tip, run)
+    print(f"{name} (C core): tip max {tip_max * 1e3:.4f} mm, RMS {tip_rms * 1e3:.4f} mm")
+    assert np.ptp(fast.slew) > 0.1
+    assert tip_max <= TIP_MAX and tip_rms <= TIP_RMS
+    assert np.max(np.abs(np.interp(fast.t, run.t, run.extension) - fast.extension)) < 1e-3
+    impacts = [t for t, kind, j, s in run.events if kind == "impact" and j == "extension"]
+    if impacts:   # the telescope lands: the C core's flag at the first sample at or after it
+        assert abs(fast.first_stop_time(3, +1) - impacts[0]) <= cp.DEFAULT_DT
+
+
 def test_stops_hold_and_release_in_the_reference():
     """The telescope stays on extension_max once it lands (plastic, no rebound, within 1e-9 m), and
     so does the slew pushed onto slew_max; the slew driven into slew_max with the pressure already
@@ -340,11 +362,16 @@ def _random_cases(n, seed):
 
 
 def test_twin_agrees_with_the_spatial_reference_in_random_cases():
-    worst = (0.0, 0.0)
+    """... and so does the C core at its default step."""
+    worst, worst_c = (0.0, 0.0), (0.0, 0.0)
     for c, start, drives in _random_cases(5, 21):
         arrays, events, run, tip_max, tip_rms = _compare(c, start, drives)
         assert not run.events and not events
+        fast = _c_core(c, start, drives)
+        c_max, c_rms = _tip_error(fast.t, fast.tip, run)
         print(f"load {c.load_mass:.0f} kg: tip moves {np.ptp(arrays['tip'], axis=0).max():.2f} m, "
-              f"max {tip_max * 1e3:.3f} mm, RMS {tip_rms * 1e3:.3f} mm")
+              f"max {tip_max * 1e3:.4f} mm, RMS {tip_rms * 1e3:.4f} mm (C core: {c_max * 1e3:.4f}, {c_rms * 1e3:.4f})")
         worst = (max(worst[0], tip_max), max(worst[1], tip_rms))
+        worst_c = (max(worst_c[0], c_max), max(worst_c[1], c_rms))
     assert worst[0] <= TIP_MAX and worst[1] <= TIP_RMS, worst
+    assert worst_c[0] <= TIP_MAX and worst_c[1] <= TIP_RMS, worst_c
