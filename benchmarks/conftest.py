@@ -72,8 +72,22 @@ def lever_open() -> Case:
     return Case("lever-open", crane, initial, cp.Inputs(lift=cp.Valve(1.0), tilt=cp.Valve(0.0)), 2.0)
 
 
+def named(name: str) -> Callable[[], Case]:
+    """A named scenario (src/cranepredict/scenarios) as a Case: its crane, start, drives, horizon."""
+    def make() -> Case:
+        sc = cp.scenarios.get(name)
+        return Case(name, sc.crane, sc.initial, sc.inputs, sc.horizon)
+    return make
+
+
 CASES: Dict[str, Callable[[], Case]] = {"paper-fig4": paper_fig4, "both-cylinders": both_cylinders,
                                         "open-chain": open_chain, "lever-open": lever_open}
+#: Four joints (issue 11): all four actuators valve-driven from rest (valve-all-four; slew-while-
+#: lifting: the slew and lift levers open, tilt and telescope valves closed) and the slew
+#: pressure-driven with the booms and telescope held (slew-folded). 2 s each.
+FOUR_JOINT_VALVE = ("valve-all-four", "slew-while-lifting")
+FOUR_JOINT_PRESSURE = ("slew-folded",)
+CASES.update({n: named(n) for n in FOUR_JOINT_VALVE + FOUR_JOINT_PRESSURE})
 
 
 @functools.lru_cache(maxsize=None)

@@ -123,3 +123,61 @@ def test_ctrl_c_is_one_line_with_status_130(capsys, monkeypatch):
     monkeypatch.setattr(api, "predict", interrupted)
     status, err = _main(capsys, "demo", "--repeat", "1")
     assert status == 130 and err == "cranepredict: interrupted\n"
+
+
+# -- validate: every scenario, the spatial ones on the spatial reference, the C core as fast model --
+
+def _fake_row(sc, max_mm, p_rms):
+    return {"name": sc.name, "tags": list(sc.tags), "horizon": sc.horizon,
+            "reference": "spatial" if sc.spatial else "planar", "max_error_mm": max_mm,
+            "rms_error_mm": max_mm / 2, "max_error_before_stop_mm": max_mm, "max_error_after_stop_mm": None,
+            "first_stop_time_s": None, "stop_time_fast_s": None, "wall_fast_s": 1e-3,
+            "wall_reference_s": 1.0, "speed_ratio": 1000.0, "constraint_residual_m": None,
+            "pressure_rms_bar": p_rms, "pressure_rms_by_chamber_bar": {}, "backend": "c",
+            "dt_fast_s": 2e-3, "dt_reference_s": 2.5e-4,
+            "within_targets": max_mm <= 20.0 and max_mm / 2 <= 10.0 and (p_rms is None or p_rms <= 2.0)}
+
+
+def test_validate_runs_the_spatial_scenarios_on_the_c_core(capsys, monkeypatch):
+    """No scenario is dropped: the spatial ones are compared too, each with backend "c" at the
+    default step; a missed target (here the tip max of one, the pressure RMS of another) is
+    named, and the exit status is 1."""
+    from cranepredict import cli, reference
+
+    calls = []
+
+    def fake(sc, **kw):
+        calls.append((sc.name, kw))
+        return _fake_row(sc, 25.0 if sc.name == "slew-folded" else 0.1,
+                         3.0 if sc.name == "valve-all-four" else (0.01 if "valve" in sc.tags else None))
+
+    monkeypatch.setattr(reference, "available", lambda: True)
+    monkeypatch.setattr(reference, "compare", fake)
+    status = cli.main(["validate", "--scenario", "slew-folded", "--scenario", "load-0",
+                       "--scenario", "valve-all-four"])
+    out = capsys.readouterr().out
+    assert [c[0] for c in calls] == ["slew-folded", "load-0", "valve-all-four"]
+    assert all(kw.get("backend", "c") == "c" and kw.get("dt_fast") is None for _, kw in calls)
+    assert status == 1
+    rows = {line.split()[0]: line.split() for line in out.splitlines() if line.split()[:1] in
+            (["slew-folded"], ["load-0"], ["valve-all-four"])}
+    assert rows["slew-folded"][1] == "spatial" and rows["slew-folded"][-1] == "MISSED"
+    assert rows["load-0"][1] == "planar" and rows["load-0"][-1] == "met"
+    assert rows["valve-all-four"][-1] == "MISSED" and "3.0000" in rows["valve-all-four"]
+    assert "missed the targets: slew-folded, valve-all-four" in out
+    calls.clear()
+    assert cli.main(["validate"]) == 1
+    import cranepredict as cp
+    assert [c[0] for c in calls] == cp.scenarios.names()
+
+
+def test_validate_a_spatial_scenario_for_real():
+    pytest.importorskip("exudyn")
+    import json
+
+    r = _run("validate", "--scenario", "slew-stretched", "--json")
+    assert r.returncode == 0, r.stderr
+    (row,) = json.loads(r.stdout)
+    assert row["name"] == "slew-stretched" and row["reference"] == "spatial" and row["backend"] == "c"
+    assert row["dt_fast_s"] == 2e-3 and row["within_targets"]
+    assert row["max_error_mm"] <= 20.0 and row["rms_error_mm"] <= 10.0

@@ -52,3 +52,33 @@ def test_a_scenario_with_a_drive_the_generator_cannot_write_is_listed_not_droppe
     text = golden.scenarios_header()
     assert "Left out (drive types this generator does not write yet): valve-x" in text
     assert "CRANE_SCENARIO_LOAD_0_STATE" in text and "VALVE_X" not in text
+
+
+def test_the_spatial_scenarios_are_in_both_files_with_their_four_drives():
+    """The C tests check the four joints: every spatial scenario is written, with its slew and
+    extension drives (valves and valve series included) and golden samples of all four joints."""
+    import cranepredict as cp
+
+    spatial = [sc for sc in cp.scenarios.all_scenarios() if sc.spatial]
+    assert len(spatial) >= 7
+    assert {sc.name for sc in golden.written()} == set(cp.scenarios.names())
+    scen, gold = golden.SCENARIOS_H.read_text(), golden.GOLDEN_H.read_text()
+    for sc in spatial:
+        x = golden._ident(sc.name)
+        inputs = scen[scen.index(f"#define CRANE_SCENARIO_{x}_INPUTS"):]
+        inputs = inputs[:inputs.index("#define", 1)]
+        assert inputs.count(".mode = ") == 4, sc.name
+        assert f"golden_{x.lower()}[]" in gold and f'{{"{sc.name}", ' in gold
+    sl = scen[scen.index("#define CRANE_SCENARIO_SLEW_STOP_LOAD_OUT_INPUTS"):]
+    assert ".u_samples = (const crane_real[]){CRANE_R(1.0), CRANE_R(1.0), CRANE_R(0.0)" in sl.split("\n")[3]
+    # a golden sample carries slew, extension, their rates and four-column pressures and flags
+    assert "double t, stroke[2], theta[2], omega[2], slew, extension, slew_rate, extension_rate;" in gold
+    assert "p_a[4], p_b[4];" in gold and "int stop[4];" in gold and "long first_stop[4];" in gold
+
+
+def test_staleness_check_sees_a_four_joint_number():
+    text = golden.GOLDEN_H.read_text()
+    row = text[text.index("golden_valve_all_four[] = {"):].split("\n")[2]   # the sample at 0.05 s
+    slew = row.split("}, ")[3].split(", ")[0]                                 # after omega: the slew
+    assert 0.3 < float(slew) < 0.31
+    assert not golden.same(text, text.replace(row, row.replace(slew, repr(float(slew) + 1e-8), 1)))

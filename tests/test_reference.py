@@ -135,7 +135,7 @@ def test_convergence_halving_step(results, name):
     tb = np.stack([np.interp(a.t, b.t, b.tip[:, i]) for i in range(3)], 1)
     assert np.linalg.norm(tb - a.tip, axis=1).max() < 1e-4
     for ch in ("p_a", "p_b"):
-        pb = np.stack([np.interp(a.t, b.t, getattr(b, ch)[:, j]) for j in range(2)], 1)
+        pb = np.stack([np.interp(a.t, b.t, getattr(b, ch)[:, j]) for j in range(getattr(a, ch).shape[1])], 1)
         assert np.abs(pb - getattr(a, ch)).max() < 0.1e5, ch
 
 
@@ -262,3 +262,29 @@ def test_oil_agrees_with_exudyns_own_hydraulic_actuator():
     (tip1, p1), (tip2, p2) = diffs
     assert tip2 < 0.05e-3 and p2 < 0.1e5
     assert 1.7 < tip1 / tip2 < 2.3 and 1.7 < p1 / p2 < 2.3
+
+
+def test_reference_trajectory_has_the_four_joint_layout():
+    """The planar reference gives a Trajectory like predict's: per-sample slew and extension
+    (constant: held), their rates (zero), four-column stop flags and pressures (the slew and
+    extension columns zero), points() at its own poses; the tip agrees with predict's at t = 0."""
+    sc = cp.scenarios.get("slewed-extended")
+    tr = ref.simulate(sc.crane, sc.initial, sc.inputs, 0.2).trajectory
+    n = tr.t.size
+    assert tr.slew.shape == tr.extension.shape == tr.slew_rate.shape == tr.extension_rate.shape == (n,)
+    assert np.all(tr.slew == sc.initial.slew) and np.all(tr.extension == sc.initial.extension)
+    assert not tr.slew_rate.any() and not tr.extension_rate.any()
+    for name in ("stop", "p_a", "p_b", "flow_a", "flow_b", "spool"):
+        assert getattr(tr, name).shape == (n, 4), name
+        assert not getattr(tr, name)[:, 2:].any(), name
+    assert np.array_equal(tr.points()["tip"], tr.tip)
+    fast = cp.predict(sc.crane, sc.initial, sc.inputs, 0.2)
+    assert np.abs(fast.tip[0] - tr.tip[0]).max() < 1e-9
+
+
+def test_planar_reference_refuses_a_moving_slew_or_extension():
+    sc = cp.scenarios.get("paper-fig4")
+    for name in ("slew", "extension"):
+        inputs = cp.Inputs(sc.inputs.lift, sc.inputs.tilt, **{name: cp.Pressure(10e5, 0.0)})
+        with pytest.raises(ValueError, match=f"Inputs.{name}"):
+            ref.simulate(sc.crane, sc.initial, inputs, 0.1)

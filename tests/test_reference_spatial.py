@@ -2,7 +2,10 @@
 bodies with full tensors, engine joints (slew revolute, prismatic extension, the four-bar closed by
 constraints), force elements for the actuators, event-driven end stops on all four, the oil of
 valve-driven actuators; generalized-alpha at 0.25 ms. Targets as for the planar scenarios: tip
-max <= 20 mm, RMS <= 10 mm at the fast model's default step (2 ms).
+max <= 20 mm, RMS <= 10 mm at the fast model's default step (2 ms), chamber pressures RMS <= 2 bar.
+The fast model is the twin (its own scenarios below, pressure-driven, and random cases) and the C
+core at its default settings (backend "c", default dt) on every named spatial scenario (issue 11's
+and valve-all-four, through reference.compare as `cranepredict validate` runs them).
 
 And the reference itself: with the slew and the extension held it is the planar reference
 (reference.py: 2D bodies, its own assembly) to 1e-7 m, valves and stops included; without friction
@@ -106,6 +109,28 @@ def test_twin_agrees_with_the_spatial_reference(name):
     assert all(abs(a[0] - b[0]) < 1e-4 for a, b in zip(impacts, events))
     if "end-stop" in name:
         assert impacts, "the scenario must reach its end stop"
+
+
+def _c_core(crane, start, drives, horizon=2.0):
+    lift, tilt, slew, extension = start
+    return cp.predict(crane, cp.State(lift_stroke=lift, tilt_stroke=tilt, slew=slew, extension=extension),
+                      cp.Inputs(**{k: drives.get(k, H) for k in rs.JOINTS}), horizon, backend="c")
+
+
+@pytest.mark.parametrize("name", list(_scenarios()))
+def test_c_core_agrees_with_the_spatial_reference_on_the_twins_scenarios(name):
+    """The same scenarios with the C core at its default step as the fast model."""
+    crane, start, drives = _scenarios()[name]
+    fast = _c_core(crane, start, drives)
+    run = _reference(crane, start, drives)
+    tip_max, tip_rms = _tip_error(fast.t, fast.tip, run)
+    print(f"{name} (C core): tip max {tip_max * 1e3:.4f} mm, RMS {tip_rms * 1e3:.4f} mm")
+    assert np.ptp(fast.slew) > 0.1
+    assert tip_max <= TIP_MAX and tip_rms <= TIP_RMS
+    assert np.max(np.abs(np.interp(fast.t, run.t, run.extension) - fast.extension)) < 1e-3
+    impacts = [t for t, kind, j, s in run.events if kind == "impact" and j == "extension"]
+    if impacts:   # the telescope lands: the C core's flag at the first sample at or after it
+        assert abs(fast.first_stop_time(3, +1) - impacts[0]) <= cp.DEFAULT_DT
 
 
 def test_stops_hold_and_release_in_the_reference():
@@ -212,6 +237,92 @@ def test_spatial_reference_converges():
     assert abs(a.events[0][0] - b.events[0][0]) < 1e-5
 
 
+# -- the named spatial scenarios (issue 11) with the C core as the fast model ---------------------
+
+#: issue 11's scenarios and valve-all-four; every scenario tagged spatial is compared
+ISSUE_SCENARIOS = ("slew-while-lifting", "extend-while-slewing", "slew-stop-load-out", "slew-folded",
+                   "slew-stretched", "telescope-end-stop", "valve-all-four")
+SPATIAL_NAMES = [n for n in cp.scenarios.names() if cp.scenarios.get(n).spatial]
+PRESSURE_RMS_BAR = 2.0
+
+
+@pytest.fixture(scope="module")
+def c_results():
+    """reference.compare on each spatial scenario: the C core at its default settings (backend "c",
+    default dt) against the spatial reference at its default step."""
+    from cranepredict import reference
+
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", DeprecationWarning)
+        return {n: reference.compare(cp.scenarios.get(n), repeat_fast=1, backend="c") for n in SPATIAL_NAMES}
+
+
+def test_spatial_scenarios_are_the_issues():
+    assert set(ISSUE_SCENARIOS) <= set(SPATIAL_NAMES)
+    from cranepredict import reference
+
+    assert (reference.TARGET_MAX_MM, reference.TARGET_RMS_MM, reference.TARGET_PRESSURE_RMS_BAR) == (
+        TIP_MAX * 1e3, TIP_RMS * 1e3, PRESSURE_RMS_BAR)
+
+
+@pytest.mark.parametrize("name", SPATIAL_NAMES)
+def test_c_core_agrees_with_the_spatial_reference(c_results, name):
+    """Tip max <= 20 mm, RMS <= 10 mm and, for every valve-driven actuator, each chamber's pressure
+    RMS <= 2 bar; and the scenario moves what it says it moves, in both models."""
+    r = c_results[name]
+    sc = cp.scenarios.get(name)
+    print(f"{name}: tip max {r['max_error_mm']:.4f} mm, RMS {r['rms_error_mm']:.4f} mm, "
+          f"pressure RMS {r['pressure_rms_bar']} bar, events {r['_ref'].events}")
+    assert r["reference"] == "spatial" and r["backend"] == "c" and r["dt_fast_s"] == cp.DEFAULT_DT
+    fast, run = r["_fast"], r["_ref"]
+    assert fast.backend == "c" and np.allclose(np.diff(fast.t), cp.DEFAULT_DT, rtol=1e-9, atol=0.0)
+    assert r["max_error_mm"] <= TIP_MAX * 1e3 and r["rms_error_mm"] <= TIP_RMS * 1e3, r
+    valves = [j for j in rs.JOINTS if isinstance(getattr(sc.inputs, j), (cp.Valve, cp.ValveSeries))]
+    assert sorted(r["pressure_rms_by_chamber_bar"]) == sorted(f"{j}.{c}" for j in valves for c in ("p_a", "p_b"))
+    assert all(v <= PRESSURE_RMS_BAR for v in r["pressure_rms_by_chamber_bar"].values()), r
+    moved = [np.ptp(fast.slew), np.ptp(fast.extension), np.ptp(run.slew), np.ptp(run.extension)]
+    assert max(moved[0], moved[1]) > 0.05 and max(moved[2], moved[3]) > 0.05, moved
+    assert r["within_targets"]
+
+
+def test_c_core_telescope_end_stop_lands_with_the_reference(c_results):
+    """telescope-end-stop: both models put the extension on extension_max, the C core's flag at the
+    first sample at or after the reference's located impact, and it stays there."""
+    r = c_results["telescope-end-stop"]
+    fast, run = r["_fast"], r["_ref"]
+    crane = cp.scenarios.get("telescope-end-stop").crane
+    impacts = [(t, j, s) for t, kind, j, s in run.events if kind == "impact"]
+    assert impacts and impacts[0][1:] == ("extension", 1), run.events
+    t_fast = fast.first_stop_time(3, +1)
+    assert t_fast is not None and impacts[0][0] - 1e-9 <= t_fast <= impacts[0][0] + cp.DEFAULT_DT
+    on = fast.t >= t_fast
+    assert np.all(fast.stop[on, 3] == 1)
+    assert np.abs(fast.extension[on] - crane.geometry.extension_max).max() < 1e-9
+    assert fast.extension.max() <= crane.geometry.extension_max + 1e-12
+
+
+def test_c_core_slews_folded_much_farther_than_stretched(c_results):
+    """The same 20 bar on the slew drive turns the folded crane several times as far as the
+    stretched one (its slew inertia is smaller), in the C core and in the reference alike."""
+    f, s = c_results["slew-folded"], c_results["slew-stretched"]
+    for a, b in ((f["_fast"], s["_fast"]), (f["_ref"], s["_ref"])):
+        turned_f, turned_s = a.slew[-1] - a.slew[0], b.slew[-1] - b.slew[0]
+        assert turned_s > 0.05 and turned_f > 5 * turned_s, (turned_f, turned_s)
+    assert abs(f["_fast"].slew[-1] - f["_ref"].slew[-1]) < 1e-3
+
+
+def test_c_core_comparison_tells_a_wrong_slew_inertia(c_results):
+    """The C-core comparison has teeth: the C core on a crane whose pillar weighs 200 kg more (its
+    centre moved out to 1 m) misses the folded crane's reference tip by several times the target."""
+    sc = cp.scenarios.get("slew-folded")
+    crane = sc.crane
+    wrong = dataclasses.replace(crane, pillar=dataclasses.replace(crane.pillar, mass=crane.pillar.mass + 200.0,
+                                                                  com=(1.0, crane.pillar.com[1])))
+    fast = cp.predict(wrong, sc.initial, sc.inputs, sc.horizon, backend="c")
+    tip_max, _ = _tip_error(fast.t, fast.tip, c_results["slew-folded"]["_ref"])
+    assert tip_max > 5 * TIP_MAX, tip_max
+
+
 def _extension_near_holding(crane, start, k):
     """k times the pressure that holds the extension boom and the load against gravity along the
     outer boom (bore side if the boom points up, rod side if down)."""
@@ -251,11 +362,16 @@ def _random_cases(n, seed):
 
 
 def test_twin_agrees_with_the_spatial_reference_in_random_cases():
-    worst = (0.0, 0.0)
+    """... and so does the C core at its default step."""
+    worst, worst_c = (0.0, 0.0), (0.0, 0.0)
     for c, start, drives in _random_cases(5, 21):
         arrays, events, run, tip_max, tip_rms = _compare(c, start, drives)
         assert not run.events and not events
+        fast = _c_core(c, start, drives)
+        c_max, c_rms = _tip_error(fast.t, fast.tip, run)
         print(f"load {c.load_mass:.0f} kg: tip moves {np.ptp(arrays['tip'], axis=0).max():.2f} m, "
-              f"max {tip_max * 1e3:.3f} mm, RMS {tip_rms * 1e3:.3f} mm")
+              f"max {tip_max * 1e3:.4f} mm, RMS {tip_rms * 1e3:.4f} mm (C core: {c_max * 1e3:.4f}, {c_rms * 1e3:.4f})")
         worst = (max(worst[0], tip_max), max(worst[1], tip_rms))
+        worst_c = (max(worst_c[0], c_max), max(worst_c[1], c_rms))
     assert worst[0] <= TIP_MAX and worst[1] <= TIP_RMS, worst
+    assert worst_c[0] <= TIP_MAX and worst_c[1] <= TIP_RMS, worst_c

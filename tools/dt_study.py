@@ -1,12 +1,21 @@
 #!/usr/bin/env python3
 """Tip error of the fast model (C core) against a converged run, for several RK4 steps.
 
-Runs every named scenario and N random ones (loads 0-500 kg, strokes across their ranges, holds,
-constant and sampled pressures, slew, extension; cranepredict.scenarios.random_case), 2 s each, and
-prints the largest tip distance from a run at dt = 2e-5 s, per scenario and summarized. This is
-how cranepredict.DEFAULT_DT was chosen (README, "Accuracy of the default step").
+Runs every named scenario (the spatial ones, which move the slew and the extension, included) and
+random cases, 2 s each, and prints the largest tip distance from a run at dt = 2e-5 s, per case and
+summarized: over all cases, and over the four-joint ones alone (the spatial scenarios, and the
+random four-joint cases). This is how cranepredict.DEFAULT_DT was chosen (README, "Accuracy of
+the default step").
 
-    python tools/dt_study.py [--random 20] [--seed 5]
+  * N random planar cases (cranepredict.scenarios.random_case: loads 0-500 kg, strokes across their
+    ranges, holds, constant and sampled pressures on lift and tilt, a random slew and extension,
+    both held);
+  * M random four-joint cases (random_case4 below; random_case drives lift and tilt only): loads
+    0-500 kg, a random pose from rest on closed valves (cranepredict.state_at_rest), all four
+    actuators valve-driven, each lever closed, constant or sampled in [-1, 1], the slew or the
+    telescope moving.
+
+    python tools/dt_study.py [--random 20] [--random4 10] [--seed 5]
 """
 import argparse
 import sys
@@ -18,37 +27,88 @@ from cranepredict.scenarios import random_case
 
 REF_DT = 2e-5
 DTS = (1e-2, 5e-3, 4e-3, 2e-3, 1e-3, 5e-4)
+HORIZON = 2.0
+JOINTS = ("lift", "tilt", "slew", "extension")
 
 
 def tip_error(crane, initial, inputs, dt, ref):
-    tr = cp.predict(crane, initial, inputs, 2.0, dt=dt)
+    tr = cp.predict(crane, initial, inputs, HORIZON, dt=dt)
     k = np.rint(tr.t / REF_DT).astype(int)
     return float(np.max(np.linalg.norm(tr.tip - ref.tip[k], axis=1)))
 
 
+def _lever(rng):
+    """A valve drive: closed, a constant lever or 2-6 lever samples over the horizon, in [-1, 1]."""
+    kind = rng.integers(0, 3)
+    if kind == 0:
+        return cp.Valve(0.0)
+    if kind == 1:
+        return cp.Valve(float(rng.uniform(-1, 1)))
+    n = int(rng.integers(2, 7))
+    t = np.unique(np.concatenate([[0.0], np.sort(rng.uniform(0, HORIZON, n - 2)), [HORIZON]]))
+    return cp.ValveSeries(t=t, u=rng.uniform(-1, 1, t.size))
+
+
+def random_case4(rng, crane):
+    """(crane, initial, inputs): a random four-joint, valve-driven case (see the module's text)."""
+    sd, g = crane.slew_drive, crane.geometry
+    while True:
+        c = crane.with_load(float(rng.uniform(0, 500)))
+        lc, tc = c.lift_cylinder, c.tilt_cylinder
+        try:
+            initial = cp.state_at_rest(
+                c, float(rng.uniform(lc.stroke_min, lc.stroke_max)),
+                float(rng.uniform(tc.stroke_min, tc.stroke_max)),
+                slew=float(rng.uniform(sd.slew_min, sd.slew_max)),
+                extension=float(rng.uniform(g.extension_min, g.extension_max)))
+        except ValueError:      # the balance needs a pressure out of range at this pose
+            continue
+        drives = {j: _lever(rng) for j in JOINTS}
+        if any(not (isinstance(drives[j], cp.Valve) and drives[j].u == 0.0) for j in ("slew", "extension")):
+            return c, initial, cp.Inputs(**drives)
+
+
 def main() -> int:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("--random", type=int, default=20)
+    ap.add_argument("--random", type=int, default=20, help="random planar cases (random_case)")
+    ap.add_argument("--random4", type=int, default=10, help="random four-joint valve-driven cases")
     ap.add_argument("--seed", type=int, default=5)
     args = ap.parse_args()
-    cases = [(n, s.crane, s.initial, s.inputs) for n, s in
-             ((n, cp.scenarios.get(n)) for n in cp.scenarios.names())
-             if not s.spatial]   # the C core does not move the slew and the extension yet
+    cases = []   # (name, four-joint?, crane, initial, inputs)
+    for n in cp.scenarios.names():
+        s = cp.scenarios.get(n)
+        cases.append((n, s.spatial, s.crane, s.initial, s.inputs))
     rng = np.random.default_rng(args.seed)
     for i in range(args.random):
-        cases.append((f"random{i}",) + tuple(random_case(rng, cp.Crane.patu655())))
+        cases.append((f"random{i}", False) + tuple(random_case(rng, cp.Crane.patu655())))
+    rng4 = np.random.default_rng(args.seed + 1000)
+    for i in range(args.random4):
+        cases.append((f"random4-{i}", True) + tuple(random_case4(rng4, cp.Crane.patu655())))
     print(f"{'tip error [mm] / dt [ms]':26s}" + "".join(f"{d * 1e3:9g}" for d in DTS))
     errors = []
-    for name, crane, initial, inputs in cases:
-        ref = cp.predict(crane, initial, inputs, 2.0, dt=REF_DT)
+    for name, _, crane, initial, inputs in cases:
+        ref = cp.predict(crane, initial, inputs, HORIZON, dt=REF_DT)
         row = [tip_error(crane, initial, inputs, d, ref) for d in DTS]
         errors.append(row)
-        print(f"{name:26s}" + "".join(f"{e * 1e3:9.4f}" for e in row))
+        print(f"{name:26s}" + "".join(f"{e * 1e3:9.4f}" for e in row), flush=True)
     e = np.array(errors) * 1e3
-    for label, f in (("median", np.median), ("95th percentile", lambda a, axis: np.percentile(a, 95, axis=axis)),
-                     ("worst", np.max)):
-        print(f"{label:26s}" + "".join(f"{v:9.4f}" for v in f(e, axis=0)))
-    print(f"({len(cases)} scenarios of 2 s; default dt = {cp.DEFAULT_DT * 1e3:g} ms)")
+    four = np.array([c[1] for c in cases])
+    named4 = np.array([c[1] and not c[0].startswith("random4-") for c in cases])
+    groups = ((f"all {len(cases)} cases", np.ones(len(cases), bool)),
+              (f"planar ({int((~four).sum())})", ~four),
+              (f"four-joint ({int(four.sum())})", four),
+              (f"spatial scenarios ({int(named4.sum())})", named4),
+              (f"random four-joint ({int((four & ~named4).sum())})", four & ~named4))
+    for title, sel in groups:
+        if not sel.any():
+            continue
+        print(f"-- {title}")
+        for label, f in (("median", np.median),
+                         ("95th percentile", lambda a, axis: np.percentile(a, 95, axis=axis)),
+                         ("worst", np.max)):
+            print(f"{label:26s}" + "".join(f"{v:9.4f}" for v in f(e[sel], axis=0)))
+    print(f"({len(cases)} cases of {HORIZON:g} s; default dt = {cp.DEFAULT_DT * 1e3:g} ms; "
+          f"converged run at dt = {REF_DT * 1e3:g} ms)")
     return 0
 
 

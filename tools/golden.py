@@ -10,7 +10,10 @@ they check themselves against these files. Two generated files, both committed:
                                      horizon) as C99 initializers: the one source of the paper
                                      scenario in the example, the benchmark, the tests and the fuzzer
     csrc/tests/golden.h              the twin's trajectory of each scenario at dt = 1 ms, one
-                                     sample every 50 ms and the last one, and the first stop samples
+                                     sample every 50 ms and the last one (all four joints: strokes,
+                                     angles and rates of lift and tilt, slew and extension and their
+                                     rates, tip, the four actuators' pressures and stop flags), and
+                                     the first stop samples
 
     python3 tools/golden.py            # write both files
     python3 tools/golden.py --check    # exit 1 if a committed file is stale (numbers to 1e-10)
@@ -25,7 +28,7 @@ import math
 import re
 import sys
 from pathlib import Path
-from typing import List, Tuple
+from typing import List
 
 import numpy as np
 
@@ -65,14 +68,23 @@ def _r(x: float) -> str:
     return f"CRANE_R({_lit(x)})"
 
 
+JOINTS = ("lift", "tilt", "slew", "extension")   # the C core's four-entry arrays, in its order
+
+
 def _chambers(s) -> str:
-    """The state's chamber pressures and spools (valve-driven cylinders, issue 9), if any."""
-    p = [s.lift_p_a, s.tilt_p_a, s.lift_p_b, s.tilt_p_b]
-    if all(v is None for v in p) and s.lift_spool == 0 and s.tilt_spool == 0:
+    """The state's chamber pressures and spools of all four actuators [lift, tilt, slew,
+    extension] (valve-driven ones, issues 9 and 11), if any is given."""
+    p_a = [getattr(s, f"{j}_p_a") for j in JOINTS]
+    p_b = [getattr(s, f"{j}_p_b") for j in JOINTS]
+    spool = [getattr(s, f"{j}_spool") for j in JOINTS]
+    if all(v is None for v in p_a + p_b) and not any(spool):
         return ""
-    p = [0.0 if v is None else v for v in p]
-    return (f", \\\n    .p_a = {{{_r(p[0])}, {_r(p[1])}}}, .p_b = {{{_r(p[2])}, {_r(p[3])}}}, "
-            f".spool = {{{_r(s.lift_spool)}, {_r(s.tilt_spool)}}}")
+
+    def four(vals):
+        return "{" + ", ".join(_r(0.0 if v is None else v) for v in vals) + "}"
+
+    return (f", \\\n    .p_a = {four(p_a)}, \\\n    .p_b = {four(p_b)}, \\\n"
+            f"    .spool = {four(spool)}")
 
 
 def _drive(d) -> str | None:
@@ -96,24 +108,26 @@ def _arr(a) -> str:
     return "(const crane_real[]){" + ", ".join(_r(v) for v in a) + "}"
 
 
+def _drives(sc) -> list:
+    """The scenario's four drives [lift, tilt, slew, extension] (a drive left out is a Hold)."""
+    return [getattr(sc.inputs, j) for j in JOINTS]
+
+
 def _valves(sc) -> bool:
-    return any(isinstance(d, (Valve, ValveSeries)) for d in (sc.inputs.lift, sc.inputs.tilt))
+    return any(isinstance(d, (Valve, ValveSeries)) for d in _drives(sc))
 
 
 def written() -> List:
-    """The scenarios both files carry: those whose drives _drive can write (the spatial ones, which
-    move the slew or the extension, wait for the C core's four joints)."""
+    """The scenarios both files carry: those whose four drives _drive can write (the spatial ones,
+    which move the slew or the extension, included: the C core moves all four joints)."""
     return [sc for sc in cp.scenarios.all_scenarios()
-            if not sc.spatial and _drive(sc.inputs.lift) is not None and _drive(sc.inputs.tilt) is not None]
+            if all(_drive(d) is not None for d in _drives(sc))]
 
 
 def _left_out() -> str:
-    spatial = {sc.name for sc in cp.scenarios.all_scenarios() if sc.spatial}
-    names = sorted(set(cp.scenarios.names()) - {sc.name for sc in written()} - spatial)
-    return ((" * Left out (drive types this generator does not write yet): " + ", ".join(names) + "\n"
-             if names else "")
-            + (" * Left out until the C core moves the slew and the extension (issue 11): "
-               + ", ".join(sorted(spatial)) + "\n" if spatial else ""))
+    names = sorted(set(cp.scenarios.names()) - {sc.name for sc in written()})
+    return (" * Left out (drive types this generator does not write yet): " + ", ".join(names) + "\n"
+            if names else "")
 
 
 def scenarios_header() -> str:
@@ -123,8 +137,11 @@ def scenarios_header() -> str:
  * For scenario X (the file's name in capitals, '-' -> '_'):
  *   CRANE_SCENARIO_X_LOAD_MASS   the load, kg: set crane_params.load_mass of CRANE_PATU655_INIT
  *   CRANE_SCENARIO_X_STATE       a crane_state initializer
- *   CRANE_SCENARIO_X_INPUTS      a crane_inputs initializer (sampled drives as compound literals)
+ *   CRANE_SCENARIO_X_INPUTS      a crane_inputs initializer: the four drives [lift, tilt, slew,
+ *                                extension] (sampled drives as compound literals)
  *   CRANE_SCENARIO_X_HORIZON     s
+ * CRANE_SCENARIO_LIST(ENTRY) calls ENTRY("name", X) for every scenario X, in the order of the
+ * names (csrc/bench/bench_core.c picks one by name through it).
  * Every scenario uses the PATU 655 (crane_patu655.h).
 """)]
     out.append("#ifndef CRANE_SCENARIOS_H\n#define CRANE_SCENARIOS_H\n\n#include \"crane.h\"\n\n"
@@ -138,21 +155,25 @@ def scenarios_header() -> str:
         out.append(f"#define CRANE_SCENARIO_{x}_STATE {{ \\\n"
                    f"    .stroke = {{{_r(s.lift_stroke)}, {_r(s.tilt_stroke)}}}, \\\n"
                    f"    .stroke_rate = {{{_r(s.lift_stroke_rate)}, {_r(s.tilt_stroke_rate)}}}, \\\n"
-                   f"    .slew = {_r(s.slew)}, .extension = {_r(s.extension)}"
+                   f"    .slew = {_r(s.slew)}, .extension = {_r(s.extension)}, \\\n"
+                   f"    .slew_rate = {_r(s.slew_rate)}, .extension_rate = {_r(s.extension_rate)}"
                    + _chambers(s) + "}")
-        out.append(f"#define CRANE_SCENARIO_{x}_INPUTS {{.drive = {{ \\\n"
-                   f"    {_drive(sc.inputs.lift)}, \\\n    {_drive(sc.inputs.tilt)}}}}}")
+        out.append(f"#define CRANE_SCENARIO_{x}_INPUTS {{.drive = {{ \\\n    "
+                   + ", \\\n    ".join(_drive(d) for d in _drives(sc)) + "}}")
         out.append(f"#define CRANE_SCENARIO_{x}_HORIZON {_r(sc.horizon)}")
+    out.append("\n/* Every scenario above: ENTRY(\"name\", X) */\n#define CRANE_SCENARIO_LIST(ENTRY) \\\n"
+               + " \\\n".join(f"    ENTRY(\"{sc.name}\", {_ident(sc.name)})" for sc in written()))
     out.append("\n#endif\n")
     return "\n".join(out)
 
 
-def _first_stops(stop: np.ndarray) -> Tuple[int, int]:
+def _first_stops(stop: np.ndarray) -> List[int]:
+    """Per joint [lift, tilt, slew, extension]: the first sample with a stop flag, -1 if none."""
     firsts = []
-    for j in range(2):
+    for j in range(len(JOINTS)):
         idx = np.flatnonzero(stop[:, j] != 0)
         firsts.append(int(idx[0]) if idx.size else -1)
-    return firsts[0], firsts[1]
+    return firsts
 
 
 def golden_header() -> str:
@@ -160,19 +181,22 @@ def golden_header() -> str:
         what="Golden vectors: the pure-Python twin's trajectories of the named scenarios.",
         more=f""" *
  * dt = {DT:g} s; golden sample k is the prediction's sample min(k * {EVERY}, n - 1), n = n_samples.
+ * Four-entry arrays are [lift, tilt, slew, extension] (crane.h), two-entry ones [lift, tilt].
  * first_stop[j]: the first sample (of all n) with a stop flag on joint j, -1 if none.
- * valves: 1 if a cylinder is valve-driven (a build with CRANE_HYDRAULICS=0 refuses the scenario).
+ * valves: 1 if an actuator is valve-driven (a build with CRANE_HYDRAULICS=0 refuses the scenario).
+ * spatial: 1 if the slew or the extension is driven (not held).
  * p_a, p_b: the chamber pressures (valve) or the given pressures (pressure drive; 0 when held).
  * Values are the twin's doubles; the C test compares with a tolerance per precision.
 """)]
     out.append("#ifndef CRANE_GOLDEN_H\n#define CRANE_GOLDEN_H\n\n#include <stddef.h>\n"
                "#include \"crane.h\"\n#include \"crane_scenarios.h\"\n")
     out.append(f"#define GOLDEN_DT {_lit(DT)}\n#define GOLDEN_EVERY {EVERY}\n")
-    out.append("typedef struct {\n    double t, stroke[2], theta[2], omega[2], tip[3], p_a[2], p_b[2];\n"
-               "    int stop[2];\n} golden_sample;\n")
-    out.append("typedef struct {\n    const char *name;\n    int valves;\n    crane_real load_mass;\n    crane_state state;\n"
-               "    crane_inputs inputs;\n    crane_real horizon;\n    size_t n_samples;\n"
-               "    long first_stop[2];\n    size_t n_golden;\n    const golden_sample *golden;\n"
+    out.append("typedef struct {\n    double t, stroke[2], theta[2], omega[2], slew, extension, slew_rate,"
+               " extension_rate;\n    double tip[3], p_a[4], p_b[4];\n"
+               "    int stop[4];\n} golden_sample;\n")
+    out.append("typedef struct {\n    const char *name;\n    int valves, spatial;\n    crane_real load_mass;\n"
+               "    crane_state state;\n    crane_inputs inputs;\n    crane_real horizon;\n    size_t n_samples;\n"
+               "    long first_stop[4];\n    size_t n_golden;\n    const golden_sample *golden;\n"
                "} golden_scenario;\n")
     table = []
     for sc in written():
@@ -182,18 +206,20 @@ def golden_header() -> str:
         x, ident = _ident(sc.name), _ident(sc.name).lower()
         rows = []
         for k in keep:
-            vals = [tr.t[k], *tr.strokes[k], *tr.theta[k], *tr.omega[k], *tr.tip[k], *tr.p_a[k, :2],
-                    *tr.p_b[k, :2]]
-            if not all(math.isfinite(v) for v in vals):
+            groups = ([tr.t[k]], tr.strokes[k], tr.theta[k], tr.omega[k],
+                      [tr.slew[k]], [tr.extension[k]], [tr.slew_rate[k]], [tr.extension_rate[k]],
+                      tr.tip[k], tr.p_a[k], tr.p_b[k])
+            if not all(math.isfinite(v) for g in groups for v in g):
                 raise SystemExit(f"scenario {sc.name}: non-finite twin sample {k}")
-            t, s0, s1, th0, th1, w0, w1, x0, x1, x2, pa0, pa1, pb0, pb1 = (_lit(v) for v in vals)
-            rows.append(f"    {{{t}, {{{s0}, {s1}}}, {{{th0}, {th1}}}, {{{w0}, {w1}}}, "
-                        f"{{{x0}, {x1}, {x2}}}, {{{pa0}, {pa1}}}, {{{pb0}, {pb1}}}, "
-                        f"{{{int(tr.stop[k, 0])}, {int(tr.stop[k, 1])}}}}},")
+            cells = [_lit(g[0]) if len(g) == 1 else "{" + ", ".join(_lit(v) for v in g) + "}"
+                     for g in groups]
+            cells.append("{" + ", ".join(str(int(v)) for v in tr.stop[k]) + "}")
+            rows.append("    {" + ", ".join(cells) + "},")
         out.append(f"static const golden_sample golden_{ident}[] = {{\n" + "\n".join(rows) + "\n};\n")
-        f0, f1 = _first_stops(np.asarray(tr.stop))
-        table.append(f"    {{\"{sc.name}\", {int(_valves(sc))}, CRANE_SCENARIO_{x}_LOAD_MASS, CRANE_SCENARIO_{x}_STATE,\n"
-                     f"     CRANE_SCENARIO_{x}_INPUTS, CRANE_SCENARIO_{x}_HORIZON, {n}, {{{f0}, {f1}}},\n"
+        firsts = ", ".join(str(f) for f in _first_stops(np.asarray(tr.stop)))
+        table.append(f"    {{\"{sc.name}\", {int(_valves(sc))}, {int(sc.spatial)}, CRANE_SCENARIO_{x}_LOAD_MASS, "
+                     f"CRANE_SCENARIO_{x}_STATE,\n"
+                     f"     CRANE_SCENARIO_{x}_INPUTS, CRANE_SCENARIO_{x}_HORIZON, {n}, {{{firsts}}},\n"
                      f"     {len(keep)}, golden_{ident}}},")
     out.append("static const golden_scenario golden_scenarios[] = {\n" + "\n".join(table) + "\n};\n")
     out.append(f"enum {{ GOLDEN_N_SCENARIOS = {len(table)} }};\n\n#endif\n")

@@ -41,12 +41,9 @@ static const crane_params params = CRANE_PATU655_INIT;
 
 static void held(crane_inputs *in)
 {
-    /* all four drives are read (the slew's and the extension's too): all held */
-    memset(in, 0, sizeof *in);
+    memset(in, 0, sizeof *in);   /* all four drives (slew and extension too): holds */
     in->drive[0].mode = CRANE_DRIVE_HOLD;
     in->drive[1].mode = CRANE_DRIVE_HOLD;
-    in->drive[0].n_samples = in->drive[1].n_samples = 0;
-    in->drive[0].p_a = in->drive[0].p_b = in->drive[1].p_a = in->drive[1].p_b = 0;
 }
 
 /* Finding 3: horizon = 1e9 s (or dt = 1e-12 s) was accepted; sample_every = 10^12 ran for hours. */

@@ -836,10 +836,11 @@ def _join(pieces: list):
 # -- output: trajectory and diagnostics from the bodies' coordinates -----------------------------
 
 def _hydraulic_samples(crane: Crane, inputs: Inputs, t: np.ndarray, oil) -> Dict[str, np.ndarray]:
-    """p_a, p_b, flow_a, flow_b, spool (N, 2) as the Trajectory gives them: a valve-driven
-    cylinder's oil (flows from the valve law at the sampled pressures and spool), a pressure-driven
-    one's given pressures, zeros for a held one."""
-    out = {k: np.zeros((t.size, 2)) for k in ("p_a", "p_b", "flow_a", "flow_b", "spool")}
+    """p_a, p_b, flow_a, flow_b, spool (N, 4) [lift, tilt, slew, extension] as the Trajectory
+    gives them: a valve-driven cylinder's oil (flows from the valve law at the sampled pressures and
+    spool), a pressure-driven one's given pressures, zeros for a held one (the slew and the
+    extension are held in this planar model: their columns are zero)."""
+    out = {k: np.zeros((t.size, 4)) for k in ("p_a", "p_b", "flow_a", "flow_b", "spool")}
     for j, (cyl, drive, *_pins) in enumerate(_cylinders(crane, inputs)):
         if _is_valve(drive):
             c = _circuit(cyl)
@@ -905,17 +906,23 @@ def _output(crane: Crane, bodies, initial: State, inputs: Inputs, t, q, qd, stop
 
     xyz = np.stack([to_world(plane[n]) for n in POINT_NAMES], 1)
     tip = xyz[:, POINT_NAMES.index("tip"), :].copy()
-    arrays = dict(t=t, strokes=strokes, theta=theta, omega=omega, tip=tip, stop=stop,
+    # the slew and the extension are held: constant per sample, their rates zero, never on a stop
+    stop4 = np.zeros((t.size, 4), dtype=np.int32)
+    stop4[:, :2] = stop
+    arrays = dict(t=t, strokes=strokes, theta=theta, omega=omega,
+                  slew=np.full(t.size, float(initial.slew)), extension=np.full(t.size, float(e)),
+                  slew_rate=np.zeros(t.size), extension_rate=np.zeros(t.size), tip=tip, stop=stop4,
                   **_hydraulic_samples(crane, inputs, t, oil))
     for a in list(arrays.values()) + [xyz]:
         a.setflags(write=False)
 
-    def points(th: np.ndarray) -> np.ndarray:
-        if th.shape != theta.shape or not np.array_equal(th, theta):
+    def points(th: np.ndarray, slew: np.ndarray, extension: np.ndarray) -> np.ndarray:
+        if any(x.shape != y.shape or not np.array_equal(x, y)
+               for x, y in ((th, theta), (slew, arrays["slew"]), (extension, arrays["extension"]))):
             raise ValueError("the reference trajectory draws only its own poses")
         return xyz
 
-    traj = Trajectory(slew=initial.slew, extension=e, backend="exudyn", _points=points, **arrays)
+    traj = Trajectory(backend="exudyn", _points=points, **arrays)
     return traj, res, held_err
 
 
@@ -935,6 +942,10 @@ def simulate(crane: Crane, initial: State, inputs: Inputs, horizon: float, *,
     from . import api
 
     api._check(crane, initial, inputs, horizon, dt, "c")  # the same input checks as predict()
+    for name in ("slew", "extension"):
+        if not isinstance(getattr(inputs, name, None) or Hold(), Hold):
+            raise ValueError(f"Inputs.{name}: the planar reference holds the slew and the extension; "
+                             "a future that moves them runs on cranepredict.reference_spatial")
     if oil_element not in ("ode2", "exudyn"):
         raise ValueError(f"oil_element must be 'ode2' or 'exudyn', got {oil_element!r}")
     if oil_element == "exudyn":
@@ -1004,7 +1015,9 @@ def compare(scenario, *, dt_ref: float = DEFAULT_REFERENCE_DT, dt_fast: Optional
     no stop). For valve-driven cylinders the chamber pressures are compared the same way:
     ``pressure_rms_bar`` is the largest RMS over their chambers (None: no valve drive). A scenario
     that drives the slew or the extension runs on the spatial reference
-    (:mod:`cranepredict.reference_spatial`; its constraint residual is not reported: None)."""
+    (:mod:`cranepredict.reference_spatial`; its constraint residual is not reported: None);
+    ``reference`` says which ("planar" or "spatial"). ``within_targets``: the tip max, tip RMS and
+    (valve drives) pressure RMS within TARGET_MAX_MM, TARGET_RMS_MM, TARGET_PRESSURE_RMS_BAR."""
     from . import api
 
     sc = scenario
@@ -1022,10 +1035,10 @@ def compare(scenario, *, dt_ref: float = DEFAULT_REFERENCE_DT, dt_fast: Optional
         from . import reference_spatial
 
         run = reference_spatial.simulate(sc.crane, sc.initial, sc.inputs, sc.horizon, dt=dt_ref)
-        ref, residual = run, None
+        ref, residual, kind = run, None, "spatial"
     else:
         run = simulate(sc.crane, sc.initial, sc.inputs, sc.horizon, dt=dt_ref)
-        ref, residual = run.trajectory, run.residual_max
+        ref, residual, kind = run.trajectory, run.residual_max, "planar"
     tip_ref = np.stack([np.interp(fast.t, ref.t, ref.tip[:, i]) for i in range(3)], 1)
     err = np.linalg.norm(tip_ref - fast.tip, axis=1)
     stops = [x for x in (fast.t[np.flatnonzero(fast.stop.any(1))[:1]].tolist()
@@ -1043,8 +1056,12 @@ def compare(scenario, *, dt_ref: float = DEFAULT_REFERENCE_DT, dt_fast: Optional
             dp = np.interp(fast.t, ref.t, getattr(ref, ch)[:, j]) - getattr(fast, ch)[:, j]
             p_rms[f"{joints[j]}.{ch}"] = float(np.sqrt(np.mean(dp ** 2))) / 1e5
 
-    return {"name": sc.name, "tags": list(sc.tags), "horizon": sc.horizon,
-            "max_error_mm": float(err.max()) * 1e3, "rms_error_mm": float(np.sqrt(np.mean(err**2))) * 1e3,
+    max_mm, rms_mm = float(err.max()) * 1e3, float(np.sqrt(np.mean(err**2))) * 1e3
+    p_worst = max(p_rms.values()) if p_rms else None
+    within = (max_mm <= TARGET_MAX_MM and rms_mm <= TARGET_RMS_MM
+              and (p_worst is None or p_worst <= TARGET_PRESSURE_RMS_BAR))
+    return {"name": sc.name, "tags": list(sc.tags), "horizon": sc.horizon, "reference": kind,
+            "max_error_mm": max_mm, "rms_error_mm": rms_mm,
             "max_error_before_stop_mm": None if mx(before) is None else mx(before) * 1e3,
             "max_error_after_stop_mm": None if mx(after) is None else mx(after) * 1e3,
             "first_stop_time_s": t_stop,
@@ -1052,6 +1069,8 @@ def compare(scenario, *, dt_ref: float = DEFAULT_REFERENCE_DT, dt_fast: Optional
             "wall_fast_s": wall_fast, "wall_reference_s": run.wall,
             "speed_ratio": run.wall / wall_fast,
             "constraint_residual_m": residual,
-            "pressure_rms_bar": max(p_rms.values()) if p_rms else None,
+            "pressure_rms_bar": p_worst,
             "pressure_rms_by_chamber_bar": p_rms, "backend": backend,
+            "dt_fast_s": api.DEFAULT_DT if dt_fast is None else float(dt_fast), "dt_reference_s": dt_ref,
+            "within_targets": within,
             "_fast": fast, "_ref": ref, "_err": err}
