@@ -275,7 +275,8 @@ static CRANE__ALWAYS_INLINE void crane__link_vectors(const crane_model *m,
     l->v1 = crane__scale(l->k1, crane__perp(l->e1));
     /* Link 2 rides on Q (dQ = k1 perp(qp) per unit tilt rate) and turns: d2 = Q + e2. */
     l->d2 = crane__add(tk->q, l->e2);
-    l->v2 = crane__add(crane__scale(l->k1, crane__perp(l->qp)), crane__scale(l->k2, crane__perp(l->e2)));
+    l->v2 = crane__add(crane__scale(l->k1, crane__perp(l->qp)),
+                       crane__scale(l->k2, crane__perp(l->e2)));
 }
 
 /* The exact validity of the tilt four-bar over the tilt stroke (docs/model.md, "Tilt kinematics")
@@ -311,7 +312,8 @@ void crane__mass_matrix(const crane_model *m, crane_real j0, crane_real c1, cran
 static inline crane_real crane__mass_matrix_j0(const crane_model *m)
 {
     const crane_body *const b1 = &m->params->lift_boom;
-    return (b1->izz + b1->mass * crane__norm2(b1->com)) + m->m2 * crane__norm2(m->params->tilt_pivot);
+    return (b1->izz + b1->mass * crane__norm2(b1->com)) +
+           m->m2 * crane__norm2(m->params->tilt_pivot);
 }
 
 /* ---- dynamics4.c (docs/model.md, "Four joints") ---- */
@@ -326,22 +328,23 @@ typedef struct {
 
 void crane__bodies4_init(const crane_params *p, crane__bodies4 *b);
 
-/* Everything about one configuration (theta0, theta1, e) that the four-joint inverse dynamics
- * reads, computed once for the bias and the mass matrix: trig of theta0 and theta0 + theta1, the
- * rotated vectors C1 = R(th0) c1, C2 = R(th0 + th1) c_ob, C3 = R(th0 + th1) (mount + (e, 0) + c3),
- * r12 = R(th0) O2 and the four-bar (the side links' poses, which only the slew needs, are
- * crane__slew_inertia's). */
+/* What the four-joint inverse dynamics, the mass matrix and the slew inertia read of one
+ * configuration (theta0, theta1, e), computed once for all three: trig of theta0 and
+ * theta0 + theta1, the extension and the four-bar. The rotated arms (C1 = R(th0) c1 and the like)
+ * and the side links one by one are each reader's to work (dynamics4.c): this struct is kept on
+ * the stack budget's deepest path. */
 typedef struct {
     crane_real c0, s0, c01, s01, e;
     crane__tilt_kin tk;
 } crane__conf4;
 
-void crane__conf4_at(const crane_model *m, const crane__bodies4 *b, crane_real th0, crane_real th1,
-                     crane_real e, crane__conf4 *cf);
+void crane__conf4_at(const crane_model *m, crane_real th0, crane_real th1, crane_real e,
+                     crane__conf4 *cf);
 
 /* Generalized forces [lift, tilt, slew, extension] for rates qd and accelerations qdd, gravity g,
- * but for the slew's own inertia term: tau[2] is 0, and the caller adds crane__slew_torque (it
- * has J_z from crane__slew_inertia for the mass matrix anyway, so that it is computed once). */
+ * but for what crane__slew_inertia adds: the slew's own inertial term (tau[2] is 0 here; the
+ * caller adds crane__slew_torque, having J_z for the mass matrix anyway, so that it is worked
+ * once) and the slew's loads on the side links. */
 void crane__id4(const crane_model *m, const crane__bodies4 *b, const crane__conf4 *cf,
                 const crane_real qd[4], const crane_real qdd[4], crane_real g, crane_real tau[4]);
 
@@ -349,7 +352,8 @@ void crane__id4(const crane_model *m, const crane__bodies4 *b, const crane__conf
  * side links (their centripetal force and gyroscopic moment at omega_s = qd[2]) added to tau[0],
  * tau[1], which complete crane__id4's. */
 void crane__slew_inertia(const crane_model *m, const crane__bodies4 *b, const crane__conf4 *cf,
-                         const crane_real qd[4], crane_real *jz, crane_real *jdot, crane_real tau[2]);
+                         const crane_real qd[4], crane_real *jz, crane_real *jdot,
+                         crane_real tau[2]);
 
 /* The slew equation's inertial term J_z alpha_s + Jdot_z omega_s (exactly 0 at rest without
  * acceleration, whatever J_z). */

@@ -27,8 +27,8 @@ void crane__bodies4_init(const crane_params *p, crane__bodies4 *b)
     b->jp = p->pillar.mass * p->pillar.com.x * p->pillar.com.x + p->pillar.iyy;
 }
 
-void crane__conf4_at(const crane_model *m, const crane__bodies4 *b, crane_real th0, crane_real th1,
-                     crane_real e, crane__conf4 *cf)
+void crane__conf4_at(const crane_model *m, crane_real th0, crane_real th1, crane_real e,
+                     crane__conf4 *cf)
 {
     crane_real c1, s1;
 
@@ -37,7 +37,6 @@ void crane__conf4_at(const crane_model *m, const crane__bodies4 *b, crane_real t
     cf->c01 = cf->c0 * c1 - cf->s0 * s1;
     cf->s01 = cf->s0 * c1 + cf->c0 * s1;
     cf->e = e;
-    (void)b;
     crane__tilt_kinematics(m, c1, s1, &cf->tk);
 }
 
@@ -141,7 +140,8 @@ void crane__id4(const crane_model *m, const crane__bodies4 *b, const crane__conf
 }
 
 void crane__slew_inertia(const crane_model *m, const crane__bodies4 *b, const crane__conf4 *cf,
-                         const crane_real qd[4], crane_real *jz, crane_real *jdot, crane_real tau[2])
+                         const crane_real qd[4], crane_real *jz, crane_real *jdot,
+                         crane_real tau[2])
 {
     const crane_params *p = m->params;
     const crane_real w1 = qd[0], w2 = qd[0] + qd[1], ve = qd[3], s2 = qd[2] * qd[2];
@@ -258,7 +258,7 @@ crane_status crane_inverse_dynamics4(const crane_model *model, const crane_real 
     if (q[3] < p->extension_min || q[3] > p->extension_max)
         return CRANE_E_EXTENSION;
     crane__bodies4_init(p, &b);
-    crane__conf4_at(model, &b, q[0], q[1], q[3], &cf);
+    crane__conf4_at(model, q[0], q[1], q[3], &cf);
     crane__id4(model, &b, &cf, qd, qdd, p->gravity, t);
     if (qd[2] != 0 || qdd[2] != 0) {
         crane_real jz, jdot;

@@ -157,8 +157,10 @@ void crane__chamber_rates(const crane_model *m, int joint, crane_real lever, cra
     v_a = h->hose_volume_a + ab[0] * (stroke - ab[2]);
     v_b = h->hose_volume_b + ab[1] * (ab[3] - stroke);
     q_l = h->leakage * (p[0] - p[1]);
-    rate[0] = (q_a - ab[0] * v - q_l + limit_flow(h, g, p[0])) / compliance(h, v_a, h->hose_volume_a);
-    rate[1] = (ab[1] * v - q_b + q_l + limit_flow(h, g, p[1])) / compliance(h, v_b, h->hose_volume_b);
+    rate[0] = (q_a - ab[0] * v - q_l + limit_flow(h, g, p[0])) /
+              compliance(h, v_a, h->hose_volume_a);
+    rate[1] = (ab[1] * v - q_b + q_l + limit_flow(h, g, p[1])) /
+              compliance(h, v_b, h->hose_volume_b);
 }
 
 static crane_real substep_count(crane_real lam, crane_real h)

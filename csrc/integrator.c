@@ -532,7 +532,8 @@ static void put_sample(ctx_t *c, crane_real t, const xstate *x, crane_real cpsi,
     crane__sincos(x->th[1], &s1, &c1);
     tip = crane__add(m->params->lift_pivot,
                      crane__rot(c0, s0,
-                                crane__add(m->params->tilt_pivot, crane__rot(c1, s1, crane__tip(m)))));
+                                crane__add(m->params->tilt_pivot,
+                                           crane__rot(c1, s1, crane__tip(m)))));
 
     c->kin_valid = 1;
     c->kin_th[0] = x->th[0];

@@ -110,7 +110,8 @@ static crane_real locked_stroke(const c4 *c, int j)
 /* Joint j's drive at t (crane__drive_pressures, crane__drive_lever). The lever's interpolation
  * is out of line, one copy for RK4's stages and the samples (the code budget); the pressures'
  * stay inline, since their outputs would otherwise take stack on the deepest path. */
-static CRANE__ALWAYS_INLINE void pressures4(c4 *c, int j, crane_real t, crane_real *p_a, crane_real *p_b)
+static CRANE__ALWAYS_INLINE void pressures4(c4 *c, int j, crane_real t, crane_real *p_a,
+                                            crane_real *p_b)
 {
     crane__drive_pressures(&c->in->drive[j], &c->cursor[j], t, p_a, p_b);
 }
@@ -124,7 +125,8 @@ static crane_real lever4(c4 *c, int j, crane_real t)
 /* The chamber and spool rates at t of valve-driven joint j at stroke s and stroke rate v, written
  * over its pressures and spool in x (which they are read from first): RK4 takes a stage's rates
  * from there, and keeps no array of them (the stack). */
-static CRANE__ALWAYS_INLINE void valve_rates4(c4 *c, crane_real t, x4 *x, int j, crane_real s, crane_real v)
+static CRANE__ALWAYS_INLINE void valve_rates4(c4 *c, crane_real t, x4 *x, int j, crane_real s,
+                                              crane_real v)
 {
     crane_real r[3];
     int k;
@@ -149,7 +151,7 @@ static CRANE__ALWAYS_INLINE void forces4(c4 *c, crane_real t, const x4 *x, unsig
     int j;
 
     if (lk != 15u) {
-        crane__conf4_at(m, &c->b, x->v[Q], x->v[Q + 1], x->v[Q + 3], &d->cf);
+        crane__conf4_at(m, x->v[Q], x->v[Q + 1], x->v[Q + 3], &d->cf);
         /* the bias h = ID(q, qd, 0) goes into b, negated there (no array of its own: the stack) */
         crane__id4(m, &c->b, &d->cf, &x->v[W], zero, m->params->gravity, d->b);
         /* a locked slew's inertia and force are never read */
@@ -330,7 +332,7 @@ static void impact4(c4 *c, x4 *x, int i)
         crane_real e[4] = {0, 0, 0, 0}, col[4];
         const unsigned lk = (lock_mask4(c) & ~(1u << i)) | (1u << CRANE_SLEW);
         int j;
-        crane__conf4_at(c->m, &c->b, x->v[Q], x->v[Q + 1], x->v[Q + 3], &d->cf);
+        crane__conf4_at(c->m, x->v[Q], x->v[Q + 1], x->v[Q + 3], &d->cf);
         e[i] = 1;
         solve4(c, NULL, e, lk, col);
         for (j = 0; j < 4; ++j)
@@ -504,7 +506,7 @@ static CRANE__NOINLINE long substeps4(c4 *c, const x4 *x, crane_real h)
 {
     dyn4 *const d = &c->d;
     long n = 1;
-    crane__conf4_at(c->m, &c->b, x->v[Q], x->v[Q + 1], x->v[Q + 3], &d->cf);
+    crane__conf4_at(c->m, x->v[Q], x->v[Q + 1], x->v[Q + 3], &d->cf);
 #if CRANE_HYDRAULICS
     if (c->valves) {
         const int driven[4] = {valve(c, 0), valve(c, 1), valve(c, 2), valve(c, 3)};
@@ -533,7 +535,8 @@ static CRANE__NOINLINE long substeps4(c4 *c, const x4 *x, crane_real h)
         minv = col[CRANE_EXTENSION];
         if (minv > 4 / c->m->params->extension_boom.mass)
             minv = 4 / c->m->params->extension_boom.mass;
-        ne = crane__ceil(h * crane__extension_friction_slope(c->m->params) * minv / (crane_real)2.5);
+        ne = crane__ceil(h * crane__extension_friction_slope(c->m->params) * minv /
+                         (crane_real)2.5);
         if (ne > (crane_real)n)
             n = (long)ne;
     }

@@ -319,7 +319,8 @@ crane_field crane__fourbar_check(crane_model *m)
     /* D < 0 puts Q to the left of P1 -> A: the +1 intersection of angle -> stroke. */
     m->tilt_branch = -sign;
     for (k = 0; k < 2; ++k) {
-        const crane_real s = k == 0 ? crane__stroke_min(m, CRANE_TILT) : crane__stroke_max(m, CRANE_TILT);
+        const crane_real s =
+            k == 0 ? crane__stroke_min(m, CRANE_TILT) : crane__stroke_max(m, CRANE_TILT);
         (void)crane__tilt_from_stroke(m, s, &theta[k], &ds[k], NULL, NULL);
         if (!(theta[k] > lo && theta[k] < hi) || !crane__finite(ds[k]) || !(ds[k] != 0))
             return CRANE_FIELD_GEOMETRY_LINK2_ATTACH;

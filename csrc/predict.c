@@ -174,7 +174,8 @@ static crane_status check_future(const crane_model *model, const crane_state *st
         !crane__finite(state0->extension_rate))
         return CRANE_E_NONFINITE;
     for (i = 0; i < 2; ++i) {
-        if (state0->stroke[i] < crane__stroke_min(model, i) || state0->stroke[i] > crane__stroke_max(model, i))
+        if (state0->stroke[i] < crane__stroke_min(model, i) ||
+            state0->stroke[i] > crane__stroke_max(model, i))
             return CRANE_E_STROKE;
     }
     for (i = 0; i < 2; ++i) {
