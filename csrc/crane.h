@@ -39,8 +39,7 @@ typedef enum {
     CRANE_E_STROKE = 9,         /* an initial stroke outside [stroke_min, stroke_max] */
     CRANE_E_EXTENSION = 10,     /* extension outside [extension_min, extension_max] */
     CRANE_E_STROKE_RATE = 11,   /* a held cylinder given a nonzero stroke rate */
-    CRANE_E_DRIVE = 12,         /* drive mode unknown, or a valve drive on the slew or extension
-                                 * (not supported yet) */
+    CRANE_E_DRIVE = 12,         /* drive mode unknown */
     CRANE_E_PRESSURE = 13,      /* a pressure outside [0, CRANE_PRESSURE_MAX] */
     CRANE_E_SAMPLES = 14,       /* pressure sample times not increasing or not covering [0, horizon] */
     CRANE_E_DT = 15,            /* dt <= 0 or dt > horizon */

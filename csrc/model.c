@@ -482,7 +482,7 @@ const char *crane_status_message(crane_status status)
     case CRANE_E_STROKE: return "an initial stroke is outside [stroke_min, stroke_max]";
     case CRANE_E_EXTENSION: return "the extension is outside [extension_min, extension_max]";
     case CRANE_E_STROKE_RATE: return "a held cylinder was given a nonzero stroke rate";
-    case CRANE_E_DRIVE: return "unknown drive mode (or a valve drive on the slew or the extension, which the C core does not run yet)";
+    case CRANE_E_DRIVE: return "unknown drive mode";
     case CRANE_E_PRESSURE: return "a pressure is outside [0, 1e8] Pa";
     case CRANE_E_SAMPLES: return "pressure sample times are not strictly increasing or do not cover [0, horizon]";
     case CRANE_E_DT: return "dt <= 0 or dt > horizon";
