@@ -151,7 +151,7 @@ static int print_substeps(const crane_params *p, const crane_inputs *in, const c
             const int free3[3] = {in->drive[0].mode != CRANE_DRIVE_HOLD,
                                   in->drive[1].mode != CRANE_DRIVE_HOLD, 1};
             double minv;
-            crane__conf4_at(&m, &b, x->theta[0], x->theta[1], x->extension, &cf);
+            crane__conf4_at(&m, x->theta[0], x->theta[1], x->extension, &cf);
             crane__mass4(&m, &b, &cf, Mp);
             minv = minv_ee(Mp, free3);
             if (minv > 4 / m_ext)
