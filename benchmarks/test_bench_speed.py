@@ -124,6 +124,18 @@ def bench_core():
     return os.path.join(build, "bench_core")
 
 
+def _bench_core_run(benchmark, args, c, dt):
+    """Runs bench_core once under the benchmark; its key=value line and predict()'s trajectory,
+    whose final tip the program's must be."""
+    out = benchmark.pedantic(lambda: subprocess.run(args, capture_output=True, text=True,
+                                                    check=True).stdout, rounds=1, iterations=1)
+    kv = dict(re.findall(r"(\w+)=(\S+)", out))
+    tip = np.array([float(kv["tip_x"]), float(kv["tip_y"]), float(kv["tip_z"])])
+    tr = cp.predict(*c.args(), dt=dt)
+    assert np.allclose(tip, tr.tip[-1], rtol=0, atol=1e-12), "bench_core and predict() differ"
+    return kv, tr
+
+
 @pytest.mark.parametrize("which", ["default", "largest"])
 @pytest.mark.parametrize("name", PRESSURE_SCENARIOS)   # bench_core takes pressures or hold
 def test_bare_c(benchmark, bench_core, request, name, which):
@@ -137,12 +149,7 @@ def test_bare_c(benchmark, bench_core, request, name, which):
     args = [bench_core, repr(dt), repr(c.horizon), repr(c.initial.lift_stroke),
             repr(c.initial.tilt_stroke), _drive_arg(c.inputs.lift), _drive_arg(c.inputs.tilt),
             repr(seconds)]
-    out = benchmark.pedantic(lambda: subprocess.run(args, capture_output=True, text=True,
-                                                    check=True).stdout, rounds=1, iterations=1)
-    kv = dict(re.findall(r"(\w+)=(\S+)", out))
-    tip = np.array([float(kv["tip_x"]), float(kv["tip_y"]), float(kv["tip_z"])])
-    tr = cp.predict(*c.args(), dt=dt)
-    assert np.allclose(tip, tr.tip[-1], rtol=0, atol=1e-12), "bench_core and predict() differ"
+    kv, tr = _bench_core_run(benchmark, args, c, dt)
     benchmark.extra_info.update(scenario=name, backend="bare C", dt=dt, dt_choice=which,
                                 simulated_s=c.horizon, ratio=float(kv["ratio_mean"]),
                                 ratio_best=float(kv["ratio_best"]), calls=int(kv["reps"]))
@@ -157,12 +164,7 @@ def test_bare_c_four_joints(benchmark, bench_core, request, name):
     dt = cp.DEFAULT_DT
     seconds = 0.5 if benchmarks_enabled(request.config) else 0.02
     args = [bench_core, "--scenario", name, repr(dt), repr(seconds)]
-    out = benchmark.pedantic(lambda: subprocess.run(args, capture_output=True, text=True,
-                                                    check=True).stdout, rounds=1, iterations=1)
-    kv = dict(re.findall(r"(\w+)=(\S+)", out))
-    tip = np.array([float(kv["tip_x"]), float(kv["tip_y"]), float(kv["tip_z"])])
-    tr = cp.predict(*c.args(), dt=dt)
-    assert np.allclose(tip, tr.tip[-1], rtol=0, atol=1e-12), "bench_core and predict() differ"
+    kv, tr = _bench_core_run(benchmark, args, c, dt)
     benchmark.extra_info.update(scenario=name, backend="bare C", dt=dt, dt_choice="default",
                                 simulated_s=c.horizon, ratio=float(kv["ratio_mean"]),
                                 ratio_best=float(kv["ratio_best"]), calls=int(kv["reps"]))
