@@ -117,21 +117,17 @@ const crane_hydraulics *crane__circuit(const crane_model *m, int joint)
     return h && h->valve != CRANE_VALVE_NONE ? h : NULL;
 }
 
-/* The chambers of actuator j at a stroke: the circuit, the piston areas, the volumes. */
-typedef struct {
-    const crane_hydraulics *h;
-    crane_real area_a, area_b, v_a, v_b;
-} chambers;
-
-static void chambers_at(const crane_model *m, int joint, crane_real stroke, chambers *c)
+/* The chamber volumes of actuator j at a stroke, V_a = V_hose,a + A_a (s - s_min) and
+ * V_b = V_hose,b + A_b (s_max - s); ab gets (A_a, A_b, s_min, s_max). Inlined: no frame of its
+ * own on the stack budget's deepest path. */
+static CRANE__ALWAYS_INLINE void volumes(const crane_model *m, int joint, const crane_hydraulics *h,
+                                         crane_real stroke, crane_real ab[4], crane_real *v_a,
+                                         crane_real *v_b)
 {
-    crane_real s_min, s_max;
-
-    c->h = crane__circuit(m, joint);
-    crane__actuator_areas(m, joint, &c->area_a, &c->area_b);
-    crane__actuator_range(m, joint, &s_min, &s_max);
-    c->v_a = c->h->hose_volume_a + c->area_a * (stroke - s_min);
-    c->v_b = c->h->hose_volume_b + c->area_b * (s_max - stroke);
+    crane__actuator_areas(m, joint, &ab[0], &ab[1]);
+    crane__actuator_range(m, joint, &ab[2], &ab[3]);
+    *v_a = h->hose_volume_a + ab[0] * (stroke - ab[2]);
+    *v_b = h->hose_volume_b + ab[1] * (ab[3] - stroke);
 }
 
 void crane__chamber_rates(const crane_model *m, int joint, crane_real lever, crane_real stroke,
@@ -139,8 +135,7 @@ void crane__chamber_rates(const crane_model *m, int joint, crane_real lever, cra
 {
     const crane_hydraulics *const h = crane__circuit(m, joint);
     crane_real g, q_l, q_a, q_b, v_a, v_b;
-    /* the piston areas and the stroke range (no chambers struct: the stack's deepest path) */
-    crane_real ab[4];
+    crane_real ab[4];   /* the piston areas and the stroke range */
 
     /* the valve and the gradient (the calls) first, the chambers after: fewer values are held
      * across the calls, which keeps this frame, on the stack budget's deepest path, smaller */
@@ -152,10 +147,7 @@ void crane__chamber_rates(const crane_model *m, int joint, crane_real lever, cra
     }
     crane__valve_flows(h, y, p[0], p[1], &q_a, &q_b);
     g = gradient(h);
-    crane__actuator_areas(m, joint, &ab[0], &ab[1]);
-    crane__actuator_range(m, joint, &ab[2], &ab[3]);
-    v_a = h->hose_volume_a + ab[0] * (stroke - ab[2]);
-    v_b = h->hose_volume_b + ab[1] * (ab[3] - stroke);
+    volumes(m, joint, h, stroke, ab, &v_a, &v_b);
     q_l = h->leakage * (p[0] - p[1]);
     rate[0] = (q_a - ab[0] * v - q_l + limit_flow(h, g, p[0])) /
               compliance(h, v_a, h->hose_volume_a);
@@ -177,13 +169,13 @@ static crane_real substep_count(crane_real lam, crane_real h)
 /* lambda of docs/model.md, "Hydraulics": both chambers' self-feedback rate bound at a stroke. */
 static crane_real stiffness(const crane_model *m, int joint, crane_real stroke)
 {
-    chambers c;
-    crane_real g, la, lb;
+    const crane_hydraulics *const h = crane__circuit(m, joint);
+    crane_real g, la, lb, v_a, v_b, ab[4];
 
-    chambers_at(m, joint, stroke, &c);
-    g = 2 * gradient(c.h) + c.h->leakage;
-    la = g / compliance(c.h, c.v_a, c.h->hose_volume_a);
-    lb = g / compliance(c.h, c.v_b, c.h->hose_volume_b);
+    volumes(m, joint, h, stroke, ab, &v_a, &v_b);
+    g = 2 * gradient(h) + h->leakage;
+    la = g / compliance(h, v_a, h->hose_volume_a);
+    lb = g / compliance(h, v_b, h->hose_volume_b);
     return la > lb ? la : lb;
 }
 
