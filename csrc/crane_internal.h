@@ -423,6 +423,13 @@ crane_status crane__model_derive(crane_model *m, const crane_params *params, cra
 
 /* ---- integrator.c ---- */
 
+/* The first sample time of a sampled drive (pressures or lever) of joints 0..n_joints-1 that lies
+ * in (t, t_end), farther than a thousandth of dt from both ends; t_end if there is none. Steps
+ * are cut there (docs/model.md, "Integration and samples"): the drive is linear between its
+ * samples, smooth only inside a segment, and RK4 across a kink is first order. */
+crane_real crane__next_knot(const crane_inputs *in, int n_joints, crane_real t, crane_real t_end,
+                            crane_real dt);
+
 /* Runs a validated prediction: the model, state, inputs, horizon, dt, step count and capacity
  * have all been checked by crane_predict. Writes the sample at t = 0, one after every
  * sample_every-th step (>= 1) and one after the last step: crane__decimated_count samples, and

@@ -720,36 +720,42 @@ crane_status crane__integrate(const crane_model *m, const crane_state *s0, const
     /* Samples after every sample_every-th step and after the last one. The kinematic cache is
      * keyed by the angles themselves, so it stays valid whatever happens in between. */
     for (k = 0, next = 1; k < n_steps; ++k) {
-        const crane_real t = (crane_real)k * dt;
         const int last = k == n_steps - 1;
-        const crane_real h = last ? horizon - t : dt;
-
         const crane_real t_end = last ? horizon : (crane_real)(k + 1) * dt;
-#if CRANE_HYDRAULICS
-        long j, n_sub = 1;
-        crane_real sub = h;
+        crane_real t = (crane_real)k * dt;
 
-        /* docs/model.md "Hydraulics": with valve-driven joints, n equal substeps, each a full
-         * step of the scheme (one call site of step, so that it stays inlined: the stack). */
-        if (c.hyd && h > 0) {
-            n_sub = substeps(&c, &x, h);
-            sub = h / (crane_real)n_sub;
-        }
-        for (j = 0; j < n_sub; ++j) {
-            const int final = j == n_sub - 1;
-            const crane_real t_sub = j == 0 ? t : t + (crane_real)j * sub;
-            if (!c.release_clear)
-                release(&c, t_sub, &x);
-            if (h > 0)
-                step(&c, t_sub, &x, final ? (j == 0 ? h : t_end - t_sub) : sub,
-                     final ? t_end : t_sub + sub);
-        }
+        /* The step, cut at the knots of sampled drives inside it into pieces, each integrated as
+         * a step of its own (docs/model.md, "Integration and samples"). */
+        do {
+            const crane_real t_q = crane__next_knot(in, 2, t, t_end, dt);
+            const crane_real h = t_q - t;
+#if CRANE_HYDRAULICS
+            long j, n_sub = 1;
+            crane_real sub = h;
+
+            /* docs/model.md "Hydraulics": with valve-driven joints, n equal substeps, each a full
+             * step of the scheme (one call site of step, so that it stays inlined: the stack). */
+            if (c.hyd && h > 0) {
+                n_sub = substeps(&c, &x, h);
+                sub = h / (crane_real)n_sub;
+            }
+            for (j = 0; j < n_sub; ++j) {
+                const int final = j == n_sub - 1;
+                const crane_real t_sub = j == 0 ? t : t + (crane_real)j * sub;
+                if (!c.release_clear)
+                    release(&c, t_sub, &x);
+                if (h > 0)
+                    step(&c, t_sub, &x, final ? (j == 0 ? h : t_q - t_sub) : sub,
+                         final ? t_q : t_sub + sub);
+            }
 #else
-        if (!c.release_clear)
-            release(&c, t, &x);
-        if (h > 0)
-            step(&c, t, &x, h, t_end);
+            if (!c.release_clear)
+                release(&c, t, &x);
+            if (h > 0)
+                step(&c, t, &x, h, t_q);
 #endif
+            t = t_q;
+        } while (t < t_end);
         if (!finite_state(&c, &x)) {
             *n_written = next;
             return CRANE_E_DIVERGED;

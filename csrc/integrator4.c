@@ -707,25 +707,31 @@ crane_status crane__integrate4(const crane_model *m, const crane_state *s0, cons
         return CRANE_E_DIVERGED;
     put_sample4(&c, 0, &x, &out[0]);
     for (k = 0, next = 1; k < n_steps; ++k) {
-        const crane_real t = (crane_real)k * dt;
         const int last = k == n_steps - 1;
-        const crane_real h = last ? horizon - t : dt;
         const crane_real t_end = last ? horizon : (crane_real)(k + 1) * dt;
-        long j, n_sub = 1;
-        crane_real sub = h;
+        crane_real t = (crane_real)k * dt;
 
-        if ((c.valves || c.mode[CRANE_EXTENSION] != CRANE__HELD) && h > 0) {
-            n_sub = substeps4(&c, &x, h);
-            sub = h / (crane_real)n_sub;
-        }
-        for (j = 0; j < n_sub; ++j) {
-            const int final = j == n_sub - 1;
-            const crane_real t_sub = j == 0 ? t : t + (crane_real)j * sub;
-            release4(&c, t_sub, &x);
-            if (h > 0)
-                step4(&c, t_sub, &x, final ? (j == 0 ? h : t_end - t_sub) : sub,
-                     final ? t_end : t_sub + sub);
-        }
+        /* cut at the knots of sampled drives, as crane__integrate */
+        do {
+            const crane_real t_q = crane__next_knot(in, 4, t, t_end, dt);
+            const crane_real h = t_q - t;
+            long j, n_sub = 1;
+            crane_real sub = h;
+
+            if ((c.valves || c.mode[CRANE_EXTENSION] != CRANE__HELD) && h > 0) {
+                n_sub = substeps4(&c, &x, h);
+                sub = h / (crane_real)n_sub;
+            }
+            for (j = 0; j < n_sub; ++j) {
+                const int final = j == n_sub - 1;
+                const crane_real t_sub = j == 0 ? t : t + (crane_real)j * sub;
+                release4(&c, t_sub, &x);
+                if (h > 0)
+                    step4(&c, t_sub, &x, final ? (j == 0 ? h : t_q - t_sub) : sub,
+                          final ? t_q : t_sub + sub);
+            }
+            t = t_q;
+        } while (t < t_end);
         if (!finite_state4(&c, &x)) {
             *n_written = next;
             return CRANE_E_DIVERGED;

@@ -193,17 +193,67 @@ static crane_status check_future(const crane_model *model, const crane_state *st
     return CRANE_OK;
 }
 
+/* A knot this close to a step's start or end, as a fraction of dt, does not cut the step: the
+ * step grid's own rounding (and the float build's) must not make slivers of a step, and the kink
+ * it leaves out costs O((margin dt)^2). */
+static const crane_real KNOT_MARGIN = (crane_real)1e-3;
+
+crane_real crane__next_knot(const crane_inputs *in, int n_joints, crane_real t, crane_real t_end,
+                            crane_real dt)
+{
+    const crane_real lo = t + KNOT_MARGIN * dt, hi = t_end - KNOT_MARGIN * dt;
+    crane_real knot = t_end;
+    int j;
+
+    for (j = 0; j < n_joints; ++j) {
+        const crane_drive *d = &in->drive[j];
+        size_t a = 0, b = d->n_samples;
+        if (d->mode == CRANE_DRIVE_HOLD)
+            continue;
+        /* the first sample after lo: bisection, so that long lever records cost log n a step */
+        while (a < b) {
+            const size_t mid = a + (b - a) / 2;
+            if (d->t[mid] > lo)
+                b = mid;
+            else
+                a = mid + 1;
+        }
+        if (a < d->n_samples && d->t[a] < hi && d->t[a] < knot)
+            knot = d->t[a];
+    }
+    return knot;
+}
+
+/* The knots inside (0, horizon): each cuts at most one step once more. */
+static long knot_count(const crane_inputs *in, crane_real horizon)
+{
+    long n = 0;
+    int j;
+
+    for (j = 0; j < 4; ++j) {
+        const crane_drive *d = &in->drive[j];
+        size_t k;
+        if (d->mode == CRANE_DRIVE_HOLD)
+            continue;
+        for (k = 0; k < d->n_samples; ++k)
+            if (d->t[k] > 0 && d->t[k] < horizon)
+                ++n;
+    }
+    return n;
+}
+
 /* Bounded work with valve-driven cylinders or a moving extension (docs/model.md, "Hydraulics",
  * "Four joints", "Bad input"): every step may be cut into substeps, at most as many as at the
  * stroke ends (where the chambers are smallest; the last step may be up to 1.25 dt long) or at
  * the extension friction's rate bound, and those count against CRANE_MAX_STEPS
  * (CRANE_E_STEPS) and, with total (the batch's RK4 steps so far, updated), against
  * CRANE_MAX_BATCH_STEPS (CRANE_E_BATCH). Integer arithmetic without overflow on a 32-bit long. */
-static crane_status check_work(const crane_model *m, const crane_inputs *in, crane_real dt,
-                               long n_steps, long *total)
+static crane_status check_work(const crane_model *m, const crane_inputs *in, crane_real horizon,
+                               crane_real dt, long n_steps, long *total)
 {
     const crane_real h = dt * (crane_real)1.25;
-    long n_max = 1;
+    const long knots = knot_count(in, horizon);
+    long n_max = 1, pieces;
 #if CRANE_HYDRAULICS
     int valve[4], j, any = 0;
 
@@ -222,12 +272,16 @@ static crane_status check_work(const crane_model *m, const crane_inputs *in, cra
         if ((long)ne > n_max)
             n_max = (long)ne;
     }
-    if (n_max > (long)CRANE_MAX_STEPS / n_steps)
+    /* every knot may cut a step into one more piece, with its own substeps */
+    if (knots > (long)CRANE_MAX_STEPS - n_steps)
+        return CRANE_E_STEPS;
+    pieces = n_steps + knots;
+    if (n_max > (long)CRANE_MAX_STEPS / pieces)
         return CRANE_E_STEPS;
     if (total) {
-        if (n_steps * n_max > (long)CRANE_MAX_BATCH_STEPS - *total)
+        if (pieces * n_max > (long)CRANE_MAX_BATCH_STEPS - *total)
             return CRANE_E_BATCH;
-        *total += n_steps * n_max;
+        *total += pieces * n_max;
     }
     return CRANE_OK;
 }
@@ -266,7 +320,7 @@ static CRANE__ALWAYS_INLINE crane_status predict(const crane_model *model,
     st = check_future(model, state0, inputs, horizon);
     if (st != CRANE_OK)
         return st;
-    st = check_work(model, inputs, dt, n_steps, NULL);
+    st = check_work(model, inputs, horizon, dt, n_steps, NULL);
     if (st != CRANE_OK)
         return st;
     if ((size_t)n_steps + 1 > capacity)
@@ -347,7 +401,7 @@ static CRANE__NOINLINE crane_status check_futures(crane_model *model, const cran
         /* the substeps of valve-driven and extension-driven futures count against the bounds too (CRANE_E_BATCH
          * here names the future that takes the batch over) */
         if (st == CRANE_OK)
-            st = check_work(model, &inputs[k], dt, n_steps, &total);
+            st = check_work(model, &inputs[k], horizon, dt, n_steps, &total);
         if (st != CRANE_OK) {
             *failed = k;
             return st;

@@ -1612,6 +1612,21 @@ def _optional_drive(crane: Any, inputs: Any, joint: int) -> Any:
     return _PressureDrive(drive)
 
 
+def _next_knot(drives: Sequence[Any], t: float, t_end: float, dt: float) -> float:
+    """The earliest sample time of a sampled drive inside (t, t_end), more than dt/1000 from
+    both ends (docs/model.md, "Integration and samples"); t_end if there is none."""
+    lo, hi = t + 1e-3 * dt, t_end - 1e-3 * dt
+    knot = t_end
+    for drive in drives:
+        times = getattr(drive, "times", None)
+        if not times:
+            continue
+        i = bisect_right(times, lo)
+        if i < len(times) and times[i] < hi:
+            knot = min(knot, times[i])
+    return knot
+
+
 def _run(crane: Any, state: Any, inputs: Any, horizon: float, dt: float
          ) -> Tuple[dict, List[Tuple[float, int, int]]]:
     """simulate() plus the list of impacts (time, joint, angle side), for diagnostics and tests."""
@@ -1655,10 +1670,14 @@ def _run(crane: Any, state: Any, inputs: Any, horizon: float, dt: float
         lam = max(drive.stiffness(s) for drive, valve in zip(pred.drives, pred.valve) if valve
                   for s in (drive.stroke_min, drive.stroke_max))
         worst = max(1, int(math.ceil(1.25 * dt * lam / SUBSTEP_STABILITY)))
-        if n * worst > MAX_STEPS:
+        # every knot of a sampled drive inside the horizon may cut a step once more
+        pieces = n + sum(1 for drive in pred.drives for tk in (getattr(drive, "times", None) or ())
+                         if 0.0 < tk < horizon)
+        if pieces * worst > MAX_STEPS:
             raise ValueError(f"horizon / dt asks for more than {MAX_STEPS} steps with the "
-                             f"valve-driven cylinders' substeps ({n} steps x up to {worst} "
-                             "substeps): raise dt or shorten the horizon")
+                             f"valve-driven cylinders' substeps ({pieces} steps and cuts at the "
+                             f"drives' samples x up to {worst} substeps): raise dt or shorten "
+                             "the horizon")
     t_out = np.empty(n + 1)
     strokes = np.empty((n + 1, 2))
     theta = np.empty((n + 1, 2))
@@ -1713,22 +1732,29 @@ def _run(crane: Any, state: Any, inputs: Any, horizon: float, dt: float
     cylinders = (crane.lift_cylinder, crane.tilt_cylinder)
     record(0, 0.0, x)
     for k in range(n):
-        t = k * dt
         last = k == n - 1
-        h = horizon - t if last else dt
-        # docs/model.md "Hydraulics" and "Four joints" (the extension's friction): n equal
-        # substeps, each a full step of the scheme, the last ending at the step's end time
-        n_sub = pred.substeps(x, h) if pred.hydraulic or not pred.held[EXTENSION] else 1
-        if n_sub == 1:
-            pred.release(t, x)
-            x = pred.step(t, x, h)
-        else:
-            sub = h / n_sub
-            for i in range(n_sub):
-                t_sub = t + i * sub
-                pred.release(t_sub, x)
-                x = pred.step(t_sub, x, (horizon if last else (k + 1) * dt) - t_sub
-                              if i == n_sub - 1 else sub)
+        t_end = horizon if last else (k + 1) * dt
+        t = k * dt
+        # docs/model.md "Integration and samples": the step is cut at the sampled drives' knots
+        # inside it, each piece a step of its own; "Hydraulics" and "Four joints" (the extension's
+        # friction): a piece is n equal substeps, each a full step of the scheme, the last ending
+        # at the piece's end time
+        while True:
+            t_q = _next_knot(pred.drives, t, t_end, dt)
+            h = t_q - t
+            n_sub = pred.substeps(x, h) if pred.hydraulic or not pred.held[EXTENSION] else 1
+            if n_sub == 1:
+                pred.release(t, x)
+                x = pred.step(t, x, h)
+            else:
+                sub = h / n_sub
+                for i in range(n_sub):
+                    t_sub = t + i * sub
+                    pred.release(t_sub, x)
+                    x = pred.step(t_sub, x, t_q - t_sub if i == n_sub - 1 else sub)
+            t = t_q
+            if t >= t_end:
+                break
         if not all(math.isfinite(v) for v in x):
             raise ValueError(f"the prediction diverged at t = {t:g} s (the state is no longer finite): "
                              "check the crane's parameters for absurd values")
