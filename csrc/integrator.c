@@ -723,6 +723,7 @@ crane_status crane__integrate(const crane_model *m, const crane_state *s0, const
         const int last = k == n_steps - 1;
         const crane_real t_end = last ? horizon : (crane_real)(k + 1) * dt;
         crane_real t = (crane_real)k * dt;
+        int more;
 
         /* The step, cut at the knots of sampled drives inside it into pieces, each integrated as
          * a step of its own (docs/model.md, "Integration and samples"). */
@@ -754,8 +755,9 @@ crane_status crane__integrate(const crane_model *m, const crane_state *s0, const
             if (h > 0)
                 step(&c, t, &x, h, t_q);
 #endif
+            more = t_q < t_end; /* an int controls the loop (MISRA 14.1) */
             t = t_q;
-        } while (t < t_end);
+        } while (more);
         if (!finite_state(&c, &x)) {
             *n_written = next;
             return CRANE_E_DIVERGED;

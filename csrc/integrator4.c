@@ -710,6 +710,7 @@ crane_status crane__integrate4(const crane_model *m, const crane_state *s0, cons
         const int last = k == n_steps - 1;
         const crane_real t_end = last ? horizon : (crane_real)(k + 1) * dt;
         crane_real t = (crane_real)k * dt;
+        int more;
 
         /* cut at the knots of sampled drives, as crane__integrate */
         do {
@@ -730,8 +731,9 @@ crane_status crane__integrate4(const crane_model *m, const crane_state *s0, cons
                     step4(&c, t_sub, &x, final ? (j == 0 ? h : t_q - t_sub) : sub,
                           final ? t_q : t_sub + sub);
             }
+            more = t_q < t_end; /* an int controls the loop (MISRA 14.1) */
             t = t_q;
-        } while (t < t_end);
+        } while (more);
         if (!finite_state4(&c, &x)) {
             *n_written = next;
             return CRANE_E_DIVERGED;
