@@ -90,6 +90,17 @@ FOUR_JOINT_PRESSURE = ("slew-folded",)
 CASES.update({n: named(n) for n in FOUR_JOINT_VALVE + FOUR_JOINT_PRESSURE})
 
 
+def _pressure_driven(name: str) -> bool:
+    sc = cp.scenarios.get(name)
+    drives = [getattr(sc.inputs, j, None) for j in ("lift", "tilt", "slew", "extension")]
+    return not any(isinstance(d, (cp.Valve, cp.ValveSeries)) for d in drives)
+
+
+#: Every named scenario without a valve drive (issue 9's ">= 20,000x at the default settings").
+NAMED_PRESSURE = tuple(n for n in cp.scenarios.names() if _pressure_driven(n))
+CASES.update({n: named(n) for n in NAMED_PRESSURE if n not in CASES})
+
+
 @functools.lru_cache(maxsize=None)
 def case(name: str) -> Case:
     return CASES[name]()

@@ -20,8 +20,8 @@ import pytest
 import cranepredict as cp
 from cranepredict import _core, twin
 
-from conftest import (DT_REF, FOUR_JOINT_PRESSURE, FOUR_JOINT_VALVE, TOL, benchmarks_enabled, case,
-                      largest_dt, reference, tip_error)
+from conftest import (DT_REF, FOUR_JOINT_PRESSURE, FOUR_JOINT_VALVE, NAMED_PRESSURE, TOL,
+                      benchmarks_enabled, case, largest_dt, reference, tip_error)
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 CSRC = os.path.join(ROOT, "csrc")
@@ -58,6 +58,29 @@ def test_predict(benchmark, ratio, name, which, backend):
     _record_error(benchmark, name, err)
     if which == "largest":
         assert err <= TOL
+
+
+#: Issue 9's target for every pressure-driven named scenario at the default settings (printed;
+#: the accuracy half is asserted, the speed half is missed today on most of them).
+PRESSURE_TARGET_RATIO = 20000.0
+
+
+@pytest.mark.parametrize("name", NAMED_PRESSURE)
+def test_predict_named_pressure_scenarios_at_default(benchmark, ratio, name):
+    """Every pressure-driven named scenario, predict() with no dt given (C core)."""
+    c = case(name)
+    tr = ratio(lambda: cp.predict(*c.args()), c.horizon, scenario=name, backend="c",
+               dt=cp.DEFAULT_DT, dt_choice="default")
+    err = tip_error(name, tr.t, tr.tip)
+    info = benchmark.extra_info
+    info["tip_error_mm"] = round(err * 1e3, 6)
+    met = info["ratio"] >= PRESSURE_TARGET_RATIO and err <= TOL
+    info["issue9_target_met"] = met
+    print(f"\n[pressure, default] {name}: {info['ratio']:,.0f}x real time (median; best "
+          f"{info['ratio_best']:,.0f}x), worst tip error {err * 1e3:.3g} mm at dt "
+          f"{cp.DEFAULT_DT * 1e3:g} ms; issue 9 target >= {PRESSURE_TARGET_RATIO:,.0f}x at <= "
+          f"{TOL * 1e3:g} mm: " + ("met" if met else "MISSED"))
+    assert err <= TOL
 
 
 def test_reference_is_converged():

@@ -46,14 +46,14 @@ def test_step_count_is_the_c_cores():
 # horizon=1e9 or dt=1e-12 died in numpy ("Unable to allocate 40 TiB"); horizon=1e5 allocated 4.4 GB.
 @pytest.mark.parametrize("backend", cp.BACKENDS)
 @pytest.mark.parametrize("horizon, dt, words", [
-    (1e9, None, r"horizon / dt must be at most 1,048,576 steps \(cranepredict.MAX_STEPS\), got "
+    (1e9, 2e-3, r"horizon / dt must be at most 1,048,576 steps \(cranepredict.MAX_STEPS\), got "
                 r"horizon 1e\+09 s / dt 0.002 s"),
     (1.0, 1e-12, r"at most 1,048,576 steps .* dt 1e-12 s"),
     (1e300, 1e-300, r"at most 1,048,576 steps .* = inf steps"),  # horizon / dt overflows
-    (1e5, None, r"at most 1,048,576 steps .* = 50,000,000 steps"),
-    (2097.154, None, r"at most 1,048,576 steps .* = 1,048,577 steps"),
+    (1e5, 2e-3, r"at most 1,048,576 steps .* = 50,000,000 steps"),
+    (2097.154, 2e-3, r"at most 1,048,576 steps .* = 1,048,577 steps"),
     # (one prediction's MAX_STEPS + 1 samples are below MAX_SAMPLES: the steps limit comes first)
-    (1e4, None, r"at most 1,048,576 steps .* = 5,000,000 steps"),
+    (1e4, 2e-3, r"at most 1,048,576 steps .* = 5,000,000 steps"),
 ])
 def test_predict_refuses_work_over_the_limits(crane, nothing_runs, backend, horizon, dt, words):
     with pytest.raises(ValueError, match=words):
@@ -61,12 +61,12 @@ def test_predict_refuses_work_over_the_limits(crane, nothing_runs, backend, hori
 
 
 @pytest.mark.parametrize("kwargs, n, words", [
-    (dict(horizon=1e9, sample_every=10**12), 1, r"at most 1,048,576 steps .* horizon 1e\+09 s"),
-    (dict(horizon=1e9, sample_every=1000), 1, r"at most 1,048,576 steps .* horizon 1e\+09 s"),
+    (dict(horizon=1e9, dt=2e-3, sample_every=10**12), 1, r"at most 1,048,576 steps .* horizon 1e\+09 s"),
+    (dict(horizon=1e9, dt=2e-3, sample_every=1000), 1, r"at most 1,048,576 steps .* horizon 1e\+09 s"),
     (dict(horizon=2.0, dt=1e-12), 1, r"at most 1,048,576 steps .* dt 1e-12 s"),
     (dict(horizon=2.0, sample_every=10**30), 1, r"sample_every must be an int in \[1, 1,048,576\] "
                                                 r"\(cranepredict.MAX_STEPS\), got 1000000000000000000000000000000"),
-    (dict(horizon=2.0), 8400, r"at most 8,388,608 samples \(cranepredict.MAX_SAMPLES\), got 8,400 "
+    (dict(horizon=2.0, dt=2e-3), 8400, r"at most 8,388,608 samples \(cranepredict.MAX_SAMPLES\), got 8,400 "
                               r"futures x 1,001 samples .* sample_every 1"),
 ])
 def test_predict_many_refuses_work_over_the_limits(crane, nothing_runs, kwargs, n, words):
@@ -109,7 +109,7 @@ def test_predict_many_stops_between_chunks_on_ctrl_c(crane, monkeypatch):
     monkeypatch.setattr(_core, "CHUNK_STEPS", 500)  # 250-step futures: 2 futures per chunk
     monkeypatch.setattr(_core, "_run_chunk", chunk_then_ctrl_c)
     with pytest.raises(KeyboardInterrupt):
-        cp.predict_many(crane, [STATE] * 40, [INPUTS] * 40, 0.5, threads=1)
+        cp.predict_many(crane, [STATE] * 40, [INPUTS] * 40, 0.5, dt=2e-3, threads=1)
         for _ in range(10 ** 6):  # (only if the interrupt was not raised in predict_many)
             pass
     assert calls and calls[0] == 2 and len(calls) <= 2, calls

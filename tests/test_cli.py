@@ -9,6 +9,8 @@ import types
 
 import pytest
 
+import cranepredict as cp
+
 
 def _run(*args):
     return subprocess.run([sys.executable, "-m", "cranepredict.cli", *args], capture_output=True,
@@ -179,5 +181,5 @@ def test_validate_a_spatial_scenario_for_real():
     assert r.returncode == 0, r.stderr
     (row,) = json.loads(r.stdout)
     assert row["name"] == "slew-stretched" and row["reference"] == "spatial" and row["backend"] == "c"
-    assert row["dt_fast_s"] == 2e-3 and row["within_targets"]
+    assert row["dt_fast_s"] == cp.DEFAULT_DT and row["within_targets"]
     assert row["max_error_mm"] <= 20.0 and row["rms_error_mm"] <= 10.0

@@ -34,7 +34,7 @@ def _core_module() -> Any:
 
 #: Default RK4 step, s. Chosen by measured accuracy (tools/dt_study.py): over the named scenarios and
 #: 20 random ones, the tip stays within 0.05 mm of a converged run; see README.
-DEFAULT_DT = 2e-3
+DEFAULT_DT = 5e-3
 
 BACKENDS = ("c", "python")
 
