@@ -15,7 +15,7 @@ the default step").
     actuators valve-driven, each lever closed, constant or sampled in [-1, 1], the slew or the
     telescope moving.
 
-    python tools/dt_study.py [--random 20] [--random4 10] [--seed 5]
+    python tools/dt_study.py [--random 30] [--random4 10] [--seed 5]
 """
 import argparse
 import sys
@@ -70,7 +70,7 @@ def random_case4(rng, crane):
 
 def main() -> int:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("--random", type=int, default=20, help="random planar cases (random_case)")
+    ap.add_argument("--random", type=int, default=30, help="random planar cases (random_case)")
     ap.add_argument("--random4", type=int, default=10, help="random four-joint valve-driven cases")
     ap.add_argument("--seed", type=int, default=5)
     args = ap.parse_args()
