@@ -82,7 +82,9 @@ enum { CRANE_CHAMBER_PRESSURE_MIN = -100000 };  /* Pa gauge (vacuum): the lowest
  * (measured on the project's shared 2-core CI machine, both cylinders driven: 1.0 s for one
  * prediction of CRANE_MAX_STEPS, 0.5 us a step; a PC core is about twice as fast).
  *   CRANE_MAX_STEPS: RK4 steps per prediction (one future), n = ceil(horizon/dt - 1e-9): 2^20,
- *     17 min of crane time at dt = 1 ms.
+ *     17 min of crane time at dt = 1 ms. The work counted against it is n plus one step per
+ *     sample of a sampled drive inside (0, horizon) (steps are cut there), times the most
+ *     substeps a step of valve-driven cylinders or a moving extension can take.
  *     Why 2^20: the step times are t_k = k dt in every build (never accumulated), and in the float
  *     build horizon/dt is uncertain by about 4 eps n steps (both operands rounded to 24 bits; the
  *     step count allows for it): up to 2^20 steps that stays under a quarter step, so the last
