@@ -421,7 +421,7 @@ crane_status crane__check_params(const crane_params *p, crane_field *field);
 crane_status crane__model_derive(crane_model *m, const crane_params *params, crane_real extension,
                                  crane_field *field);
 
-/* ---- integrator.c ---- */
+/* ---- predict.c, for both integrators ---- */
 
 /* The first sample time of a sampled drive (pressures or lever) of joints 0..n_joints-1 that lies
  * in (t, t_end), farther than a thousandth of dt from both ends; t_end if there is none. Steps
@@ -429,6 +429,8 @@ crane_status crane__model_derive(crane_model *m, const crane_params *params, cra
  * samples, smooth only inside a segment, and RK4 across a kink is first order. */
 crane_real crane__next_knot(const crane_inputs *in, int n_joints, crane_real t, crane_real t_end,
                             crane_real dt);
+
+/* ---- integrator.c ---- */
 
 /* Runs a validated prediction: the model, state, inputs, horizon, dt, step count and capacity
  * have all been checked by crane_predict. Writes the sample at t = 0, one after every

@@ -1662,22 +1662,24 @@ def _run(crane: Any, state: Any, inputs: Any, horizon: float, dt: float
     x = pred.stop_at_start(x, strokes0, rates0)
 
     n = int(math.ceil(horizon / dt - 1e-9))
-    if pred.hydraulic:
-        # docs/model.md "Hydraulics", bad input: the worst-case substeps (at the stroke ends, where
-        # the chambers are smallest; the last step up to 1.25 dt) count against MAX_STEPS
-        from ._checks import MAX_STEPS
+    # bad input: the work counts against MAX_STEPS as in the C core: every knot of a sampled drive
+    # inside the horizon may cut a step once more ("Integration and samples"), and with valves
+    # every piece takes up to the worst-case substeps (docs/model.md "Hydraulics": at the stroke
+    # ends, where the chambers are smallest; the last step up to 1.25 dt)
+    from ._checks import MAX_STEPS
 
+    pieces = n + sum(1 for drive in pred.drives for tk in (getattr(drive, "times", None) or ())
+                     if 0.0 < tk < horizon)
+    worst = 1
+    if pred.hydraulic:
         lam = max(drive.stiffness(s) for drive, valve in zip(pred.drives, pred.valve) if valve
                   for s in (drive.stroke_min, drive.stroke_max))
         worst = max(1, int(math.ceil(1.25 * dt * lam / SUBSTEP_STABILITY)))
-        # every knot of a sampled drive inside the horizon may cut a step once more
-        pieces = n + sum(1 for drive in pred.drives for tk in (getattr(drive, "times", None) or ())
-                         if 0.0 < tk < horizon)
-        if pieces * worst > MAX_STEPS:
-            raise ValueError(f"horizon / dt asks for more than {MAX_STEPS} steps with the "
-                             f"valve-driven cylinders' substeps ({pieces} steps and cuts at the "
-                             f"drives' samples x up to {worst} substeps): raise dt or shorten "
-                             "the horizon")
+    if pieces * worst > MAX_STEPS:
+        raise ValueError(f"horizon / dt asks for more than {MAX_STEPS} steps with the cuts at the "
+                         f"drives' samples and the valve-driven cylinders' substeps ({pieces} "
+                         f"steps and cuts x up to {worst} substeps): raise dt, shorten the "
+                         "horizon or send fewer samples")
     t_out = np.empty(n + 1)
     strokes = np.empty((n + 1, 2))
     theta = np.empty((n + 1, 2))
