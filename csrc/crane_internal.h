@@ -403,6 +403,11 @@ const crane_hydraulics *crane__circuit(const crane_model *m, int joint);
  * (p_a, p_b) and spool y: rate = (dp_a/dt, dp_b/dt, dy/dt). */
 void crane__chamber_rates(const crane_model *m, int joint, crane_real lever, crane_real stroke,
                           crane_real v, const crane_real p[2], crane_real y, crane_real rate[3]);
+/* The implicit part of the relief and anti-cavitation valves after an RK4 step of size dt:
+ * actuator j's chamber pressures p (p_a, p_b), the compliances at `stroke` (docs/model.md,
+ * "Integration (stiffness and substeps)"). */
+void crane__limit_valves(const crane_model *m, int joint, crane_real stroke, crane_real dt,
+                         crane_real p[2]);
 /* The substep count of a step of size h from the strokes of the valve-driven actuators (valve[j],
  * j over [lift, tilt, slew, extension]). */
 long crane__substeps(const crane_model *m, const crane_real stroke[4], const int valve[4],

@@ -6,6 +6,10 @@
 #include "crane_internal.h"
 
 #if CRANE_HYDRAULICS
+/* The relief and anti-cavitation valves pass the valve's nominal flow at this much beyond their
+ * settings (docs/model.md, "Relief, cavitation floor, leakage"). */
+static const crane_real LIMIT_OVERRIDE = (crane_real)5e3;
+
 /* Substeps keep lambda h / n below this: RK4 is stable on the negative real axis up to 2.785,
  * and the 10 % margin covers the chamber volumes changing within a step. */
 static const crane_real SUBSTEP_STABILITY = (crane_real)2.5;
@@ -86,7 +90,16 @@ void crane__valve_flows(const crane_hydraulics *h, crane_real y, crane_real p_a,
     }
 }
 
-/* Relief (to tank above p_R) and anti-cavitation (from tank below p_C): the flow into a chamber. */
+/* The gradient G_lim of the relief and anti-cavitation valves: nominal_flow / LIMIT_OVERRIDE, or
+ * the valve's own G where that is steeper. */
+static CRANE__ALWAYS_INLINE crane_real limit_gradient(const crane_hydraulics *h)
+{
+    const crane_real g = gradient(h), g_lim = h->nominal_flow / LIMIT_OVERRIDE;
+    return g_lim > g ? g_lim : g;
+}
+
+/* Relief (to tank above p_R) and anti-cavitation (from tank below p_C): the flow into a chamber
+ * through a valve of gradient g. */
 static CRANE__ALWAYS_INLINE crane_real limit_flow(const crane_hydraulics *h, crane_real g, crane_real p)
 {
     if (p < h->cavitation_pressure)
@@ -153,6 +166,25 @@ void crane__chamber_rates(const crane_model *m, int joint, crane_real lever, cra
               compliance(h, v_a, h->hose_volume_a);
     rate[1] = (ab[1] * v - q_b + q_l + limit_flow(h, g, p[1])) /
               compliance(h, v_b, h->hose_volume_b);
+}
+
+void crane__limit_valves(const crane_model *m, int joint, crane_real stroke, crane_real dt,
+                         crane_real p[2])
+{
+    const crane_hydraulics *const h = crane__circuit(m, joint);
+    const crane_real g = limit_gradient(h) - gradient(h);
+    crane_real v[2], ab[4];
+    int k;
+
+    volumes(m, joint, h, stroke, ab, &v[0], &v[1]);
+    for (k = 0; k < 2; ++k) {
+        const crane_real a =
+            dt * g / compliance(h, v[k], k == 0 ? h->hose_volume_a : h->hose_volume_b);
+        if (p[k] < h->cavitation_pressure)
+            p[k] = h->cavitation_pressure - (h->cavitation_pressure - p[k]) / (1 + a);
+        else if (p[k] > h->relief_pressure)
+            p[k] = h->relief_pressure + (p[k] - h->relief_pressure) / (1 + a);
+    }
 }
 
 static crane_real substep_count(crane_real lam, crane_real h)

@@ -28,6 +28,9 @@ typedef struct {
 #if CRANE_HYDRAULICS
     unsigned char valve[2];     /* joint i is valve-driven */
     unsigned char hyd;          /* some joint is: the state carries pressures */
+    /* The valve-driven joints' strokes at the start of the current substep (substeps): the
+     * compliances of the relief and anti-cavitation valves' implicit part. */
+    crane_real lim_stroke[2];
 #endif
     /* The last step ended with the release rule run at its end (the next step's start time and
      * state) releasing nothing: the release at the next step's start would repeat it exactly. */
@@ -322,8 +325,15 @@ static void rk4(ctx_t *c, crane_real t, const xstate *x, crane_real h, xstate *y
                 y->w[i] = x->w[i] + h6 * (y->w[i] + a[i]);
             }
         }
-        if (k < 3)
+        if (k < 3) {
             axpy(x, k == 2 ? h : h2, xs.w, a, pdh, &xs);
+#if CRANE_HYDRAULICS
+            if (pdh)
+                for (i = 0; i < 2; ++i)
+                    if (c->valve[i])
+                        crane__limit_valves(c->m, i, c->lim_stroke[i], k == 2 ? h : h2, &xs.p[2 * i]);
+#endif
+        }
     }
 #if CRANE_HYDRAULICS
     if (!pdh) {
@@ -331,6 +341,11 @@ static void rk4(ctx_t *c, crane_real t, const xstate *x, crane_real h, xstate *y
             y->p[i] = x->p[i];
         y->y[0] = x->y[0];
         y->y[1] = x->y[1];
+    } else {
+        /* the relief and anti-cavitation valves beyond the valve's gradient, implicitly */
+        for (i = 0; i < 2; ++i)
+            if (c->valve[i])
+                crane__limit_valves(c->m, i, c->lim_stroke[i], h, &y->p[2 * i]);
     }
 #endif
 }
@@ -645,6 +660,7 @@ static CRANE__NOINLINE long substeps(ctx_t *c, const xstate *x, crane_real h)
             crane__sincos(x->th[1], &s1, &c1);
             stroke[i] = tilt_kin(c, x->th[1], c1, s1)->stroke;
         }
+        c->lim_stroke[i] = stroke[i];
     }
     return crane__substeps(c->m, stroke, valve, h);
 }
@@ -678,6 +694,7 @@ crane_status crane__integrate(const crane_model *m, const crane_state *s0, const
         x.p[2 * i] = c.valve[i] ? s0->p_a[i] : 0;
         x.p[2 * i + 1] = c.valve[i] ? s0->p_b[i] : 0;
         x.y[i] = c.valve[i] ? s0->spool[i] : 0;
+        c.lim_stroke[i] = 0; /* set by substeps before every step */
     }
 #endif
     for (i = 0; i < 2; ++i) {

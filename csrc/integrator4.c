@@ -38,6 +38,11 @@ typedef struct {
      * -1), and joint j is valve-driven (some joint is: the state carries pressures and spools).
      * Masks, not arrays of flags: this context is on the stack budget's deepest path. */
     unsigned char lo_is_max, valves;
+#if CRANE_HYDRAULICS
+    /* The valve-driven joints' strokes at the start of the current substep (substeps4): the
+     * compliances of the relief and anti-cavitation valves' implicit part. */
+    crane_real lim_stroke[4];
+#endif
     /* The one scratch of every evaluation of the dynamics (RK4's stages, the release rule, the
      * impacts, the substep count), which never overlap: a frame of its own in each would stack
      * on this one (the stack). */
@@ -317,9 +322,21 @@ static void rk4_4(c4 *c, crane_real t, const x4 *x, crane_real h, x4 *y)
         solve4(c, NULL, c->d.b, lk, &xs.v[W]);
         /* the entries of joints that are not valve-driven are 0, and so read as rates */
         stage4(x, &xs, y, W, n, 0, s, cs, h6);
+#if CRANE_HYDRAULICS
+        if (s < 3)
+            for (i = 0; i < 4; ++i)
+                if (valve(c, i))
+                    crane__limit_valves(c->m, i, c->lim_stroke[i], cs, &xs.v[H + 3 * i]);
+#endif
     }
     for (i = n; i < N_ALL; ++i)
         y->v[i] = x->v[i];
+#if CRANE_HYDRAULICS
+    /* the relief and anti-cavitation valves beyond the valve's gradient, implicitly */
+    for (i = 0; i < 4; ++i)
+        if (valve(c, i))
+            crane__limit_valves(c->m, i, c->lim_stroke[i], h, &y->v[H + 3 * i]);
+#endif
 }
 
 /* Plastic impact on joint i (docs/model.md, "Four joints"): over the free joints F,
@@ -518,6 +535,7 @@ static CRANE__NOINLINE long substeps4(c4 *c, const x4 *x, crane_real h)
                     stroke[j] = locked_stroke(c, j);
                 else
                     (void)ratio(c, &d->cf, j, x->v[Q + j], &stroke[j]);
+                c->lim_stroke[j] = stroke[j];
             }
         n = crane__substeps(c->m, stroke, driven, h);
     }
@@ -663,6 +681,9 @@ crane_status crane__integrate4(const crane_model *m, const crane_state *s0, cons
             x.v[H + 3 * i + 1] = s0->p_b[i];
             x.v[H + 3 * i + 2] = s0->spool[i];
         }
+#if CRANE_HYDRAULICS
+        c.lim_stroke[i] = 0; /* set by substeps4 before every step */
+#endif
         if (i < 2) {
             crane_real ds;
             if (i == CRANE_LIFT)

@@ -1102,6 +1102,9 @@ class _ValveDrive:
         else:
             self.k_m = 0.0
             self.gradient = 1.25 * self.k / math.sqrt(self.laminar)
+        # the relief and anti-cavitation valves: the nominal flow at LIMIT_OVERRIDE beyond their
+        # settings, or the valve's own gradient where that is steeper
+        self.limit_gradient = max(self.q_n / LIMIT_OVERRIDE, self.gradient)
         self.tau = float(hyd.spool_time_constant)
         self.leakage = float(hyd.leakage)
         self.v_hose = (float(hyd.hose_volume_a), float(hyd.hose_volume_b))
@@ -1158,6 +1161,20 @@ class _ValveDrive:
             return -self.gradient * (p - self.p_r)
         return 0.0
 
+    def limit_valves(self, stroke: float, dt: float, p_a: float, p_b: float) -> Tuple[float, float]:
+        """The implicit part of the relief and anti-cavitation valves (their gradient beyond the
+        valve's, G_lim - G) over dt: implicit Euler of each chamber alone, compliance at stroke."""
+        g = self.limit_gradient - self.gradient
+        out = []
+        for k, (p, v) in enumerate(zip((p_a, p_b), self.volumes(stroke))):
+            a = dt * g / self.compliance(v, k)
+            if p < self.p_c:
+                p = self.p_c - (self.p_c - p) / (1.0 + a)
+            elif p > self.p_r:
+                p = self.p_r + (p - self.p_r) / (1.0 + a)
+            out.append(p)
+        return out[0], out[1]
+
     def rates(self, t: float, stroke: float, v: float, p_a: float, p_b: float,
               y: float) -> Tuple[float, float, float]:
         """(dp_a/dt, dp_b/dt, dy/dt) of the chamber equations."""
@@ -1179,6 +1196,10 @@ class _ValveDrive:
         g = 2.0 * self.gradient + self.leakage
         return max(g / self.compliance(v_a, 0), g / self.compliance(v_b, 1))
 
+
+#: The relief and anti-cavitation valves pass the valve's nominal flow this far beyond their
+#: settings, Pa (docs/model.md, "Relief, cavitation floor, leakage").
+LIMIT_OVERRIDE = 5e3
 
 #: Substeps keep lambda h/n below this (RK4 is stable on the negative real axis up to 2.785).
 SUBSTEP_STABILITY = 2.5
@@ -1216,6 +1237,9 @@ class _Prediction:
         #: omega1, p_a0, p_b0, p_a1, p_b1, y0, y1), entries of other joints unused (kept at 0)
         self.valve = tuple(isinstance(d, _ValveDrive) for d in drives)
         self.hydraulic = any(self.valve)
+        #: the valve-driven joints' strokes at the start of the current substep (substeps): the
+        #: compliances of the relief and anti-cavitation valves' implicit part
+        self.limit_stroke = [0.0, 0.0, 0.0, 0.0]
         #: stop[j]: 0 not stopped, -1 at the lower angle limit, +1 at the upper (angle terms;
         #: the reported flag is converted to actuator terms by TwinModel.stop_flag)
         self.stop = [0, 0, 0, 0]
@@ -1297,15 +1321,25 @@ class _Prediction:
         """Classical RK4 on the whole hydraulic state (docs/model.md, "Hydraulics")."""
         half = 0.5 * h
         k1 = self.derivative(t, x, locked)
-        x2 = tuple(a + half * b for a, b in zip(x, k1))
+        x2 = self.limit_valves(tuple(a + half * b for a, b in zip(x, k1)), half)
         k2 = self.derivative(t + half, x2, locked)
-        x3 = tuple(a + half * b for a, b in zip(x, k2))
+        x3 = self.limit_valves(tuple(a + half * b for a, b in zip(x, k2)), half)
         k3 = self.derivative(t + half, x3, locked)
-        x4 = tuple(a + h * b for a, b in zip(x, k3))
+        x4 = self.limit_valves(tuple(a + h * b for a, b in zip(x, k3)), h)
         k4 = self.derivative(t + h, x4, locked)
         sixth = h / 6.0
-        return tuple(a + sixth * (b1 + 2.0 * b2 + 2.0 * b3 + b4)
-                     for a, b1, b2, b3, b4 in zip(x, k1, k2, k3, k4))
+        return self.limit_valves(tuple(a + sixth * (b1 + 2.0 * b2 + 2.0 * b3 + b4)
+                                       for a, b1, b2, b3, b4 in zip(x, k1, k2, k3, k4)), h)
+
+    def limit_valves(self, x: Tuple[float, ...], dt: float) -> Tuple[float, ...]:
+        """x with the implicit part of every valve-driven chamber's relief and anti-cavitation
+        valves over dt applied (docs/model.md, "Integration (stiffness and substeps)")."""
+        y = list(x)
+        for j in JOINTS:
+            if self.valve[j]:
+                y[HYD + 2 * j], y[HYD + 1 + 2 * j] = self.drives[j].limit_valves(  # type: ignore
+                    self.limit_stroke[j], dt, x[HYD + 2 * j], x[HYD + 1 + 2 * j])
+        return tuple(y)
 
     def substeps(self, x: Sequence[float], h: float) -> int:
         """n = max(1, ceil(h Lambda / 2.5)): Lambda from the chamber volumes at the step's start
@@ -1313,7 +1347,8 @@ class _Prediction:
         lam = 0.0
         for j in JOINTS:
             if self.valve[j]:
-                lam = max(lam, self.drives[j].stiffness(self.stroke(j, x[j])))  # type: ignore
+                self.limit_stroke[j] = self.stroke(j, x[j])
+                lam = max(lam, self.drives[j].stiffness(self.limit_stroke[j]))  # type: ignore
         if not self.held[EXTENSION]:
             lam = max(lam, self.extension_friction_rate(x))
         return max(1, int(math.ceil(h * lam / SUBSTEP_STABILITY)))
