@@ -403,15 +403,17 @@ const crane_hydraulics *crane__circuit(const crane_model *m, int joint);
  * (p_a, p_b) and spool y: rate = (dp_a/dt, dp_b/dt, dy/dt). */
 void crane__chamber_rates(const crane_model *m, int joint, crane_real lever, crane_real stroke,
                           crane_real v, const crane_real p[2], crane_real y, crane_real rate[3]);
-/* The implicit part of the relief and anti-cavitation valves after an RK4 step of size dt:
- * actuator j's chamber pressures p (p_a, p_b), the compliances at `stroke` (docs/model.md,
- * "Integration (stiffness and substeps)"). */
-void crane__limit_valves(const crane_model *m, int joint, crane_real stroke, crane_real dt,
-                         crane_real p[2]);
+/* The relief and anti-cavitation valves over dt, implicitly (docs/model.md, "Integration
+ * (stiffness and substeps)"): the chamber pressures of each valve-driven actuator j (bit j of
+ * valves) at p[stride j], p[stride j + 1], with the rates coef[2j], coef[2j + 1] = G_lim/C(V)
+ * of crane__substeps. */
+void crane__limit_valves(const crane_model *m, unsigned valves, const crane_real *coef,
+                         crane_real dt, crane_real *p, int stride);
 /* The substep count of a step of size h from the strokes of the valve-driven actuators (valve[j],
- * j over [lift, tilt, slew, extension]). */
+ * j over [lift, tilt, slew, extension]); coef gets each one's two rates G_lim/C(V) at its
+ * stroke for crane__limit_valves (coef[2j], coef[2j + 1]). */
 long crane__substeps(const crane_model *m, const crane_real stroke[4], const int valve[4],
-                     crane_real h);
+                     crane_real h, crane_real *coef);
 /* Its largest value over every stroke (at the stroke ends, where the chambers are smallest). */
 long crane__substeps_bound(const crane_model *m, const int valve[4], crane_real h);
 

@@ -90,25 +90,6 @@ void crane__valve_flows(const crane_hydraulics *h, crane_real y, crane_real p_a,
     }
 }
 
-/* The gradient G_lim of the relief and anti-cavitation valves: nominal_flow / LIMIT_OVERRIDE, or
- * the valve's own G where that is steeper. */
-static CRANE__ALWAYS_INLINE crane_real limit_gradient(const crane_hydraulics *h)
-{
-    const crane_real g = gradient(h), g_lim = h->nominal_flow / LIMIT_OVERRIDE;
-    return g_lim > g ? g_lim : g;
-}
-
-/* Relief (to tank above p_R) and anti-cavitation (from tank below p_C): the flow into a chamber
- * through a valve of gradient g. */
-static CRANE__ALWAYS_INLINE crane_real limit_flow(const crane_hydraulics *h, crane_real g, crane_real p)
-{
-    if (p < h->cavitation_pressure)
-        return g * (h->cavitation_pressure - p);
-    if (p > h->relief_pressure)
-        return -g * (p - h->relief_pressure);
-    return 0;
-}
-
 /* C(V) = V / Be: the oil, the cylinder wall and the hose in series. */
 static CRANE__ALWAYS_INLINE crane_real compliance(const crane_hydraulics *h, crane_real v, crane_real v_hose)
 {
@@ -147,10 +128,10 @@ void crane__chamber_rates(const crane_model *m, int joint, crane_real lever, cra
                           crane_real v, const crane_real p[2], crane_real y, crane_real rate[3])
 {
     const crane_hydraulics *const h = crane__circuit(m, joint);
-    crane_real g, q_l, q_a, q_b, v_a, v_b;
+    crane_real q_l, q_a, q_b, v_a, v_b;
     crane_real ab[4];   /* the piston areas and the stroke range */
 
-    /* the valve and the gradient (the calls) first, the chambers after: fewer values are held
+    /* the valve (the call) first, the chambers after: fewer values are held
      * across the calls, which keeps this frame, on the stack budget's deepest path, smaller */
     if (h->spool_time_constant > 0) {
         rate[2] = (lever - y) / h->spool_time_constant;
@@ -159,31 +140,30 @@ void crane__chamber_rates(const crane_model *m, int joint, crane_real lever, cra
         rate[2] = 0;
     }
     crane__valve_flows(h, y, p[0], p[1], &q_a, &q_b);
-    g = gradient(h);
     volumes(m, joint, h, stroke, ab, &v_a, &v_b);
     q_l = h->leakage * (p[0] - p[1]);
-    rate[0] = (q_a - ab[0] * v - q_l + limit_flow(h, g, p[0])) /
-              compliance(h, v_a, h->hose_volume_a);
-    rate[1] = (ab[1] * v - q_b + q_l + limit_flow(h, g, p[1])) /
-              compliance(h, v_b, h->hose_volume_b);
+    /* the relief and anti-cavitation valves are not here: crane__limit_valves, implicitly */
+    rate[0] = (q_a - ab[0] * v - q_l) / compliance(h, v_a, h->hose_volume_a);
+    rate[1] = (ab[1] * v - q_b + q_l) / compliance(h, v_b, h->hose_volume_b);
 }
 
-void crane__limit_valves(const crane_model *m, int joint, crane_real stroke, crane_real dt,
-                         crane_real p[2])
+void crane__limit_valves(const crane_model *m, unsigned valves, const crane_real *coef,
+                         crane_real dt, crane_real *p, int stride)
 {
-    const crane_hydraulics *const h = crane__circuit(m, joint);
-    const crane_real g = limit_gradient(h) - gradient(h);
-    crane_real v[2], ab[4];
-    int k;
+    int j, k;
 
-    volumes(m, joint, h, stroke, ab, &v[0], &v[1]);
-    for (k = 0; k < 2; ++k) {
-        const crane_real a =
-            dt * g / compliance(h, v[k], k == 0 ? h->hose_volume_a : h->hose_volume_b);
-        if (p[k] < h->cavitation_pressure)
-            p[k] = h->cavitation_pressure - (h->cavitation_pressure - p[k]) / (1 + a);
-        else if (p[k] > h->relief_pressure)
-            p[k] = h->relief_pressure + (p[k] - h->relief_pressure) / (1 + a);
+    for (j = 0; (valves >> j) != 0u; ++j) {
+        if ((valves >> j) & 1u) {
+            const crane_hydraulics *const h = crane__circuit(m, j);
+            for (k = 0; k < 2; ++k) {
+                crane_real *const pk = &p[stride * j + k];
+                /* the setting the pressure is beyond (none: ref = p, which leaves p exactly) */
+                const crane_real ref = *pk < h->cavitation_pressure ? h->cavitation_pressure
+                                       : *pk > h->relief_pressure   ? h->relief_pressure
+                                                                    : *pk;
+                *pk = ref + (*pk - ref) / (1 + dt * coef[2 * j + k]);
+            }
+        }
     }
 }
 
@@ -198,28 +178,34 @@ static crane_real substep_count(crane_real lam, crane_real h)
     return n < 1 ? 1 : n;
 }
 
-/* lambda of docs/model.md, "Hydraulics": both chambers' self-feedback rate bound at a stroke. */
-static crane_real stiffness(const crane_model *m, int joint, crane_real stroke)
+/* lambda of docs/model.md, "Hydraulics": both chambers' self-feedback rate bound at a stroke;
+ * coef gets the rates G_lim/C(V) of the relief and anti-cavitation valves (crane__limit_valves). */
+static crane_real stiffness(const crane_model *m, int joint, crane_real stroke, crane_real coef[2])
 {
     const crane_hydraulics *const h = crane__circuit(m, joint);
-    crane_real g, la, lb, v_a, v_b, ab[4];
+    crane_real g, la, lb, c_a, c_b, v_a, v_b, ab[4];
 
     volumes(m, joint, h, stroke, ab, &v_a, &v_b);
+    c_a = compliance(h, v_a, h->hose_volume_a);
+    c_b = compliance(h, v_b, h->hose_volume_b);
+    g = h->nominal_flow / LIMIT_OVERRIDE;   /* G_lim */
+    coef[0] = g / c_a;
+    coef[1] = g / c_b;
     g = 2 * gradient(h) + h->leakage;
-    la = g / compliance(h, v_a, h->hose_volume_a);
-    lb = g / compliance(h, v_b, h->hose_volume_b);
+    la = g / c_a;
+    lb = g / c_b;
     return la > lb ? la : lb;
 }
 
 long crane__substeps(const crane_model *m, const crane_real stroke[4], const int valve[4],
-                     crane_real h)
+                     crane_real h, crane_real *coef)
 {
     crane_real lam = 0;
     int j;
 
     for (j = 0; j < 4; ++j)
         if (valve[j]) {
-            const crane_real l = stiffness(m, j, stroke[j]);
+            const crane_real l = stiffness(m, j, stroke[j], &coef[2 * j]);
             if (l > lam)
                 lam = l;
         }
@@ -233,12 +219,12 @@ long crane__substeps_bound(const crane_model *m, const int valve[4], crane_real 
 
     for (j = 0; j < 4; ++j)
         if (valve[j]) {
-            crane_real s_min, s_max, l;
+            crane_real s_min, s_max, l, coef[2];
             crane__actuator_range(m, j, &s_min, &s_max);
-            l = stiffness(m, j, s_min);
+            l = stiffness(m, j, s_min, coef);
             if (l > lam)
                 lam = l;
-            l = stiffness(m, j, s_max);
+            l = stiffness(m, j, s_max, coef);
             if (l > lam)
                 lam = l;
         }

@@ -27,10 +27,8 @@ typedef struct {
                                  * (the upper angle limit has the other one) */
 #if CRANE_HYDRAULICS
     unsigned char valve[2];     /* joint i is valve-driven */
-    unsigned char hyd;          /* some joint is: the state carries pressures */
-    /* The valve-driven joints' strokes at the start of the current substep (substeps): the
-     * compliances of the relief and anti-cavitation valves' implicit part. */
-    crane_real lim_stroke[2];
+    unsigned char valves;       /* bit i: joint i is valve-driven (some is: the state carries
+                                 * pressures) */
 #endif
     /* The last step ended with the release rule run at its end (the next step's start time and
      * state) releasing nothing: the release at the next step's start would repeat it exactly. */
@@ -48,6 +46,11 @@ typedef struct {
      * the next release check and the next step's first RK4 stage share one angle. */
     crane_real tk_th;
     crane__tilt_kin tk;
+#if CRANE_HYDRAULICS
+    /* The rates G_lim/C(V) of the relief and anti-cavitation valves' implicit part, both
+     * chambers of each valve-driven joint, at the start of the current substep (substeps). */
+    crane_real lim_coef[4];
+#endif
 } ctx_t;
 
 /* Joint i is valve-driven (never in a build without CRANE_HYDRAULICS, whose validation refuses
@@ -279,6 +282,7 @@ static void axpy(const xstate *x, crane_real h, const crane_real *dth, const cra
 #endif
 }
 
+
 /* Classic RK4, its four stages in one loop so that accel (forces and all) has one call site and
  * is inlined once. The stage sums are accumulated in *y as the stages go (one stage state, one
  * acceleration, no sums of their own: the stack), in the order ((k1 + 2 k2) + 2 k3) + k4, which is
@@ -290,7 +294,7 @@ static void rk4(ctx_t *c, crane_real t, const xstate *x, crane_real h, xstate *y
 #if CRANE_HYDRAULICS
     /* the rates of joints that are not valve-driven stay 0: their entries of the state too */
     crane_real dh[6] = {0, 0, 0, 0, 0, 0};
-    crane_real *const pdh = c->hyd ? dh : NULL;
+    crane_real *const pdh = c->valves ? dh : NULL;
 #else
     crane_real *const pdh = NULL;
 #endif
@@ -325,15 +329,15 @@ static void rk4(ctx_t *c, crane_real t, const xstate *x, crane_real h, xstate *y
                 y->w[i] = x->w[i] + h6 * (y->w[i] + a[i]);
             }
         }
-        if (k < 3) {
+        if (k < 3)
             axpy(x, k == 2 ? h : h2, xs.w, a, pdh, &xs);
 #if CRANE_HYDRAULICS
-            if (pdh)
-                for (i = 0; i < 2; ++i)
-                    if (c->valve[i])
-                        crane__limit_valves(c->m, i, c->lim_stroke[i], k == 2 ? h : h2, &xs.p[2 * i]);
+        /* the relief and anti-cavitation valves, implicitly: over the stage's step on the next
+         * stage's state, over h on the result */
+        if (pdh)
+            crane__limit_valves(c->m, c->valves, c->lim_coef, k < 2 ? h2 : h, k < 3 ? xs.p : y->p,
+                                2);
 #endif
-        }
     }
 #if CRANE_HYDRAULICS
     if (!pdh) {
@@ -341,11 +345,6 @@ static void rk4(ctx_t *c, crane_real t, const xstate *x, crane_real h, xstate *y
             y->p[i] = x->p[i];
         y->y[0] = x->y[0];
         y->y[1] = x->y[1];
-    } else {
-        /* the relief and anti-cavitation valves beyond the valve's gradient, implicitly */
-        for (i = 0; i < 2; ++i)
-            if (c->valve[i])
-                crane__limit_valves(c->m, i, c->lim_stroke[i], h, &y->p[2 * i]);
     }
 #endif
 }
@@ -624,10 +623,10 @@ static int finite_state(const ctx_t *c, const xstate *x)
 {
 #if CRANE_HYDRAULICS
     int k;
-    for (k = 0; c->hyd && k < 4; ++k)
+    for (k = 0; c->valves && k < 4; ++k)
         if (!crane__finite(x->p[k]))
             return 0;
-    if (c->hyd && (!crane__finite(x->y[0]) || !crane__finite(x->y[1])))
+    if (c->valves && (!crane__finite(x->y[0]) || !crane__finite(x->y[1])))
         return 0;
 #else
     (void)c;
@@ -660,9 +659,8 @@ static CRANE__NOINLINE long substeps(ctx_t *c, const xstate *x, crane_real h)
             crane__sincos(x->th[1], &s1, &c1);
             stroke[i] = tilt_kin(c, x->th[1], c1, s1)->stroke;
         }
-        c->lim_stroke[i] = stroke[i];
     }
-    return crane__substeps(c->m, stroke, valve, h);
+    return crane__substeps(c->m, stroke, valve, h, c->lim_coef);
 }
 #endif
 
@@ -687,14 +685,13 @@ crane_status crane__integrate(const crane_model *m, const crane_state *s0, const
     c.j0 = crane__mass_matrix_j0(m);
     c.release_clear = 0;
 #if CRANE_HYDRAULICS
-    c.hyd = 0;
+    c.valves = 0;
     for (i = 0; i < 2; ++i) {
         c.valve[i] = (unsigned char)(in->drive[i].mode == CRANE_DRIVE_VALVE);
-        c.hyd = (unsigned char)(c.hyd || c.valve[i]);
+        c.valves = (unsigned char)(c.valves | (unsigned)c.valve[i] << i);
         x.p[2 * i] = c.valve[i] ? s0->p_a[i] : 0;
         x.p[2 * i + 1] = c.valve[i] ? s0->p_b[i] : 0;
         x.y[i] = c.valve[i] ? s0->spool[i] : 0;
-        c.lim_stroke[i] = 0; /* set by substeps before every step */
     }
 #endif
     for (i = 0; i < 2; ++i) {
@@ -753,7 +750,7 @@ crane_status crane__integrate(const crane_model *m, const crane_state *s0, const
 
             /* docs/model.md "Hydraulics": with valve-driven joints, n equal substeps, each a full
              * step of the scheme (one call site of step, so that it stays inlined: the stack). */
-            if (c.hyd && h > 0) {
+            if (c.valves && h > 0) {
                 n_sub = substeps(&c, &x, h);
                 sub = h / (crane_real)n_sub;
             }

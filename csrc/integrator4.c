@@ -38,15 +38,15 @@ typedef struct {
      * -1), and joint j is valve-driven (some joint is: the state carries pressures and spools).
      * Masks, not arrays of flags: this context is on the stack budget's deepest path. */
     unsigned char lo_is_max, valves;
-#if CRANE_HYDRAULICS
-    /* The valve-driven joints' strokes at the start of the current substep (substeps4): the
-     * compliances of the relief and anti-cavitation valves' implicit part. */
-    crane_real lim_stroke[4];
-#endif
     /* The one scratch of every evaluation of the dynamics (RK4's stages, the release rule, the
      * impacts, the substep count), which never overlap: a frame of its own in each would stack
      * on this one (the stack). */
     dyn4 d;
+#if CRANE_HYDRAULICS
+    /* The rates G_lim/C(V) of the relief and anti-cavitation valves' implicit part, both
+     * chambers of each valve-driven joint, at the start of the current substep (substeps4). */
+    crane_real lim_coef[8];
+#endif
 } c4;
 
 static int locked(const c4 *c, int j) { return c->mode[j] != CRANE__FREE; }
@@ -300,6 +300,7 @@ static CRANE__NOINLINE void stage4(const x4 *x, x4 *xs, x4 *y, int from, int to,
     }
 }
 
+
 /* Classic RK4 of size h from (t, x) into y (y != x): ((k1 + 2 k2) + 2 k3) + k4, as the planar one,
  * its four stages in one loop so that the dynamics are called from one place. There is no array
  * of stage rates: the stage state xs holds them where they are read (the velocities are the
@@ -323,20 +324,14 @@ static void rk4_4(c4 *c, crane_real t, const x4 *x, crane_real h, x4 *y)
         /* the entries of joints that are not valve-driven are 0, and so read as rates */
         stage4(x, &xs, y, W, n, 0, s, cs, h6);
 #if CRANE_HYDRAULICS
-        if (s < 3)
-            for (i = 0; i < 4; ++i)
-                if (valve(c, i))
-                    crane__limit_valves(c->m, i, c->lim_stroke[i], cs, &xs.v[H + 3 * i]);
+        /* the relief and anti-cavitation valves, implicitly: over the stage's step on the next
+         * stage's state, over h on the result */
+        crane__limit_valves(c->m, c->valves, c->lim_coef, s < 2 ? h2 : h,
+                            s < 3 ? &xs.v[H] : &y->v[H], 3);
 #endif
     }
     for (i = n; i < N_ALL; ++i)
         y->v[i] = x->v[i];
-#if CRANE_HYDRAULICS
-    /* the relief and anti-cavitation valves beyond the valve's gradient, implicitly */
-    for (i = 0; i < 4; ++i)
-        if (valve(c, i))
-            crane__limit_valves(c->m, i, c->lim_stroke[i], h, &y->v[H + 3 * i]);
-#endif
 }
 
 /* Plastic impact on joint i (docs/model.md, "Four joints"): over the free joints F,
@@ -535,9 +530,8 @@ static CRANE__NOINLINE long substeps4(c4 *c, const x4 *x, crane_real h)
                     stroke[j] = locked_stroke(c, j);
                 else
                     (void)ratio(c, &d->cf, j, x->v[Q + j], &stroke[j]);
-                c->lim_stroke[j] = stroke[j];
             }
-        n = crane__substeps(c->m, stroke, driven, h);
+        n = crane__substeps(c->m, stroke, driven, h, c->lim_coef);
     }
 #endif
     if (c->mode[CRANE_EXTENSION] != CRANE__HELD) {
@@ -682,7 +676,6 @@ crane_status crane__integrate4(const crane_model *m, const crane_state *s0, cons
             x.v[H + 3 * i + 2] = s0->spool[i];
         }
 #if CRANE_HYDRAULICS
-        c.lim_stroke[i] = 0; /* set by substeps4 before every step */
 #endif
         if (i < 2) {
             crane_real ds;

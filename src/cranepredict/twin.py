@@ -1103,8 +1103,8 @@ class _ValveDrive:
             self.k_m = 0.0
             self.gradient = 1.25 * self.k / math.sqrt(self.laminar)
         # the relief and anti-cavitation valves: the nominal flow at LIMIT_OVERRIDE beyond their
-        # settings, or the valve's own gradient where that is steeper
-        self.limit_gradient = max(self.q_n / LIMIT_OVERRIDE, self.gradient)
+        # settings
+        self.limit_gradient = self.q_n / LIMIT_OVERRIDE
         self.tau = float(hyd.spool_time_constant)
         self.leakage = float(hyd.leakage)
         self.v_hose = (float(hyd.hose_volume_a), float(hyd.hose_volume_b))
@@ -1153,26 +1153,21 @@ class _ValveDrive:
                     -r * self.q_n * _saturation((self.p_s - p_b) / lam))
         return 0.0, 0.0
 
-    def limit_flow(self, p: float) -> float:
-        """Relief (above p_R, to tank) and anti-cavitation (below p_C, from tank) into a chamber."""
-        if p < self.p_c:
-            return self.gradient * (self.p_c - p)
-        if p > self.p_r:
-            return -self.gradient * (p - self.p_r)
-        return 0.0
+    def limit_coefficients(self, stroke: float) -> Tuple[float, float]:
+        """G_lim / C(V) of both chambers at a stroke: the rates of limit_valves."""
+        v_a, v_b = self.volumes(stroke)
+        return (self.limit_gradient / self.compliance(v_a, 0),
+                self.limit_gradient / self.compliance(v_b, 1))
 
-    def limit_valves(self, stroke: float, dt: float, p_a: float, p_b: float) -> Tuple[float, float]:
-        """The implicit part of the relief and anti-cavitation valves (their gradient beyond the
-        valve's, G_lim - G) over dt: implicit Euler of each chamber alone, compliance at stroke."""
-        g = self.limit_gradient - self.gradient
+    def limit_valves(self, coef: Tuple[float, float], dt: float, p_a: float,
+                     p_b: float) -> Tuple[float, float]:
+        """The relief and anti-cavitation valves over dt (docs/model.md, "Relief, cavitation
+        floor, leakage"): implicit Euler of dp/dt = Q_lim(p)/C(V) for each chamber alone, with
+        the rates coef = G_lim/C(V) at the substep's start."""
         out = []
-        for k, (p, v) in enumerate(zip((p_a, p_b), self.volumes(stroke))):
-            a = dt * g / self.compliance(v, k)
-            if p < self.p_c:
-                p = self.p_c - (self.p_c - p) / (1.0 + a)
-            elif p > self.p_r:
-                p = self.p_r + (p - self.p_r) / (1.0 + a)
-            out.append(p)
+        for p, c in zip((p_a, p_b), coef):
+            ref = self.p_c if p < self.p_c else self.p_r if p > self.p_r else p
+            out.append(ref + (p - ref) / (1.0 + dt * c))
         return out[0], out[1]
 
     def rates(self, t: float, stroke: float, v: float, p_a: float, p_b: float,
@@ -1186,8 +1181,9 @@ class _ValveDrive:
         q_a, q_b = self.flows(y, p_a, p_b)
         v_a, v_b = self.volumes(stroke)
         q_l = self.leakage * (p_a - p_b)
-        dp_a = (q_a - self.area_a * v - q_l + self.limit_flow(p_a)) / self.compliance(v_a, 0)
-        dp_b = (self.area_b * v - q_b + q_l + self.limit_flow(p_b)) / self.compliance(v_b, 1)
+        # the relief and anti-cavitation valves are not here: limit_valves, implicitly
+        dp_a = (q_a - self.area_a * v - q_l) / self.compliance(v_a, 0)
+        dp_b = (self.area_b * v - q_b + q_l) / self.compliance(v_b, 1)
         return dp_a, dp_b, dy
 
     def stiffness(self, stroke: float) -> float:
@@ -1237,9 +1233,9 @@ class _Prediction:
         #: omega1, p_a0, p_b0, p_a1, p_b1, y0, y1), entries of other joints unused (kept at 0)
         self.valve = tuple(isinstance(d, _ValveDrive) for d in drives)
         self.hydraulic = any(self.valve)
-        #: the valve-driven joints' strokes at the start of the current substep (substeps): the
-        #: compliances of the relief and anti-cavitation valves' implicit part
-        self.limit_stroke = [0.0, 0.0, 0.0, 0.0]
+        #: G_lim/C(V) of both chambers of each valve-driven joint at the start of the current
+        #: substep (substeps): the rates of the relief and anti-cavitation valves' implicit update
+        self.limit_coef: List[Tuple[float, float]] = [(0.0, 0.0)] * 4
         #: stop[j]: 0 not stopped, -1 at the lower angle limit, +1 at the upper (angle terms;
         #: the reported flag is converted to actuator terms by TwinModel.stop_flag)
         self.stop = [0, 0, 0, 0]
@@ -1338,7 +1334,7 @@ class _Prediction:
         for j in JOINTS:
             if self.valve[j]:
                 y[HYD + 2 * j], y[HYD + 1 + 2 * j] = self.drives[j].limit_valves(  # type: ignore
-                    self.limit_stroke[j], dt, x[HYD + 2 * j], x[HYD + 1 + 2 * j])
+                    self.limit_coef[j], dt, x[HYD + 2 * j], x[HYD + 1 + 2 * j])
         return tuple(y)
 
     def substeps(self, x: Sequence[float], h: float) -> int:
@@ -1347,8 +1343,9 @@ class _Prediction:
         lam = 0.0
         for j in JOINTS:
             if self.valve[j]:
-                self.limit_stroke[j] = self.stroke(j, x[j])
-                lam = max(lam, self.drives[j].stiffness(self.limit_stroke[j]))  # type: ignore
+                stroke = self.stroke(j, x[j])
+                self.limit_coef[j] = self.drives[j].limit_coefficients(stroke)  # type: ignore
+                lam = max(lam, self.drives[j].stiffness(stroke))  # type: ignore
         if not self.held[EXTENSION]:
             lam = max(lam, self.extension_friction_rate(x))
         return max(1, int(math.ceil(h * lam / SUBSTEP_STABILITY)))
