@@ -55,6 +55,8 @@ static inline crane_real crane__ceil(crane_real x) { return ceil(x); }
 
 /* isfinite is a type-generic macro; wrapping it keeps the call sites typed. */
 static inline int crane__finite(crane_real x) { return isfinite(x) != 0; }
+/* lo <= x <= hi (false for NaN) */
+static inline int crane__in_range(crane_real x, crane_real lo, crane_real hi) { return x >= lo && x <= hi; }
 
 static inline int crane__finite_vec(crane_vec2 v) { return crane__finite(v.x) && crane__finite(v.y); }
 
@@ -403,12 +405,19 @@ const crane_hydraulics *crane__circuit(const crane_model *m, int joint);
  * (p_a, p_b) and spool y: rate = (dp_a/dt, dp_b/dt, dy/dt). */
 void crane__chamber_rates(const crane_model *m, int joint, crane_real lever, crane_real stroke,
                           crane_real v, const crane_real p[2], crane_real y, crane_real rate[3]);
+/* The relief and anti-cavitation valves of a prediction: its model, the valve-driven actuators
+ * (bit j: actuator j) and their chambers' rates G_lim/C(V) at the current substep's start
+ * (crane__substeps; coef[2j], coef[2j + 1]). In each integrator's context. */
+typedef struct {
+    const crane_model *m;
+    crane_real coef[8];
+    unsigned valves;
+} crane__limits;
+
 /* The relief and anti-cavitation valves over dt, implicitly (docs/model.md, "Integration
- * (stiffness and substeps)"): the chamber pressures of each valve-driven actuator j (bit j of
- * valves) at p[stride j], p[stride j + 1], with the rates coef[2j], coef[2j + 1] = G_lim/C(V)
- * of crane__substeps. */
-void crane__limit_valves(const crane_model *m, unsigned valves, const crane_real *coef,
-                         crane_real dt, crane_real *p, int stride);
+ * (stiffness and substeps)"): the chamber pressures of each valve-driven actuator j at
+ * p[stride j], p[stride j + 1]. */
+void crane__limit_valves(const crane__limits *l, crane_real dt, crane_real *p, int stride);
 /* The substep count of a step of size h from the strokes of the valve-driven actuators (valve[j],
  * j over [lift, tilt, slew, extension]); coef gets each one's two rates G_lim/C(V) at its
  * stroke for crane__limit_valves (coef[2j], coef[2j + 1]). */

@@ -147,22 +147,23 @@ void crane__chamber_rates(const crane_model *m, int joint, crane_real lever, cra
     rate[1] = (ab[1] * v - q_b + q_l) / compliance(h, v_b, h->hose_volume_b);
 }
 
-void crane__limit_valves(const crane_model *m, unsigned valves, const crane_real *coef,
-                         crane_real dt, crane_real *p, int stride)
+void crane__limit_valves(const crane__limits *l, crane_real dt, crane_real *p, int stride)
 {
-    int j, k;
+    int i;
 
-    for (j = 0; (valves >> j) != 0u; ++j) {
-        if ((valves >> j) & 1u) {
-            const crane_hydraulics *const h = crane__circuit(m, j);
-            for (k = 0; k < 2; ++k) {
-                crane_real *const pk = &p[stride * j + k];
-                /* the setting the pressure is beyond (none: ref = p, which leaves p exactly) */
-                const crane_real ref = *pk < h->cavitation_pressure ? h->cavitation_pressure
-                                       : *pk > h->relief_pressure   ? h->relief_pressure
-                                                                    : *pk;
-                *pk = ref + (*pk - ref) / (1 + dt * coef[2 * j + k]);
+    /* chamber i: actuator i / 2, a side (even) or b side (odd) */
+    for (i = 0; i < 8; ++i) {
+        if ((l->valves >> (i >> 1)) & 1u) {
+            const crane_hydraulics *const h = crane__circuit(l->m, i >> 1);
+            crane_real *const pk = &p[stride * (i >> 1) + (i & 1)];
+            /* the setting the pressure is beyond (none: ref = p, which leaves p exactly) */
+            crane_real ref = h->cavitation_pressure;
+            if (*pk > ref) {
+                ref = h->relief_pressure;
+                if (*pk < ref)
+                    ref = *pk;
             }
+            *pk = ref + (*pk - ref) / (1 + dt * l->coef[i]);
         }
     }
 }
@@ -178,8 +179,12 @@ static crane_real substep_count(crane_real lam, crane_real h)
     return n < 1 ? 1 : n;
 }
 
-/* lambda of docs/model.md, "Hydraulics": both chambers' self-feedback rate bound at a stroke;
- * coef gets the rates G_lim/C(V) of the relief and anti-cavitation valves (crane__limit_valves). */
+/* lambda of docs/model.md, "Hydraulics": the bound of the actuator's pressure and spool rates at
+ * a stroke. A chamber's self-feedback (one valve edge, at most the gradient G, and G again: room
+ * kept for a limit valve, although they are implicit now) plus the leakage twice: it couples the
+ * pair, whose difference relaxes at leakage (1/C_a + 1/C_b) (Gershgorin: each row's diagonal and
+ * off-diagonal); and the spool's pole 1/tau. coef gets the rates G_lim/C(V) of the relief and
+ * anti-cavitation valves (crane__limit_valves). */
 static crane_real stiffness(const crane_model *m, int joint, crane_real stroke, crane_real coef[2])
 {
     const crane_hydraulics *const h = crane__circuit(m, joint);
@@ -191,10 +196,14 @@ static crane_real stiffness(const crane_model *m, int joint, crane_real stroke, 
     g = h->nominal_flow / LIMIT_OVERRIDE;   /* G_lim */
     coef[0] = g / c_a;
     coef[1] = g / c_b;
-    g = 2 * gradient(h) + h->leakage;
+    g = 2 * (gradient(h) + h->leakage);
     la = g / c_a;
     lb = g / c_b;
-    return la > lb ? la : lb;
+    if (lb > la)
+        la = lb;
+    if (h->spool_time_constant > 0 && 1 / h->spool_time_constant > la)
+        la = 1 / h->spool_time_constant;
+    return la;
 }
 
 long crane__substeps(const crane_model *m, const crane_real stroke[4], const int valve[4],

@@ -31,33 +31,31 @@ typedef struct {
     const crane_model *m;
     const crane_inputs *in;
     const crane_state *s0;
+    /* the relief and anti-cavitation valves (crane__limit_valves); lim.valves bit j: joint j is
+     * valve-driven (some is: the state carries pressures and spools) */
+    crane__limits lim;
     crane__bodies4 b;
     size_t cursor[4];           /* sample segment last used, per joint */
     signed char mode[4];        /* CRANE__FREE, _HELD, _STOP_LO, _STOP_HI (in q terms) */
     /* Bit j: joint j's lower limit of q is its actuator's stroke_max (stop flag +1 there; else
      * -1), and joint j is valve-driven (some joint is: the state carries pressures and spools).
      * Masks, not arrays of flags: this context is on the stack budget's deepest path. */
-    unsigned char lo_is_max, valves;
+    unsigned char lo_is_max;
     /* The one scratch of every evaluation of the dynamics (RK4's stages, the release rule, the
      * impacts, the substep count), which never overlap: a frame of its own in each would stack
      * on this one (the stack). */
     dyn4 d;
-#if CRANE_HYDRAULICS
-    /* The rates G_lim/C(V) of the relief and anti-cavitation valves' implicit part, both
-     * chambers of each valve-driven joint, at the start of the current substep (substeps4). */
-    crane_real lim_coef[8];
-#endif
 } c4;
 
 static int locked(const c4 *c, int j) { return c->mode[j] != CRANE__FREE; }
 
-static int valve(const c4 *c, int j) { return (c->valves >> j) & 1; }
+static int valve(const c4 *c, int j) { return (c->lim.valves >> j) & 1; }
 
 /* The stop flag (actuator terms: -1 stroke_min, +1 stroke_max) at the lower limit of q. */
 static int lo_flag(const c4 *c, int j) { return (c->lo_is_max >> j) & 1 ? 1 : -1; }
 
 /* State entries in use: the pressures and spools only with valves. */
-static int n_used(const c4 *c) { return c->valves ? N_ALL : N_MECH; }
+static int n_used(const c4 *c) { return c->lim.valves ? N_ALL : N_MECH; }
 
 /* The lower (upper) limit of q of joint j: the angle limits, [slew_min, slew_max], the extension
  * range. Read where needed rather than kept in c4 (the stack). */
@@ -326,7 +324,7 @@ static void rk4_4(c4 *c, crane_real t, const x4 *x, crane_real h, x4 *y)
 #if CRANE_HYDRAULICS
         /* the relief and anti-cavitation valves, implicitly: over the stage's step on the next
          * stage's state, over h on the result */
-        crane__limit_valves(c->m, c->valves, c->lim_coef, s < 2 ? h2 : h,
+        crane__limit_valves(&c->lim, s < 2 ? h2 : h,
                             s < 3 ? &xs.v[H] : &y->v[H], 3);
 #endif
     }
@@ -520,7 +518,7 @@ static CRANE__NOINLINE long substeps4(c4 *c, const x4 *x, crane_real h)
     long n = 1;
     crane__conf4_at(c->m, x->v[Q], x->v[Q + 1], x->v[Q + 3], &d->cf);
 #if CRANE_HYDRAULICS
-    if (c->valves) {
+    if (c->lim.valves) {
         const int driven[4] = {valve(c, 0), valve(c, 1), valve(c, 2), valve(c, 3)};
         crane_real stroke[4] = {0, 0, 0, 0};
         int j;
@@ -531,7 +529,7 @@ static CRANE__NOINLINE long substeps4(c4 *c, const x4 *x, crane_real h)
                 else
                     (void)ratio(c, &d->cf, j, x->v[Q + j], &stroke[j]);
             }
-        n = crane__substeps(c->m, stroke, driven, h, c->lim_coef);
+        n = crane__substeps(c->m, stroke, driven, h, c->lim.coef);
     }
 #endif
     if (c->mode[CRANE_EXTENSION] != CRANE__HELD) {
@@ -638,12 +636,17 @@ static void put_sample4(c4 *c, crane_real t, const x4 *x, crane_sample *o)
     o->tip[2] = tip.y;
 }
 
+/* Finite, and the chambers and spools in their physical domain (crane_predict's
+ * CRANE_E_DIVERGED): an integrator gone unstable shows there first. */
 static int finite_state4(const c4 *c, const x4 *x)
 {
     int i;
-    for (i = 0; i < n_used(c); ++i)
-        if (!crane__finite(x->v[i]))
+    for (i = 0; i < n_used(c); ++i) {
+        /* the pressures, then the spool, of each valve-driven joint from H on (x4_slot) */
+        const crane_real lim = (i - H) % 3 == 2 ? 1 : (crane_real)CRANE_PRESSURE_MAX;
+        if (i < H ? !crane__finite(x->v[i]) : !crane__in_range(x->v[i], -lim, lim))
             return 0;
+    }
     return 1;
 }
 
@@ -659,10 +662,11 @@ crane_status crane__integrate4(const crane_model *m, const crane_state *s0, cons
     int i;
 
     c.m = m;
+    c.lim.m = m;
     c.in = in;
     c.s0 = s0;
     crane__bodies4_init(p, &c.b);
-    c.valves = 0;
+    c.lim.valves = 0;
     c.lo_is_max = 0;
     for (i = 0; i < N_ALL; ++i)
         x.v[i] = 0;
@@ -670,7 +674,7 @@ crane_status crane__integrate4(const crane_model *m, const crane_state *s0, cons
         c.cursor[i] = 0;
         c.mode[i] = (signed char)(in->drive[i].mode == CRANE_DRIVE_HOLD ? CRANE__HELD : CRANE__FREE);
         if (CRANE_HYDRAULICS && in->drive[i].mode == CRANE_DRIVE_VALVE) {
-            c.valves = (unsigned char)(c.valves | (1u << i));
+            c.lim.valves |= 1u << i;
             x.v[H + 3 * i] = s0->p_a[i];
             x.v[H + 3 * i + 1] = s0->p_b[i];
             x.v[H + 3 * i + 2] = s0->spool[i];
@@ -733,7 +737,7 @@ crane_status crane__integrate4(const crane_model *m, const crane_state *s0, cons
             long j, n_sub = 1;
             crane_real sub = h;
 
-            if ((c.valves || c.mode[CRANE_EXTENSION] != CRANE__HELD) && h > 0) {
+            if ((c.lim.valves || c.mode[CRANE_EXTENSION] != CRANE__HELD) && h > 0) {
                 n_sub = substeps4(&c, &x, h);
                 sub = h / (crane_real)n_sub;
             }

@@ -27,18 +27,6 @@ def _circuit(crane: cp.Crane, k: int):
     return actuator.hydraulics
 
 
-def _state_at(tr: cp.Trajectory, i: int, valve_joints) -> cp.State:
-    """The sample i of a trajectory as a new initial State (the rates from the joints' angles)."""
-    kw = dict(lift_stroke=float(tr.strokes[i, 0]), tilt_stroke=float(tr.strokes[i, 1]),
-              slew=float(tr.slew[i]), extension=float(tr.extension[i]))
-    for k in valve_joints:
-        j = JOINTS[k]
-        kw[f"{j}_p_a"] = float(tr.p_a[i, k])
-        kw[f"{j}_p_b"] = float(tr.p_b[i, k])
-        kw[f"{j}_spool"] = float(tr.spool[i, k])
-    return cp.State(**kw)
-
-
 def _check(crane: cp.Crane, inputs: cp.Inputs, tr: cp.Trajectory, where: str) -> None:
     valve_joints = _valve_joints(inputs)
     for k in valve_joints:
@@ -47,7 +35,7 @@ def _check(crane: cp.Crane, inputs: cp.Inputs, tr: cp.Trajectory, where: str) ->
             assert p.min() >= h.cavitation_pressure - FLOOR_SLACK, (where, JOINTS[k], p.min())
             assert p.max() <= h.relief_pressure + CEILING_SLACK, (where, JOINTS[k], p.max())
     for i in range(tr.t.size):
-        _state_at(tr, i, valve_joints)   # raises ValueError if a pressure is not a valid state
+        tr.state(i)   # raises ValueError if a pressure is not a valid State
 
 
 @pytest.mark.parametrize("name", scenarios.names())
@@ -87,7 +75,7 @@ def test_random_valve_futures_stay_physical_and_feed_back(seed):
         tr = cp.predict(crane, initial, inputs, 2.0)
         _check(crane, inputs, tr, f"seed {seed}")
         i = int(rng.integers(1, tr.t.size))
-        again = cp.predict(crane, _state_at(tr, i, (0, 1)),
+        again = cp.predict(crane, tr.state(i),
                            cp.Inputs(lift=cp.Valve(float(u[0][-1])), tilt=cp.Valve(float(u[1][-1]))),
                            0.2)
         assert np.isfinite(again.tip).all()

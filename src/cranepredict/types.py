@@ -49,7 +49,7 @@ SLEW_RATE_MAX = 10.0
 def _pressure(value: object, name: str) -> float:
     p = _number(value, name)
     if not 0.0 <= p <= PRESSURE_MAX:
-        raise ValueError(f"{name} must be in [0, {PRESSURE_MAX:g}] Pa, got {p:g}")
+        raise ValueError(f"{name} must be in [0, {PRESSURE_MAX:g}] Pa, got {p!r}")
     return p
 
 
@@ -101,7 +101,7 @@ class State:
             v = getattr(self, name)
             if not -limit <= v <= limit:
                 raise ValueError(f"State.{name} must be in [-{limit:g}, {limit:g}] "
-                                 f"{unit} (cranepredict.{const}), got {v:g}")
+                                 f"{unit} (cranepredict.{const}), got {v!r}")
 
         for name in ("lift_p_a", "lift_p_b", "tilt_p_a", "tilt_p_b", "slew_p_a", "slew_p_b",
                      "extension_p_a", "extension_p_b"):
@@ -111,7 +111,7 @@ class State:
             p = _number(v, f"State.{name}")
             if not CHAMBER_PRESSURE_MIN <= p <= PRESSURE_MAX:
                 raise ValueError(f"State.{name} must be in [{CHAMBER_PRESSURE_MIN:g}, "
-                                 f"{PRESSURE_MAX:g}] Pa, got {p:g}")
+                                 f"{PRESSURE_MAX:g}] Pa, got {p!r}")
             object.__setattr__(self, name, p)
         for name in ("lift_spool", "tilt_spool", "slew_spool", "extension_spool"):
             if not -1.0 <= getattr(self, name) <= 1.0:
@@ -144,6 +144,13 @@ class Pressure:
 def _signal(value: Any, name: str) -> np.ndarray:
     """A read-only float copy of a sampled signal: 1-D, at least 2 samples, finite; a huge int,
     a non-number or a bad shape names the field."""
+    if isinstance(value, (str, bytes)) or not hasattr(value, "__len__"):
+        raise TypeError(f"{name} must be a sequence of numbers, got {type(value).__name__}")
+    if not (isinstance(value, np.ndarray) and value.dtype.kind in "iuf"):
+        for i, v in enumerate(value):
+            if isinstance(v, (bool, np.bool_)) or \
+                    not isinstance(v, (int, float, np.floating, np.integer)):
+                raise TypeError(f"{name}[{i}] must be a number, got {type(v).__name__}")
     try:
         a = np.array(value, dtype=float, copy=True)
     except OverflowError:
@@ -181,7 +188,7 @@ class PressureSeries:
             a = arrays[name]
             if a.min() < 0.0 or a.max() > PRESSURE_MAX:
                 raise ValueError(f"PressureSeries.{name} must be in [0, {PRESSURE_MAX:g}] Pa, "
-                                 f"got [{a.min():g}, {a.max():g}]")
+                                 f"got [{float(a.min())!r}, {float(a.max())!r}]")
         for name, a in arrays.items():
             object.__setattr__(self, name, a)
 
@@ -212,7 +219,7 @@ class Hold:
 def _lever(value: object, name: str) -> float:
     u = _number(value, name)
     if not -1.0 <= u <= 1.0:
-        raise ValueError(f"{name} must be in [-1, 1] (the lever; > 0 extends), got {u:g}")
+        raise ValueError(f"{name} must be in [-1, 1] (the lever; > 0 extends), got {u!r}")
     return u
 
 
@@ -255,7 +262,7 @@ class ValveSeries:
         u = arrays["u"]
         if u.min() < -1.0 or u.max() > 1.0:
             raise ValueError(f"ValveSeries.u must be in [-1, 1] (the lever), "
-                             f"got [{u.min():g}, {u.max():g}]")
+                             f"got [{float(u.min())!r}, {float(u.max())!r}]")
         for name, a in arrays.items():
             object.__setattr__(self, name, a)
 
@@ -298,7 +305,8 @@ class Trajectory:
     a valve-driven actuator, the given pressures of a pressure-driven one, 0 for a held one;
     flow_a, flow_b (N, 4) m^3/s: the valve's flow into chamber a and out of chamber b (0 unless
     valve-driven); spool (N, 4): the spool position (0 unless valve-driven).
-    ``points()`` gives the world positions of every pivot and pin, to draw the crane.
+    ``points()`` gives the world positions of every pivot and pin, to draw the crane;
+    ``state(i)`` (and ``final_state``) the :class:`State` at sample i, to continue from.
     """
 
     t: np.ndarray
@@ -318,6 +326,49 @@ class Trajectory:
     flow_a: Optional[np.ndarray] = None
     flow_b: Optional[np.ndarray] = None
     spool: Optional[np.ndarray] = None
+    #: (joint, stroke, extension) -> ds/dtheta of a boom cylinder, by the backend that predicted
+    _transmission: Optional[Callable[[int, float, float], float]] = field(default=None, repr=False)
+
+    def state(self, i: int) -> State:
+        """The :class:`State` at sample ``i`` (negative counts from the end): the one the
+        prediction would continue from. Strokes, stroke rates (omega times ds/dtheta at the
+        sample's pose), slew, extension and their rates, every actuator's chamber pressures and
+        spool. Predicting on from it under the same drives continues this trajectory (to the
+        rounding of the angle <-> stroke conversion; docs/model.md). Raises ValueError naming the
+        field if the sample is not a valid State (a chamber below vacuum, CHAMBER_PRESSURE_MIN)."""
+        n = len(self.t)
+        if isinstance(i, bool) or not isinstance(i, (int, np.integer)):
+            raise TypeError(f"Trajectory.state(i): i must be an int, got {type(i).__name__}")
+        if not -n <= i < n:
+            raise IndexError(f"Trajectory.state(i): i must be in [-{n}, {n - 1}], got {i}")
+        if self._transmission is None:
+            raise ValueError("Trajectory.state(i) needs a trajectory from cranepredict.predict "
+                             "or predict_many")
+        k = int(i) % n
+        ext = float(np.broadcast_to(self.extension, self.t.shape)[k])
+        fields: Dict[str, Any] = {
+            "lift_stroke": float(self.strokes[k, 0]), "tilt_stroke": float(self.strokes[k, 1]),
+            "slew": float(np.broadcast_to(self.slew, self.t.shape)[k]), "extension": ext,
+            "slew_rate": float(np.broadcast_to(self.slew_rate, self.t.shape)[k]),
+            "extension_rate": float(np.broadcast_to(self.extension_rate, self.t.shape)[k])}
+        for j, name in enumerate(JOINTS[:2]):
+            w = float(self.omega[k, j])
+            fields[f"{name}_stroke_rate"] = 0.0 if w == 0.0 else \
+                w * self._transmission(j, float(self.strokes[k, j]), ext)
+        for j, name in enumerate(JOINTS):
+            for side in ("p_a", "p_b", "spool"):
+                a = getattr(self, side)
+                if a is not None:
+                    fields[f"{name}_{side}"] = float(a[k, j])
+        try:
+            return State(**fields)
+        except ValueError as e:
+            raise ValueError(f"Trajectory.state({i}) at t = {float(self.t[k]):g} s: {e}") from None
+
+    @property
+    def final_state(self) -> State:
+        """The :class:`State` at the last sample (``state(-1)``)."""
+        return self.state(-1)
 
     def points(self) -> Dict[str, np.ndarray]:
         """World positions (N, 3) of each point in POINT_NAMES at each sample's theta, slew and
@@ -361,6 +412,7 @@ class TrajectoryBatch:
     flow_a: Optional[np.ndarray] = None
     flow_b: Optional[np.ndarray] = None
     spool: Optional[np.ndarray] = None
+    _transmission: Optional[Callable[[int, float, float], float]] = field(default=None, repr=False)
 
     def __len__(self) -> int:
         return int(self.tip.shape[0])
@@ -374,4 +426,5 @@ class TrajectoryBatch:
         k = int(k) % n
         arrays = {name: getattr(self, name) if name == "t" or getattr(self, name) is None
                   else getattr(self, name)[k] for name in ARRAYS}
-        return Trajectory(**arrays, backend=self.backend, _points=self._points)
+        return Trajectory(**arrays, backend=self.backend, _points=self._points,
+                          _transmission=self._transmission)
