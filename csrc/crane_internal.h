@@ -405,10 +405,24 @@ const crane_hydraulics *crane__circuit(const crane_model *m, int joint);
  * (p_a, p_b) and spool y: rate = (dp_a/dt, dp_b/dt, dy/dt). */
 void crane__chamber_rates(const crane_model *m, int joint, crane_real lever, crane_real stroke,
                           crane_real v, const crane_real p[2], crane_real y, crane_real rate[3]);
+/* The relief and anti-cavitation valves of a prediction: its model, the valve-driven actuators
+ * (bit j: actuator j) and their chambers' rates G_lim/C(V) at the current substep's start
+ * (crane__substeps; coef[2j], coef[2j + 1]). In each integrator's context. */
+typedef struct {
+    const crane_model *m;
+    crane_real coef[8];
+    unsigned valves;
+} crane__limits;
+
+/* The relief and anti-cavitation valves over dt, implicitly (docs/model.md, "Integration
+ * (stiffness and substeps)"): the chamber pressures of each valve-driven actuator j at
+ * p[stride j], p[stride j + 1]. */
+void crane__limit_valves(const crane__limits *l, crane_real dt, crane_real *p, int stride);
 /* The substep count of a step of size h from the strokes of the valve-driven actuators (valve[j],
- * j over [lift, tilt, slew, extension]). */
+ * j over [lift, tilt, slew, extension]); coef gets each one's two rates G_lim/C(V) at its
+ * stroke for crane__limit_valves (coef[2j], coef[2j + 1]). */
 long crane__substeps(const crane_model *m, const crane_real stroke[4], const int valve[4],
-                     crane_real h);
+                     crane_real h, crane_real *coef);
 /* Its largest value over every stroke (at the stroke ends, where the chambers are smallest). */
 long crane__substeps_bound(const crane_model *m, const int valve[4], crane_real h);
 

@@ -6,6 +6,10 @@
 #include "crane_internal.h"
 
 #if CRANE_HYDRAULICS
+/* The relief and anti-cavitation valves pass the valve's nominal flow at this much beyond their
+ * settings (docs/model.md, "Relief, cavitation floor, leakage"). */
+static const crane_real LIMIT_OVERRIDE = (crane_real)5e3;
+
 /* Substeps keep lambda h / n below this: RK4 is stable on the negative real axis up to 2.785,
  * and the 10 % margin covers the chamber volumes changing within a step. */
 static const crane_real SUBSTEP_STABILITY = (crane_real)2.5;
@@ -86,16 +90,6 @@ void crane__valve_flows(const crane_hydraulics *h, crane_real y, crane_real p_a,
     }
 }
 
-/* Relief (to tank above p_R) and anti-cavitation (from tank below p_C): the flow into a chamber. */
-static CRANE__ALWAYS_INLINE crane_real limit_flow(const crane_hydraulics *h, crane_real g, crane_real p)
-{
-    if (p < h->cavitation_pressure)
-        return g * (h->cavitation_pressure - p);
-    if (p > h->relief_pressure)
-        return -g * (p - h->relief_pressure);
-    return 0;
-}
-
 /* C(V) = V / Be: the oil, the cylinder wall and the hose in series. */
 static CRANE__ALWAYS_INLINE crane_real compliance(const crane_hydraulics *h, crane_real v, crane_real v_hose)
 {
@@ -134,10 +128,10 @@ void crane__chamber_rates(const crane_model *m, int joint, crane_real lever, cra
                           crane_real v, const crane_real p[2], crane_real y, crane_real rate[3])
 {
     const crane_hydraulics *const h = crane__circuit(m, joint);
-    crane_real g, q_l, q_a, q_b, v_a, v_b;
+    crane_real q_l, q_a, q_b, v_a, v_b;
     crane_real ab[4];   /* the piston areas and the stroke range */
 
-    /* the valve and the gradient (the calls) first, the chambers after: fewer values are held
+    /* the valve (the call) first, the chambers after: fewer values are held
      * across the calls, which keeps this frame, on the stack budget's deepest path, smaller */
     if (h->spool_time_constant > 0) {
         rate[2] = (lever - y) / h->spool_time_constant;
@@ -146,13 +140,32 @@ void crane__chamber_rates(const crane_model *m, int joint, crane_real lever, cra
         rate[2] = 0;
     }
     crane__valve_flows(h, y, p[0], p[1], &q_a, &q_b);
-    g = gradient(h);
     volumes(m, joint, h, stroke, ab, &v_a, &v_b);
     q_l = h->leakage * (p[0] - p[1]);
-    rate[0] = (q_a - ab[0] * v - q_l + limit_flow(h, g, p[0])) /
-              compliance(h, v_a, h->hose_volume_a);
-    rate[1] = (ab[1] * v - q_b + q_l + limit_flow(h, g, p[1])) /
-              compliance(h, v_b, h->hose_volume_b);
+    /* the relief and anti-cavitation valves are not here: crane__limit_valves, implicitly */
+    rate[0] = (q_a - ab[0] * v - q_l) / compliance(h, v_a, h->hose_volume_a);
+    rate[1] = (ab[1] * v - q_b + q_l) / compliance(h, v_b, h->hose_volume_b);
+}
+
+void crane__limit_valves(const crane__limits *l, crane_real dt, crane_real *p, int stride)
+{
+    int i;
+
+    /* chamber i: actuator i / 2, a side (even) or b side (odd) */
+    for (i = 0; i < 8; ++i) {
+        if ((l->valves >> (i >> 1)) & 1u) {
+            const crane_hydraulics *const h = crane__circuit(l->m, i >> 1);
+            crane_real *const pk = &p[stride * (i >> 1) + (i & 1)];
+            /* the setting the pressure is beyond (none: ref = p, which leaves p exactly) */
+            crane_real ref = h->cavitation_pressure;
+            if (*pk > ref) {
+                ref = h->relief_pressure;
+                if (*pk < ref)
+                    ref = *pk;
+            }
+            *pk = ref + (*pk - ref) / (1 + dt * l->coef[i]);
+        }
+    }
 }
 
 static crane_real substep_count(crane_real lam, crane_real h)
@@ -167,19 +180,25 @@ static crane_real substep_count(crane_real lam, crane_real h)
 }
 
 /* lambda of docs/model.md, "Hydraulics": the bound of the actuator's pressure and spool rates at
- * a stroke. A chamber's self-feedback (one valve edge and the relief or anti-cavitation valve, each
- * at most the gradient G) plus the leakage twice: it couples the pair, whose difference relaxes
- * at leakage (1/C_a + 1/C_b) (Gershgorin: each row's diagonal and off-diagonal); and the spool's
- * pole 1/tau. */
-static crane_real stiffness(const crane_model *m, int joint, crane_real stroke)
+ * a stroke. A chamber's self-feedback (one valve edge, at most the gradient G, and G again: room
+ * kept for a limit valve, although they are implicit now) plus the leakage twice: it couples the
+ * pair, whose difference relaxes at leakage (1/C_a + 1/C_b) (Gershgorin: each row's diagonal and
+ * off-diagonal); and the spool's pole 1/tau. coef gets the rates G_lim/C(V) of the relief and
+ * anti-cavitation valves (crane__limit_valves). */
+static crane_real stiffness(const crane_model *m, int joint, crane_real stroke, crane_real coef[2])
 {
     const crane_hydraulics *const h = crane__circuit(m, joint);
-    crane_real g, la, lb, v_a, v_b, ab[4];
+    crane_real g, la, lb, c_a, c_b, v_a, v_b, ab[4];
 
     volumes(m, joint, h, stroke, ab, &v_a, &v_b);
+    c_a = compliance(h, v_a, h->hose_volume_a);
+    c_b = compliance(h, v_b, h->hose_volume_b);
+    g = h->nominal_flow / LIMIT_OVERRIDE;   /* G_lim */
+    coef[0] = g / c_a;
+    coef[1] = g / c_b;
     g = 2 * (gradient(h) + h->leakage);
-    la = g / compliance(h, v_a, h->hose_volume_a);
-    lb = g / compliance(h, v_b, h->hose_volume_b);
+    la = g / c_a;
+    lb = g / c_b;
     if (lb > la)
         la = lb;
     if (h->spool_time_constant > 0 && 1 / h->spool_time_constant > la)
@@ -188,14 +207,14 @@ static crane_real stiffness(const crane_model *m, int joint, crane_real stroke)
 }
 
 long crane__substeps(const crane_model *m, const crane_real stroke[4], const int valve[4],
-                     crane_real h)
+                     crane_real h, crane_real *coef)
 {
     crane_real lam = 0;
     int j;
 
     for (j = 0; j < 4; ++j)
         if (valve[j]) {
-            const crane_real l = stiffness(m, j, stroke[j]);
+            const crane_real l = stiffness(m, j, stroke[j], &coef[2 * j]);
             if (l > lam)
                 lam = l;
         }
@@ -209,12 +228,12 @@ long crane__substeps_bound(const crane_model *m, const int valve[4], crane_real 
 
     for (j = 0; j < 4; ++j)
         if (valve[j]) {
-            crane_real s_min, s_max, l;
+            crane_real s_min, s_max, l, coef[2];
             crane__actuator_range(m, j, &s_min, &s_max);
-            l = stiffness(m, j, s_min);
+            l = stiffness(m, j, s_min, coef);
             if (l > lam)
                 lam = l;
-            l = stiffness(m, j, s_max);
+            l = stiffness(m, j, s_max, coef);
             if (l > lam)
                 lam = l;
         }

@@ -27,7 +27,6 @@ typedef struct {
                                  * (the upper angle limit has the other one) */
 #if CRANE_HYDRAULICS
     unsigned char valve[2];     /* joint i is valve-driven */
-    unsigned char hyd;          /* some joint is: the state carries pressures */
 #endif
     /* The last step ended with the release rule run at its end (the next step's start time and
      * state) releasing nothing: the release at the next step's start would repeat it exactly. */
@@ -45,6 +44,11 @@ typedef struct {
      * the next release check and the next step's first RK4 stage share one angle. */
     crane_real tk_th;
     crane__tilt_kin tk;
+#if CRANE_HYDRAULICS
+    /* the relief and anti-cavitation valves (crane__limit_valves); lim.valves bit i: joint i is
+     * valve-driven (some is: the state carries pressures) */
+    crane__limits lim;
+#endif
 } ctx_t;
 
 /* Joint i is valve-driven (never in a build without CRANE_HYDRAULICS, whose validation refuses
@@ -276,6 +280,7 @@ static void axpy(const xstate *x, crane_real h, const crane_real *dth, const cra
 #endif
 }
 
+
 /* Classic RK4, its four stages in one loop so that accel (forces and all) has one call site and
  * is inlined once. The stage sums are accumulated in *y as the stages go (one stage state, one
  * acceleration, no sums of their own: the stack), in the order ((k1 + 2 k2) + 2 k3) + k4, which is
@@ -287,7 +292,7 @@ static void rk4(ctx_t *c, crane_real t, const xstate *x, crane_real h, xstate *y
 #if CRANE_HYDRAULICS
     /* the rates of joints that are not valve-driven stay 0: their entries of the state too */
     crane_real dh[6] = {0, 0, 0, 0, 0, 0};
-    crane_real *const pdh = c->hyd ? dh : NULL;
+    crane_real *const pdh = c->lim.valves ? dh : NULL;
 #else
     crane_real *const pdh = NULL;
 #endif
@@ -324,6 +329,13 @@ static void rk4(ctx_t *c, crane_real t, const xstate *x, crane_real h, xstate *y
         }
         if (k < 3)
             axpy(x, k == 2 ? h : h2, xs.w, a, pdh, &xs);
+#if CRANE_HYDRAULICS
+        /* the relief and anti-cavitation valves, implicitly: over the stage's step on the next
+         * stage's state, over h on the result */
+        if (pdh)
+            crane__limit_valves(&c->lim, k < 2 ? h2 : h, k < 3 ? xs.p : y->p,
+                                2);
+#endif
     }
 #if CRANE_HYDRAULICS
     if (!pdh) {
@@ -611,10 +623,10 @@ static int finite_state(const ctx_t *c, const xstate *x)
     /* the physical domain too (crane_predict's CRANE_E_DIVERGED): an integrator gone unstable
      * shows there first, and finite garbage is never a result */
     int k;
-    for (k = 0; c->hyd && k < 4; ++k)
+    for (k = 0; c->lim.valves && k < 4; ++k)
         if (!crane__in_range(x->p[k], -(crane_real)CRANE_PRESSURE_MAX, (crane_real)CRANE_PRESSURE_MAX))
             return 0;
-    if (c->hyd && (!crane__in_range(x->y[0], -1, 1) || !crane__in_range(x->y[1], -1, 1)))
+    if (c->lim.valves && (!crane__in_range(x->y[0], -1, 1) || !crane__in_range(x->y[1], -1, 1)))
         return 0;
 #else
     (void)c;
@@ -648,7 +660,7 @@ static CRANE__NOINLINE long substeps(ctx_t *c, const xstate *x, crane_real h)
             stroke[i] = tilt_kin(c, x->th[1], c1, s1)->stroke;
         }
     }
-    return crane__substeps(c->m, stroke, valve, h);
+    return crane__substeps(c->m, stroke, valve, h, c->lim.coef);
 }
 #endif
 
@@ -665,6 +677,9 @@ crane_status crane__integrate(const crane_model *m, const crane_state *s0, const
 
     crane__sincos(s0->slew, &spsi, &cpsi);
     c.m = m;
+#if CRANE_HYDRAULICS
+    c.lim.m = m;
+#endif
     c.in = in;
     c.s0 = s0;
     c.kin_valid = 0;
@@ -673,10 +688,10 @@ crane_status crane__integrate(const crane_model *m, const crane_state *s0, const
     c.j0 = crane__mass_matrix_j0(m);
     c.release_clear = 0;
 #if CRANE_HYDRAULICS
-    c.hyd = 0;
+    c.lim.valves = 0;
     for (i = 0; i < 2; ++i) {
         c.valve[i] = (unsigned char)(in->drive[i].mode == CRANE_DRIVE_VALVE);
-        c.hyd = (unsigned char)(c.hyd || c.valve[i]);
+        c.lim.valves |= (unsigned)c.valve[i] << i;
         x.p[2 * i] = c.valve[i] ? s0->p_a[i] : 0;
         x.p[2 * i + 1] = c.valve[i] ? s0->p_b[i] : 0;
         x.y[i] = c.valve[i] ? s0->spool[i] : 0;
@@ -738,7 +753,7 @@ crane_status crane__integrate(const crane_model *m, const crane_state *s0, const
 
             /* docs/model.md "Hydraulics": with valve-driven joints, n equal substeps, each a full
              * step of the scheme (one call site of step, so that it stays inlined: the stack). */
-            if (c.hyd && h > 0) {
+            if (c.lim.valves && h > 0) {
                 n_sub = substeps(&c, &x, h);
                 sub = h / (crane_real)n_sub;
             }

@@ -31,13 +31,16 @@ typedef struct {
     const crane_model *m;
     const crane_inputs *in;
     const crane_state *s0;
+    /* the relief and anti-cavitation valves (crane__limit_valves); lim.valves bit j: joint j is
+     * valve-driven (some is: the state carries pressures and spools) */
+    crane__limits lim;
     crane__bodies4 b;
     size_t cursor[4];           /* sample segment last used, per joint */
     signed char mode[4];        /* CRANE__FREE, _HELD, _STOP_LO, _STOP_HI (in q terms) */
     /* Bit j: joint j's lower limit of q is its actuator's stroke_max (stop flag +1 there; else
      * -1), and joint j is valve-driven (some joint is: the state carries pressures and spools).
      * Masks, not arrays of flags: this context is on the stack budget's deepest path. */
-    unsigned char lo_is_max, valves;
+    unsigned char lo_is_max;
     /* The one scratch of every evaluation of the dynamics (RK4's stages, the release rule, the
      * impacts, the substep count), which never overlap: a frame of its own in each would stack
      * on this one (the stack). */
@@ -46,13 +49,13 @@ typedef struct {
 
 static int locked(const c4 *c, int j) { return c->mode[j] != CRANE__FREE; }
 
-static int valve(const c4 *c, int j) { return (c->valves >> j) & 1; }
+static int valve(const c4 *c, int j) { return (c->lim.valves >> j) & 1; }
 
 /* The stop flag (actuator terms: -1 stroke_min, +1 stroke_max) at the lower limit of q. */
 static int lo_flag(const c4 *c, int j) { return (c->lo_is_max >> j) & 1 ? 1 : -1; }
 
 /* State entries in use: the pressures and spools only with valves. */
-static int n_used(const c4 *c) { return c->valves ? N_ALL : N_MECH; }
+static int n_used(const c4 *c) { return c->lim.valves ? N_ALL : N_MECH; }
 
 /* The lower (upper) limit of q of joint j: the angle limits, [slew_min, slew_max], the extension
  * range. Read where needed rather than kept in c4 (the stack). */
@@ -295,6 +298,7 @@ static CRANE__NOINLINE void stage4(const x4 *x, x4 *xs, x4 *y, int from, int to,
     }
 }
 
+
 /* Classic RK4 of size h from (t, x) into y (y != x): ((k1 + 2 k2) + 2 k3) + k4, as the planar one,
  * its four stages in one loop so that the dynamics are called from one place. There is no array
  * of stage rates: the stage state xs holds them where they are read (the velocities are the
@@ -317,6 +321,12 @@ static void rk4_4(c4 *c, crane_real t, const x4 *x, crane_real h, x4 *y)
         solve4(c, NULL, c->d.b, lk, &xs.v[W]);
         /* the entries of joints that are not valve-driven are 0, and so read as rates */
         stage4(x, &xs, y, W, n, 0, s, cs, h6);
+#if CRANE_HYDRAULICS
+        /* the relief and anti-cavitation valves, implicitly: over the stage's step on the next
+         * stage's state, over h on the result */
+        crane__limit_valves(&c->lim, s < 2 ? h2 : h,
+                            s < 3 ? &xs.v[H] : &y->v[H], 3);
+#endif
     }
     for (i = n; i < N_ALL; ++i)
         y->v[i] = x->v[i];
@@ -508,7 +518,7 @@ static CRANE__NOINLINE long substeps4(c4 *c, const x4 *x, crane_real h)
     long n = 1;
     crane__conf4_at(c->m, x->v[Q], x->v[Q + 1], x->v[Q + 3], &d->cf);
 #if CRANE_HYDRAULICS
-    if (c->valves) {
+    if (c->lim.valves) {
         const int driven[4] = {valve(c, 0), valve(c, 1), valve(c, 2), valve(c, 3)};
         crane_real stroke[4] = {0, 0, 0, 0};
         int j;
@@ -519,7 +529,7 @@ static CRANE__NOINLINE long substeps4(c4 *c, const x4 *x, crane_real h)
                 else
                     (void)ratio(c, &d->cf, j, x->v[Q + j], &stroke[j]);
             }
-        n = crane__substeps(c->m, stroke, driven, h);
+        n = crane__substeps(c->m, stroke, driven, h, c->lim.coef);
     }
 #endif
     if (c->mode[CRANE_EXTENSION] != CRANE__HELD) {
@@ -652,10 +662,11 @@ crane_status crane__integrate4(const crane_model *m, const crane_state *s0, cons
     int i;
 
     c.m = m;
+    c.lim.m = m;
     c.in = in;
     c.s0 = s0;
     crane__bodies4_init(p, &c.b);
-    c.valves = 0;
+    c.lim.valves = 0;
     c.lo_is_max = 0;
     for (i = 0; i < N_ALL; ++i)
         x.v[i] = 0;
@@ -663,11 +674,13 @@ crane_status crane__integrate4(const crane_model *m, const crane_state *s0, cons
         c.cursor[i] = 0;
         c.mode[i] = (signed char)(in->drive[i].mode == CRANE_DRIVE_HOLD ? CRANE__HELD : CRANE__FREE);
         if (CRANE_HYDRAULICS && in->drive[i].mode == CRANE_DRIVE_VALVE) {
-            c.valves = (unsigned char)(c.valves | (1u << i));
+            c.lim.valves |= 1u << i;
             x.v[H + 3 * i] = s0->p_a[i];
             x.v[H + 3 * i + 1] = s0->p_b[i];
             x.v[H + 3 * i + 2] = s0->spool[i];
         }
+#if CRANE_HYDRAULICS
+#endif
         if (i < 2) {
             crane_real ds;
             if (i == CRANE_LIFT)
@@ -724,7 +737,7 @@ crane_status crane__integrate4(const crane_model *m, const crane_state *s0, cons
             long j, n_sub = 1;
             crane_real sub = h;
 
-            if ((c.valves || c.mode[CRANE_EXTENSION] != CRANE__HELD) && h > 0) {
+            if ((c.lim.valves || c.mode[CRANE_EXTENSION] != CRANE__HELD) && h > 0) {
                 n_sub = substeps4(&c, &x, h);
                 sub = h / (crane_real)n_sub;
             }

@@ -226,6 +226,11 @@ class _Circuit:
     b_cyl: float
 
 
+#: Pa beyond its setting at which a relief or anti-cavitation valve passes the nominal flow
+#: (docs/model.md, "Relief, cavitation floor, leakage").
+LIMIT_OVERRIDE = 5e3
+
+
 def _circuit(cyl) -> _Circuit:
     h = cyl.hydraulics
     dl = h.laminar_pressure_drop
@@ -233,10 +238,11 @@ def _circuit(cyl) -> _Circuit:
     if compensated:
         k_in = h.nominal_flow
         k_out = h.meter_out_flow / math.sqrt(h.meter_out_pressure_drop)
-        g_limit = max(5 * k_out / (4 * math.sqrt(dl)), 3 * k_in / (2 * dl))
     else:
         k_in = k_out = h.nominal_flow / math.sqrt(h.nominal_pressure_drop)
-        g_limit = 5 * k_in / (4 * math.sqrt(dl))
+    # the relief and anti-cavitation valves pass the nominal flow at LIMIT_OVERRIDE beyond their
+    # settings
+    g_limit = h.nominal_flow / LIMIT_OVERRIDE
     return _Circuit(area_a=cyl.area_a, area_b=cyl.area_b, stroke_min=cyl.stroke_min,
                     stroke_max=cyl.stroke_max, compensated=compensated, p_supply=h.supply_pressure,
                     p_tank=h.tank_pressure, p_relief=h.relief_pressure,

@@ -1102,6 +1102,9 @@ class _ValveDrive:
         else:
             self.k_m = 0.0
             self.gradient = 1.25 * self.k / math.sqrt(self.laminar)
+        # the relief and anti-cavitation valves: the nominal flow at LIMIT_OVERRIDE beyond their
+        # settings
+        self.limit_gradient = self.q_n / LIMIT_OVERRIDE
         self.tau = float(hyd.spool_time_constant)
         self.leakage = float(hyd.leakage)
         self.v_hose = (float(hyd.hose_volume_a), float(hyd.hose_volume_b))
@@ -1150,13 +1153,22 @@ class _ValveDrive:
                     -r * self.q_n * _saturation((self.p_s - p_b) / lam))
         return 0.0, 0.0
 
-    def limit_flow(self, p: float) -> float:
-        """Relief (above p_R, to tank) and anti-cavitation (below p_C, from tank) into a chamber."""
-        if p < self.p_c:
-            return self.gradient * (self.p_c - p)
-        if p > self.p_r:
-            return -self.gradient * (p - self.p_r)
-        return 0.0
+    def limit_coefficients(self, stroke: float) -> Tuple[float, float]:
+        """G_lim / C(V) of both chambers at a stroke: the rates of limit_valves."""
+        v_a, v_b = self.volumes(stroke)
+        return (self.limit_gradient / self.compliance(v_a, 0),
+                self.limit_gradient / self.compliance(v_b, 1))
+
+    def limit_valves(self, coef: Tuple[float, float], dt: float, p_a: float,
+                     p_b: float) -> Tuple[float, float]:
+        """The relief and anti-cavitation valves over dt (docs/model.md, "Relief, cavitation
+        floor, leakage"): implicit Euler of dp/dt = Q_lim(p)/C(V) for each chamber alone, with
+        the rates coef = G_lim/C(V) at the substep's start."""
+        out = []
+        for p, c in zip((p_a, p_b), coef):
+            ref = self.p_c if p < self.p_c else self.p_r if p > self.p_r else p
+            out.append(ref + (p - ref) / (1.0 + dt * c))
+        return out[0], out[1]
 
     def rates(self, t: float, stroke: float, v: float, p_a: float, p_b: float,
               y: float) -> Tuple[float, float, float]:
@@ -1169,8 +1181,9 @@ class _ValveDrive:
         q_a, q_b = self.flows(y, p_a, p_b)
         v_a, v_b = self.volumes(stroke)
         q_l = self.leakage * (p_a - p_b)
-        dp_a = (q_a - self.area_a * v - q_l + self.limit_flow(p_a)) / self.compliance(v_a, 0)
-        dp_b = (self.area_b * v - q_b + q_l + self.limit_flow(p_b)) / self.compliance(v_b, 1)
+        # the relief and anti-cavitation valves are not here: limit_valves, implicitly
+        dp_a = (q_a - self.area_a * v - q_l) / self.compliance(v_a, 0)
+        dp_b = (self.area_b * v - q_b + q_l) / self.compliance(v_b, 1)
         return dp_a, dp_b, dy
 
     def stiffness(self, stroke: float) -> float:
@@ -1181,6 +1194,10 @@ class _ValveDrive:
         lam = max(g / self.compliance(v_a, 0), g / self.compliance(v_b, 1))
         return max(lam, 1.0 / self.tau) if self.tau > 0 else lam
 
+
+#: The relief and anti-cavitation valves pass the valve's nominal flow this far beyond their
+#: settings, Pa (docs/model.md, "Relief, cavitation floor, leakage").
+LIMIT_OVERRIDE = 5e3
 
 #: Substeps keep lambda h/n below this (RK4 is stable on the negative real axis up to 2.785).
 SUBSTEP_STABILITY = 2.5
@@ -1218,6 +1235,9 @@ class _Prediction:
         #: omega1, p_a0, p_b0, p_a1, p_b1, y0, y1), entries of other joints unused (kept at 0)
         self.valve = tuple(isinstance(d, _ValveDrive) for d in drives)
         self.hydraulic = any(self.valve)
+        #: G_lim/C(V) of both chambers of each valve-driven joint at the start of the current
+        #: substep (substeps): the rates of the relief and anti-cavitation valves' implicit update
+        self.limit_coef: List[Tuple[float, float]] = [(0.0, 0.0)] * 4
         #: stop[j]: 0 not stopped, -1 at the lower angle limit, +1 at the upper (angle terms;
         #: the reported flag is converted to actuator terms by TwinModel.stop_flag)
         self.stop = [0, 0, 0, 0]
@@ -1299,15 +1319,25 @@ class _Prediction:
         """Classical RK4 on the whole hydraulic state (docs/model.md, "Hydraulics")."""
         half = 0.5 * h
         k1 = self.derivative(t, x, locked)
-        x2 = tuple(a + half * b for a, b in zip(x, k1))
+        x2 = self.limit_valves(tuple(a + half * b for a, b in zip(x, k1)), half)
         k2 = self.derivative(t + half, x2, locked)
-        x3 = tuple(a + half * b for a, b in zip(x, k2))
+        x3 = self.limit_valves(tuple(a + half * b for a, b in zip(x, k2)), half)
         k3 = self.derivative(t + half, x3, locked)
-        x4 = tuple(a + h * b for a, b in zip(x, k3))
+        x4 = self.limit_valves(tuple(a + h * b for a, b in zip(x, k3)), h)
         k4 = self.derivative(t + h, x4, locked)
         sixth = h / 6.0
-        return tuple(a + sixth * (b1 + 2.0 * b2 + 2.0 * b3 + b4)
-                     for a, b1, b2, b3, b4 in zip(x, k1, k2, k3, k4))
+        return self.limit_valves(tuple(a + sixth * (b1 + 2.0 * b2 + 2.0 * b3 + b4)
+                                       for a, b1, b2, b3, b4 in zip(x, k1, k2, k3, k4)), h)
+
+    def limit_valves(self, x: Tuple[float, ...], dt: float) -> Tuple[float, ...]:
+        """x with the implicit part of every valve-driven chamber's relief and anti-cavitation
+        valves over dt applied (docs/model.md, "Integration (stiffness and substeps)")."""
+        y = list(x)
+        for j in JOINTS:
+            if self.valve[j]:
+                y[HYD + 2 * j], y[HYD + 1 + 2 * j] = self.drives[j].limit_valves(  # type: ignore
+                    self.limit_coef[j], dt, x[HYD + 2 * j], x[HYD + 1 + 2 * j])
+        return tuple(y)
 
     def substeps(self, x: Sequence[float], h: float) -> int:
         """n = max(1, ceil(h Lambda / 2.5)): Lambda from the chamber volumes at the step's start
@@ -1315,7 +1345,9 @@ class _Prediction:
         lam = 0.0
         for j in JOINTS:
             if self.valve[j]:
-                lam = max(lam, self.drives[j].stiffness(self.stroke(j, x[j])))  # type: ignore
+                stroke = self.stroke(j, x[j])
+                self.limit_coef[j] = self.drives[j].limit_coefficients(stroke)  # type: ignore
+                lam = max(lam, self.drives[j].stiffness(stroke))  # type: ignore
         if not self.held[EXTENSION]:
             lam = max(lam, self.extension_friction_rate(x))
         return max(1, int(math.ceil(h * lam / SUBSTEP_STABILITY)))
