@@ -7,6 +7,7 @@ are [lift, tilt].
 
 from __future__ import annotations
 
+import warnings
 from dataclasses import dataclass, field
 from typing import Any, Callable, Dict, Optional, Tuple, Union
 
@@ -51,6 +52,21 @@ def _pressure(value: object, name: str) -> float:
     if not 0.0 <= p <= PRESSURE_MAX:
         raise ValueError(f"{name} must be in [0, {PRESSURE_MAX:g}] Pa, got {p:g}")
     return p
+
+
+#: Pa (1 bar): a drive whose every pressure lies in (0, this) is warned about: the PATU's
+#: cylinders need tens of bar to move, so such a drive was most likely written in bar, not Pa.
+PLAUSIBLE_PRESSURE_MIN = 1e5
+
+
+def _warn_if_bar(drive: str, peaks: Dict[str, float]) -> None:
+    """warnings.warn naming the fields when a drive's largest pressure is above 0 but below
+    PLAUSIBLE_PRESSURE_MIN (175 for 175 bar); stacklevel points at the caller's constructor."""
+    top = max(peaks.values())
+    if 0.0 < top < PLAUSIBLE_PRESSURE_MIN:
+        fields = ", ".join(f"{drive}.{k} = {v:g} Pa" for k, v in peaks.items() if v > 0.0)
+        warnings.warn(f"{fields}: below 1 bar, where a crane's cylinders need tens of bar; "
+                      f"pressures are in Pa (175 bar = 175e5 Pa)", UserWarning, stacklevel=4)
 
 
 @dataclass(frozen=True)
@@ -135,6 +151,7 @@ class Pressure:
     def __post_init__(self) -> None:
         object.__setattr__(self, "p_a", _pressure(self.p_a, "Pressure.p_a"))
         object.__setattr__(self, "p_b", _pressure(self.p_b, "Pressure.p_b"))
+        _warn_if_bar("Pressure", {"p_a": self.p_a, "p_b": self.p_b})
 
     @property
     def t(self) -> None:
@@ -184,6 +201,7 @@ class PressureSeries:
                                  f"got [{a.min():g}, {a.max():g}]")
         for name, a in arrays.items():
             object.__setattr__(self, name, a)
+        _warn_if_bar("PressureSeries", {"p_a": float(self.p_a.max()), "p_b": float(self.p_b.max())})
 
     @classmethod
     def ramp(cls, t0: float, t1: float, start: Tuple[float, float], end: Tuple[float, float],
@@ -209,10 +227,16 @@ class Hold:
     held = True
 
 
+def _percent_hint(worst: float) -> str:
+    """A hint for a lever given in percent (|u| up to 100) instead of a fraction of full opening."""
+    return " (in percent? the lever is a fraction: give u / 100)" if 1.0 < worst <= 100.0 else ""
+
+
 def _lever(value: object, name: str) -> float:
     u = _number(value, name)
     if not -1.0 <= u <= 1.0:
-        raise ValueError(f"{name} must be in [-1, 1] (the lever; > 0 extends), got {u:g}")
+        raise ValueError(f"{name} must be in [-1, 1] (the lever; > 0 extends), got {u:g}"
+                         + _percent_hint(abs(u)))
     return u
 
 
@@ -255,7 +279,7 @@ class ValveSeries:
         u = arrays["u"]
         if u.min() < -1.0 or u.max() > 1.0:
             raise ValueError(f"ValveSeries.u must be in [-1, 1] (the lever), "
-                             f"got [{u.min():g}, {u.max():g}]")
+                             f"got [{u.min():g}, {u.max():g}]" + _percent_hint(float(abs(u).max())))
         for name, a in arrays.items():
             object.__setattr__(self, name, a)
 
@@ -269,11 +293,11 @@ Drive = Union[Pressure, PressureSeries, Hold, Valve, ValveSeries]
 @dataclass(frozen=True)
 class Inputs:
     """How each joint's actuator is driven during the prediction: the lift and tilt cylinders,
-    the slew drive and the extension cylinder. A slew or extension drive left out is held
-    (:class:`Hold`), so lift-and-tilt inputs keep their meaning."""
+    the slew drive and the extension cylinder. A drive left out is held (:class:`Hold`): its
+    joint keeps the value of the initial state, as a closed valve without give would."""
 
-    lift: Drive
-    tilt: Drive
+    lift: Drive = field(default_factory=lambda: Hold())
+    tilt: Drive = field(default_factory=lambda: Hold())
     slew: Drive = field(default_factory=lambda: Hold())
     extension: Drive = field(default_factory=lambda: Hold())
 
@@ -299,6 +323,9 @@ class Trajectory:
     flow_a, flow_b (N, 4) m^3/s: the valve's flow into chamber a and out of chamber b (0 unless
     valve-driven); spool (N, 4): the spool position (0 unless valve-driven).
     ``points()`` gives the world positions of every pivot and pin, to draw the crane.
+    ``supply_short``: the valve-driven boom cylinders ("lift", "tilt") whose load at the initial
+    pose needs more than their supply pressure to hold, so that levering against the load lets
+    the boom sink (:func:`cranepredict.holding_pressure`); empty when every drive can hold.
     """
 
     t: np.ndarray
@@ -318,6 +345,7 @@ class Trajectory:
     flow_a: Optional[np.ndarray] = None
     flow_b: Optional[np.ndarray] = None
     spool: Optional[np.ndarray] = None
+    supply_short: Tuple[str, ...] = ()
 
     def points(self) -> Dict[str, np.ndarray]:
         """World positions (N, 3) of each point in POINT_NAMES at each sample's theta, slew and
