@@ -135,6 +135,19 @@ def test_a_lift_the_supply_can_hold_is_not_flagged_and_rises():
     assert tr.tip[-1, 2] > tr.tip[0, 2] + 0.1
 
 
+def test_a_load_lowered_or_held_on_a_closed_valve_is_not_flagged():
+    c, initial, _ = _lever_up(350.0)
+    for lift in (cp.Valve(0.0), cp.Valve(-0.5), cp.ValveSeries(t=[0, 2], u=[0, -1])):
+        with warnings.catch_warnings():
+            warnings.simplefilter("error")
+            tr = cp.predict(c, initial, cp.Inputs(lift=lift, tilt=cp.Valve(0.0)), 0.5)
+        assert tr.supply_short == ()
+    lever = cp.ValveSeries(t=[0, 1, 2], u=[0, 0, 0.3])       # up only later: flagged
+    with pytest.warns(UserWarning, match=r"Inputs\.lift"):
+        tr = cp.predict(c, initial, cp.Inputs(lift=lever, tilt=cp.Valve(0.0)), 2.0)
+    assert tr.supply_short == ("lift",)
+
+
 def test_pressure_drives_have_no_supply_to_fall_short_of(crane):
     heavy = crane.with_load(350.0)
     tr = cp.predict(heavy, cp.State(0.116, 0.20), cp.Inputs(lift=cp.Pressure(60e5)), 0.1)

@@ -168,9 +168,9 @@ def predict(crane: Crane, initial: State, inputs: Inputs, horizon: float, *,
     checked before anything runs). Raises ValueError/TypeError naming the field and its allowed
     range on bad input; the arguments are never modified.
 
-    A valve-driven boom cylinder whose load needs more than its supply pressure to hold is listed
-    in ``Trajectory.supply_short`` and warned about (``warnings.warn``): levered against the load,
-    the boom sinks.
+    A valve-driven boom cylinder levered against a load that needs more than its supply pressure
+    to hold is listed in ``Trajectory.supply_short`` and warned about (``warnings.warn``): levered
+    against the load, the boom sinks.
     """
     dt = DEFAULT_DT if dt is None else dt
     n_steps = _check(crane, initial, inputs, horizon, dt, backend, sample_every)

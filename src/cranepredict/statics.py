@@ -10,6 +10,8 @@ from __future__ import annotations
 
 from typing import TYPE_CHECKING, Optional, Tuple
 
+import numpy as np
+
 from ._checks import number as _number
 from .crane import Crane
 from .types import PRESSURE_MAX, State
@@ -89,8 +91,9 @@ def holding_forces(crane: Crane, lift_stroke: float, tilt_stroke: float,
 
 
 def supply_short(crane: Crane, state: State, inputs: "Inputs") -> Tuple[Tuple[str, float, float], ...]:
-    """The valve-driven boom cylinders whose load at the pose of ``state`` needs more pressure to
-    hold than their supply gives: (joint, holding pressure in Pa, supply pressure in Pa) each.
+    """The valve-driven boom cylinders levered against their load (at any time of the drive) whose
+    load at the pose of ``state`` needs more pressure to hold than their supply gives: (joint,
+    holding pressure in Pa, supply pressure in Pa) each.
 
     The load-carrying chamber is the bore side when the load pushes the cylinder in (the PATU's
     lift) and the rod side when it pulls it out (its tilt); the other chamber is at the tank
@@ -109,6 +112,9 @@ def supply_short(crane: Crane, state: State, inputs: "Inputs") -> Tuple[Tuple[st
         cyl = (crane.lift_cylinder, crane.tilt_cylinder)[j]
         hyd = cyl.hydraulics
         force, tank = forces[j], hyd.tank_pressure
+        lever = np.asarray(getattr(inputs, _JOINTS[j]).u, dtype=float)
+        if not np.any(lever * (1.0 if force >= 0.0 else -1.0) > 0.0):
+            continue   # never levered against the load: a closed valve holds up to the relief
         if force >= 0.0:
             needed = (force + tank * cyl.area_b) / cyl.area_a
         else:

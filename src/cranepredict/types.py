@@ -323,9 +323,9 @@ class Trajectory:
     flow_a, flow_b (N, 4) m^3/s: the valve's flow into chamber a and out of chamber b (0 unless
     valve-driven); spool (N, 4): the spool position (0 unless valve-driven).
     ``points()`` gives the world positions of every pivot and pin, to draw the crane.
-    ``supply_short``: the valve-driven boom cylinders ("lift", "tilt") whose load at the initial
-    pose needs more than their supply pressure to hold, so that levering against the load lets
-    the boom sink (:func:`cranepredict.holding_pressure`); empty when every drive can hold.
+    ``supply_short``: the valve-driven boom cylinders ("lift", "tilt") levered against their load
+    whose load at the initial pose needs more than their supply pressure to hold: levered
+    against it, the boom sinks (:func:`cranepredict.holding_pressure`); empty otherwise.
     """
 
     t: np.ndarray
