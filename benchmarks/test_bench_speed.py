@@ -373,3 +373,13 @@ def test_crane_construction(benchmark):
     assert isinstance(c, cp.Crane)
     if benchmark.stats is not None:
         print(f"\n[crane] with_load: {benchmark.stats['median'] * 1e3:.3f} ms (median)")
+
+
+def test_predict_call_overhead(benchmark):
+    """The cost of predict() beyond the steps: one 5-ms step of paper-fig4 (argument checks, the
+    cffi structs, the output array and the Trajectory)."""
+    sc = cp.scenarios.get("paper-fig4")
+    tr = benchmark(lambda: cp.predict(sc.crane, sc.initial, sc.inputs, cp.DEFAULT_DT))
+    assert len(tr.t) == 2
+    if benchmark.stats is not None:
+        print(f"\n[overhead] predict() of one step: {benchmark.stats['median'] * 1e6:.1f} us (median)")

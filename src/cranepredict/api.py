@@ -35,7 +35,7 @@ def _core_module() -> Any:
 
 #: Default RK4 step and sample interval, s. Chosen by measured accuracy (tools/dt_study.py, checked
 #: by tests/test_default_step.py): over the named scenarios and 30 random ones the tip stays within
-#: 0.36 mm of a converged run (issue 9's bound is 1 mm; 10 ms misses it); see README. Steps are cut
+#: 0.36 mm of a converged run (the accuracy target is 1 mm; 10 ms misses it; docs/dt-study.md). Steps are cut
 #: at the samples of sampled drives, and valve-driven cylinders add their own substeps.
 DEFAULT_DT = 5e-3
 
@@ -174,7 +174,9 @@ def predict(crane: Crane, initial: State, inputs: Inputs, horizon: float, *,
     """
     dt = DEFAULT_DT if dt is None else dt
     n_steps = _check(crane, initial, inputs, horizon, dt, backend, sample_every)
-    short = supply_short(crane, initial, inputs)
+    valves = (Valve, ValveSeries)
+    short = supply_short(crane, initial, inputs) \
+        if isinstance(inputs.lift, valves) or isinstance(inputs.tilt, valves) else ()
     for joint, needed, supply in short:
         warnings.warn(f"Inputs.{joint}: holding the load at this pose takes {needed / 1e5:.1f} bar, "
                       f"more than the supply's {supply / 1e5:.1f} bar ({joint}_cylinder.hydraulics."

@@ -317,7 +317,7 @@ def _guard_plot(v, sc, out_dir: str, g) -> str:
         c = v.contact
         poses.append(((c.theta, c.slew, c.extension), "tab:red", f"at first contact, t = {c.t:.3f} s"))
     if stop_t is not None and stop_t >= 0:
-        poses.append((at(stop_t), "tab:orange", f"last stop point, t = {stop_t:.3f} s"))
+        poses.append((at(stop_t), "tab:orange", f"latest stop point, t = {stop_t:.3f} s"))
     every = max(1, len(traj.t) // 80)
     path = [g.part_solids(crane, state, th, slew=ps, extension=e)
             for th, ps, e in zip(traj.theta[::every], slews[::every], extensions[::every])]
