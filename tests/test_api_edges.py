@@ -88,6 +88,18 @@ def test_a_pressure_in_bar_is_warned_about_naming_the_field():
         cp.PressureSeries(t=[0, 2], p_a=[0, 0], p_b=[20, 50])
 
 
+def test_measured_chamber_pressures_in_bar_are_warned_about():
+    with pytest.warns(UserWarning, match=r"State\.lift_p_a = 53\.5 Pa.*State\.tilt_p_b = 77\.1 Pa") as rec:
+        cp.State(lift_stroke=0.116, tilt_stroke=0.20, lift_p_a=53.5, lift_p_b=31.0,
+                 tilt_p_a=48.1, tilt_p_b=77.1)
+    assert rec[0].filename == __file__
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        cp.State(0.116, 0.20, lift_p_a=53.5e5, lift_p_b=1e5, tilt_p_a=1e5, tilt_p_b=77.1e5)
+        cp.State(0.116, 0.20, lift_p_a=0.0, lift_p_b=0.0)          # no pressure at all: plausible
+        cp.state_at_rest(cp.Crane.patu655(), 0.116, 0.20)
+
+
 def test_plausible_pressures_are_not_warned_about():
     with warnings.catch_warnings():
         warnings.simplefilter("error")

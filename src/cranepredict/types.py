@@ -129,6 +129,11 @@ class State:
                 raise ValueError(f"State.{name} must be in [{CHAMBER_PRESSURE_MIN:g}, "
                                  f"{PRESSURE_MAX:g}] Pa, got {p:g}")
             object.__setattr__(self, name, p)
+        given = {name: getattr(self, name) for name in ("lift_p_a", "lift_p_b", "tilt_p_a", "tilt_p_b",
+                                                         "slew_p_a", "slew_p_b", "extension_p_a",
+                                                         "extension_p_b") if getattr(self, name) is not None}
+        if given:
+            _warn_if_bar("State", {k: abs(v) for k, v in given.items()})
         for name in ("lift_spool", "tilt_spool", "slew_spool", "extension_spool"):
             if not -1.0 <= getattr(self, name) <= 1.0:
                 raise ValueError(f"State.{name} must be in [-1, 1], got {getattr(self, name)}")
