@@ -54,7 +54,7 @@ def _sample_arrays(samples: np.ndarray) -> dict:
 
 
 def _check(crane: Crane, initial: State, inputs: Inputs, horizon: float, dt: float,
-           backend: str, sample_every: int) -> int:
+           backend: str, sample_every: int = 1) -> int:
     """Checks that need more than one argument, naming the field and the allowed range; returns
     the number of steps."""
     n_steps = _check_shared(crane, horizon, dt, backend)
