@@ -21,6 +21,7 @@ def _compare(c, initial, inputs, horizon, dt=None):
             float(np.max(np.abs(a.omega - b.omega))))
 
 
+@pytest.mark.slow
 def test_fifty_random_scenarios_agree():
     crane = cp.Crane.patu655()
     rng = np.random.default_rng(2026)
@@ -93,6 +94,7 @@ def _random_valve_case(rng, crane, horizon=2.0):
     return c, dataclasses.replace(rest, **spools), cp.Inputs(lift=drives[0], tilt=drives[1])
 
 
+@pytest.mark.slow
 def test_twenty_random_valve_driven_cases_agree():
     """Tip to 1e-9 m and chamber pressures to 1e-3 Pa (the issue's targets; measured 7e-15 m
     and 3e-7 Pa. With the earlier tanh friction law, smoothing over 1 mm/s, a release from a stop

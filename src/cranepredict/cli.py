@@ -218,6 +218,11 @@ def _plots(rows, out_dir: str) -> None:
 
 # -- guard: the collision guard's verdict on a scenario (docs/guard.md) ----------------------------
 
+#: The exit status of ``cranepredict guard`` per verdict, so that a script can branch on it; 2
+#: stays a usage or input error and 130 an interrupt, as for every command.
+GUARD_EXIT = {"GO": 0, "WARN": 3, "STOP": 4}
+
+
 def _guard(args: argparse.Namespace) -> int:
     import importlib
     import json
@@ -245,7 +250,7 @@ def _guard(args: argparse.Namespace) -> int:
         d = v.to_dict()
         d["scenario"] = sc.name
         print(json.dumps(d, indent=2))
-        return 0
+        return GUARD_EXIT[v.signal]
     print(f"world      {world.name}: {world.description} (margin {v.margin:g} m, "
           f"{len(world.obstacles)} obstacles)")
     print(f"scenario   {sc.name}: {sc.description} (horizon {horizon:g} s)")
@@ -265,7 +270,7 @@ def _guard(args: argparse.Namespace) -> int:
               f"{v.stop.note}")
     if args.plot:
         print(f"plot       {path}")
-    return 0
+    return GUARD_EXIT[v.signal]
 
 
 def _hull(p: np.ndarray) -> np.ndarray:
@@ -314,7 +319,7 @@ def _guard_plot(v, sc, out_dir: str, g) -> str:
         c = v.contact
         poses.append(((c.theta, c.slew, c.extension), "tab:red", f"at first contact, t = {c.t:.3f} s"))
     if stop_t is not None and stop_t >= 0:
-        poses.append((at(stop_t), "tab:orange", f"last stop point, t = {stop_t:.3f} s"))
+        poses.append((at(stop_t), "tab:orange", f"latest stop point, t = {stop_t:.3f} s"))
     every = max(1, len(traj.t) // 80)
     path = [g.part_solids(crane, state, th, slew=ps, extension=e)
             for th, ps, e in zip(traj.theta[::every], slews[::every], extensions[::every])]
@@ -402,8 +407,7 @@ def main(argv: Optional[List[str]] = None) -> int:
     demo.add_argument("--repeat", type=int, default=None,
                       help="timed repetitions (default: 201 on the C core, 3 on the twin)")
     demo.add_argument("--backend", choices=("c", "python"), default=None,
-                      help="c (the C core) or python (the twin); default: c, the twin for a scenario "
-                           "that moves the slew or the extension while the C core cannot")
+                      help="c (the C core) or python (the twin); default: c")
     demo.add_argument("--plot", metavar="DIR", default=None,
                       help="write side and top views of the motion (needs the [plot] extra)")
     demo.set_defaults(func=_demo)
@@ -420,7 +424,8 @@ def main(argv: Optional[List[str]] = None) -> int:
                      help="reference step, s (default: cranepredict.reference.DEFAULT_REFERENCE_DT, 2.5e-4)")
     val.set_defaults(func=_validate)
     grd = sub.add_parser("guard", help="the collision guard's verdict (GO/WARN/STOP) on a scenario's "
-                                       "future against a world's obstacles")
+                                       "future against a world's obstacles",
+                         epilog="exit status: 0 GO, 3 WARN, 4 STOP, 2 bad input")
     grd.add_argument("--world", required=True,
                      help="world file (TOML), or an example world's name (wall, cab, power-line, building-edge)")
     grd.add_argument("--scenario", default="paper-fig4", help="scenario name (default: paper-fig4)")
