@@ -389,6 +389,12 @@ def _guard_plot(v, sc, out_dir: str, g) -> str:
     return path_out
 
 
+def _view(args: argparse.Namespace) -> int:
+    from .view import app
+
+    return app.run(args)
+
+
 def main(argv: Optional[List[str]] = None) -> int:
     parser = argparse.ArgumentParser(
         prog="cranepredict",
@@ -430,6 +436,23 @@ def main(argv: Optional[List[str]] = None) -> int:
     grd.add_argument("--plot", metavar="DIR", default=None,
                      help="write side and top views (needs the [plot] extra)")
     grd.set_defaults(func=_guard)
+    vw = sub.add_parser("view", help="the operator's display in a browser: the crane now, where it "
+                                     "will be and the guard's verdict (needs the [view] extra)")
+    vw.add_argument("--scenario", default="paper-fig4", help="scenario name (default: paper-fig4)")
+    vw.add_argument("--world", default="wall",
+                    help="world file (TOML), or an example world's name (default: wall)")
+    vw.add_argument("--horizon", type=float, default=None, help="s (default: the scenario's)")
+    vw.add_argument("--reaction", type=float, default=0.2,
+                    help="delay from the stop decision to the stop, s (default: 0.2)")
+    vw.add_argument("--cycle", type=float, default=0.01, help="control cycle, s (default: 0.01)")
+    vw.add_argument("--ghosts", type=int, default=4, help="future poses drawn (default: 4)")
+    vw.add_argument("--host", default="127.0.0.1",
+                    help="address to listen on (default: 127.0.0.1, this machine only; 0.0.0.0: "
+                         "every network of this machine)")
+    vw.add_argument("--port", type=int, default=8080, help="port (default: 8080; 0: any free one)")
+    vw.add_argument("--serve-for", type=float, default=None, metavar="S",
+                    help="stop after S seconds (default: serve until Ctrl-C)")
+    vw.set_defaults(func=_view)
     lst = sub.add_parser("scenarios", help="list the named scenarios")
     lst.set_defaults(func=_scenarios)
     args = parser.parse_args(argv)
