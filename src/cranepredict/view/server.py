@@ -254,7 +254,7 @@ class Viewer:
             if h is not None:
                 h.remove()
             self._handles["/tip_path"] = self.server.scene.add_line_segments(
-                "/tip_path", points=seg, colors=_TIP_PATH_COLOUR, line_width=3.0)
+                "/tip_path", points=seg, colors=_TIP_PATH_COLOUR, thickness=3.0, thickness_units="screen")
 
     def _contact(self, contact: Optional[tuple]) -> None:
         for key in ("/contact/line", "/contact/point"):
@@ -266,7 +266,7 @@ class Viewer:
         a, b = contact
         self._handles["/contact/line"] = self.server.scene.add_line_segments(
             "/contact/line", points=np.array([[a, b]], dtype=np.float32), colors=_CONTACT_COLOUR,
-            line_width=3.0)
+            thickness=3.0, thickness_units="screen")
         self._handles["/contact/point"] = self.server.scene.add_icosphere(
             "/contact/point", radius=0.08, color=sc.CLEARANCE_COLOURS["within margin"],
             position=tuple(float(x) for x in a))
