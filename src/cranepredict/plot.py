@@ -340,7 +340,8 @@ def validate_plots(rows: Sequence[dict], out_dir: str) -> List[str]:
             ax.set(xlabel="outward from the slew axis (boom plane), m", ylabel="height, m",
                    title=f"{r['name']}: tip path (boom plane)")
         ax.grid(True)
-        ax.legend(fontsize=8)
+        fig.legend(*ax.get_legend_handles_labels(), loc="lower left", ncol=3, fontsize=8,
+                   frameon=False)
         ax2.plot(fast.t, err * 1e3)
         if r["first_stop_time_s"] is not None:
             ax2.axvline(r["first_stop_time_s"], color="r", ls=":", label="first end stop")
@@ -349,7 +350,7 @@ def validate_plots(rows: Sequence[dict], out_dir: str) -> List[str]:
         ax2.set_ylabel("tip error |fast - reference|, mm")
         ax2.grid(True)
         ax2.set_title(f"max {r['max_error_mm']:.3f} mm, RMS {r['rms_error_mm']:.3f} mm")
-        fig.tight_layout()
+        fig.tight_layout(rect=(0, 0.06, 1, 1))
         path = os.path.join(out_dir, f"{r['name']}.png")
         fig.savefig(path, dpi=90)
         plt.close(fig)
