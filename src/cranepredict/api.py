@@ -157,6 +157,8 @@ def predict(crane: Crane, initial: State, inputs: Inputs, horizon: float, *,
 
         def points(theta: np.ndarray, slew: np.ndarray, extension: np.ndarray) -> np.ndarray:
             return _poses(lambda e, s, th: _core.points(crane, e, s, th), theta, slew, extension)
+
+        transmission = _c_transmission(crane)
     else:
         from . import twin
 
@@ -164,9 +166,21 @@ def predict(crane: Crane, initial: State, inputs: Inputs, horizon: float, *,
 
         def points(theta: np.ndarray, slew: np.ndarray, extension: np.ndarray) -> np.ndarray:
             return twin.points(crane, extension, slew, theta)
+
+        def transmission(joint: int, stroke: float, extension: float) -> float:
+            return twin.stroke_transmission(crane, joint, stroke, extension)
     for a in arrays.values():
         a.setflags(write=False)
-    return Trajectory(**arrays, backend=backend, _points=points)
+    return Trajectory(**arrays, backend=backend, _points=points, _transmission=transmission)
+
+
+def _c_transmission(crane: Crane) -> Any:
+    """(joint, stroke, extension) -> ds/dtheta of a boom cylinder, by the C core."""
+    _core = _core_module()
+
+    def transmission(joint: int, stroke: float, extension: float) -> float:
+        return _core.joint_angle(crane, joint, stroke, extension)[1]
+    return transmission
 
 
 def _poses(points: Any, theta: np.ndarray, slew: np.ndarray, extension: np.ndarray) -> np.ndarray:
@@ -311,4 +325,5 @@ def predict_many(crane: Crane, initials: Sequence[State], inputs_list: Sequence[
     def points(theta: np.ndarray, slew: np.ndarray, extension: np.ndarray) -> np.ndarray:
         return _poses(lambda e, s, th: _core.points(crane, e, s, th), theta, slew, extension)
 
-    return TrajectoryBatch(**arrays, backend="c", sample_every=int(sample_every), _points=points)
+    return TrajectoryBatch(**arrays, backend="c", sample_every=int(sample_every), _points=points,
+                           _transmission=_c_transmission(crane))

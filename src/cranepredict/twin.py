@@ -1783,6 +1783,12 @@ def simulate(crane: Any, state: Any, inputs: Any, horizon: float, dt: float) -> 
     return _run(crane, state, inputs, horizon, dt)[0]
 
 
+def stroke_transmission(crane: Any, joint: int, stroke: float, extension: float) -> float:
+    """ds/dtheta of a boom cylinder (0 lift, 1 tilt) at a stroke and extension: the factor that
+    turns a sample's joint rate back into the stroke rate a State holds."""
+    return TwinModel(crane, extension).joint_angle(joint, stroke)[1]
+
+
 def points(crane: Any, extension: Any, slew: Any, theta_array: Any) -> np.ndarray:
     """World coordinates (N, 11, 3) of the POINT_NAMES points for each row (theta0, theta1), at
     the extension (m) and slew (rad) of that row (each a scalar or one value per row)."""

@@ -298,7 +298,8 @@ class Trajectory:
     a valve-driven actuator, the given pressures of a pressure-driven one, 0 for a held one;
     flow_a, flow_b (N, 4) m^3/s: the valve's flow into chamber a and out of chamber b (0 unless
     valve-driven); spool (N, 4): the spool position (0 unless valve-driven).
-    ``points()`` gives the world positions of every pivot and pin, to draw the crane.
+    ``points()`` gives the world positions of every pivot and pin, to draw the crane;
+    ``state(i)`` (and ``final_state``) the :class:`State` at sample i, to continue from.
     """
 
     t: np.ndarray
@@ -318,6 +319,49 @@ class Trajectory:
     flow_a: Optional[np.ndarray] = None
     flow_b: Optional[np.ndarray] = None
     spool: Optional[np.ndarray] = None
+    #: (joint, stroke, extension) -> ds/dtheta of a boom cylinder, by the backend that predicted
+    _transmission: Optional[Callable[[int, float, float], float]] = field(default=None, repr=False)
+
+    def state(self, i: int) -> State:
+        """The :class:`State` at sample ``i`` (negative counts from the end): the one the
+        prediction would continue from. Strokes, stroke rates (omega times ds/dtheta at the
+        sample's pose), slew, extension and their rates, every actuator's chamber pressures and
+        spool. Predicting on from it under the same drives continues this trajectory (to the
+        rounding of the angle <-> stroke conversion; docs/model.md). Raises ValueError naming the
+        field if the sample is not a valid State (a chamber below vacuum, CHAMBER_PRESSURE_MIN)."""
+        n = len(self.t)
+        if isinstance(i, bool) or not isinstance(i, (int, np.integer)):
+            raise TypeError(f"Trajectory.state(i): i must be an int, got {type(i).__name__}")
+        if not -n <= i < n:
+            raise IndexError(f"Trajectory.state(i): i must be in [-{n}, {n - 1}], got {i}")
+        if self._transmission is None:
+            raise ValueError("Trajectory.state(i) needs a trajectory from cranepredict.predict "
+                             "or predict_many")
+        k = int(i) % n
+        ext = float(np.broadcast_to(self.extension, self.t.shape)[k])
+        fields: Dict[str, Any] = {
+            "lift_stroke": float(self.strokes[k, 0]), "tilt_stroke": float(self.strokes[k, 1]),
+            "slew": float(np.broadcast_to(self.slew, self.t.shape)[k]), "extension": ext,
+            "slew_rate": float(np.broadcast_to(self.slew_rate, self.t.shape)[k]),
+            "extension_rate": float(np.broadcast_to(self.extension_rate, self.t.shape)[k])}
+        for j, name in enumerate(JOINTS[:2]):
+            w = float(self.omega[k, j])
+            fields[f"{name}_stroke_rate"] = 0.0 if w == 0.0 else \
+                w * self._transmission(j, float(self.strokes[k, j]), ext)
+        for j, name in enumerate(JOINTS):
+            for side in ("p_a", "p_b", "spool"):
+                a = getattr(self, side)
+                if a is not None:
+                    fields[f"{name}_{side}"] = float(a[k, j])
+        try:
+            return State(**fields)
+        except ValueError as e:
+            raise ValueError(f"Trajectory.state({i}) at t = {float(self.t[k]):g} s: {e}") from None
+
+    @property
+    def final_state(self) -> State:
+        """The :class:`State` at the last sample (``state(-1)``)."""
+        return self.state(-1)
 
     def points(self) -> Dict[str, np.ndarray]:
         """World positions (N, 3) of each point in POINT_NAMES at each sample's theta, slew and
@@ -361,6 +405,7 @@ class TrajectoryBatch:
     flow_a: Optional[np.ndarray] = None
     flow_b: Optional[np.ndarray] = None
     spool: Optional[np.ndarray] = None
+    _transmission: Optional[Callable[[int, float, float], float]] = field(default=None, repr=False)
 
     def __len__(self) -> int:
         return int(self.tip.shape[0])
@@ -374,4 +419,5 @@ class TrajectoryBatch:
         k = int(k) % n
         arrays = {name: getattr(self, name) if name == "t" or getattr(self, name) is None
                   else getattr(self, name)[k] for name in ARRAYS}
-        return Trajectory(**arrays, backend=self.backend, _points=self._points)
+        return Trajectory(**arrays, backend=self.backend, _points=self._points,
+                          _transmission=self._transmission)
