@@ -8,5 +8,8 @@ measures, how noisy, how often). The bus (:mod:`cranepredict.live.bus`) needs th
 from .measurement import (MEASURABLE, Measurement, Sensor, Sensors, default_sensors, lever_values,
                           levers)
 
-__all__ = ["Measurement", "Sensor", "Sensors", "default_sensors", "levers", "lever_values",
+from .estimator import EKF, Estimator, InnovationFault
+from .loop import LiveTwin, LiveVerdict
+
+__all__ = ["LiveTwin", "LiveVerdict", "Estimator", "EKF", "InnovationFault", "Measurement", "Sensor", "Sensors", "default_sensors", "levers", "lever_values",
            "MEASURABLE"]

@@ -37,7 +37,7 @@ COUNTERS = {"LiftCylinder": "lift_counter", "TiltCylinder": "tilt_counter",
 SIGNAL_CODES = {"GO": 0, "WARN": 1, "STOP": 2, "FAULT": 3}
 #: The verdict's fault codes (the DBC's value table), by the live twin's fault kinds.
 FAULTS = {"none": 0, "stale": 1, "out of range": 2, "sensor error": 3, "innovation": 4,
-          "levers stale": 5, "internal": 6}
+          "levers stale": 5, "internal": 6, "settling": 7}
 #: s: the frames' nominal cycle (the DBC's GenMsgCycleTime).
 CYCLE = 0.01
 
