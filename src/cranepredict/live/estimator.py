@@ -15,7 +15,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
-from typing import Any, List, Optional, Tuple
+from typing import Any, Dict, List, Optional, Tuple
 
 import numpy as np
 
@@ -107,11 +107,12 @@ class EKF(Estimator):
 
     ``sensors`` say what is measured and how noisy (default: :func:`default_sensors`);
     ``window`` cycles of normalised innovation squared are tested against their chi-square
-    ``p``-quantile: above it, :meth:`update` raises :class:`InnovationFault`.
+    ``p``-quantile (all sensors together) and ``p_field``-quantile (each sensor alone): above
+    either, :meth:`update` raises :class:`InnovationFault`.
     """
 
     def __init__(self, crane: Crane, sensors: Optional[Sensors] = None, *, dt: Optional[float] = None,
-                 window: int = 25, p: float = 0.9999, noise: Optional[_Noise] = None) -> None:
+                 window: int = 25, p: float = 0.9999, p_field: float = 1 - 1e-9, noise: Optional[_Noise] = None) -> None:
         if not isinstance(crane, Crane):
             raise TypeError(f"crane must be a cranepredict.Crane, got {type(crane).__name__}")
         self.crane = crane
@@ -125,12 +126,14 @@ class EKF(Estimator):
         self.dt = dt
         self.window = int(window)
         self.p = float(p)
+        self.p_field = float(p_field)
         self.noise = noise or _Noise()
         self.lo, self.hi = _domain(crane)
         self._index = {n: i for i, n in enumerate(ESTIMATED)}
         self._q = np.array([self.noise.position] * 4 + [self.noise.rate] * 4
                            + [self.noise.pressure] * 8)
         self._h = np.array([_STEP[n] for n in ESTIMATED])
+        self._scale = np.array([1e-3] * 4 + [1e-3] * 4 + [1e5] * 8)
         self.projections = 0
         self.reset()
 
@@ -140,6 +143,7 @@ class EKF(Estimator):
         self.spools = np.zeros(4)
         self.t: Optional[float] = None
         self.nis: List[Tuple[float, int]] = []
+        self.field_nis: Dict[str, List[float]] = {}
         self.state: Optional[State] = None
 
     # -- state <-> vector ----------------------------------------------------------------------
@@ -231,6 +235,45 @@ class EKF(Estimator):
         y[:, 9::2] = batch.p_b[:, -1, :]
         return y
 
+    def _innovation_test(self) -> None:
+        """Over the last ``window`` cycles: the normalised innovation squared of all the sensors
+        together against its chi-square ``p``-quantile, and each sensor's own (a stuck or drifting
+        sensor) against its chi-square ``p_field``-quantile (stricter: there are many sensors)."""
+        if len(self.nis) < self.window:
+            return
+        total = sum(v for v, _ in self.nis)
+        dof = sum(k for _, k in self.nis)
+        bound = chi2_quantile(self.p, dof)
+        if total > bound:
+            raise InnovationFault(f"normalised innovation {total:.0f} over the last "
+                                  f"{len(self.nis)} cycles exceeds its chi-square {self.p:g} "
+                                  f"bound {bound:.0f} ({dof} degrees of freedom)")
+        for n, vals in self.field_nis.items():
+            if len(vals) < self.window:
+                continue
+            total, bound = sum(vals), chi2_quantile(self.p_field, len(vals))
+            if total > bound:
+                raise InnovationFault(f"{n}: normalised innovation {total:.0f} over the last "
+                                      f"{len(vals)} samples exceeds its chi-square "
+                                      f"{self.p_field:.10g} bound {bound:.0f} (a stuck or "
+                                      f"drifting sensor?)")
+
+    def _positive(self, P: np.ndarray) -> np.ndarray:
+        """P symmetric and positive definite: symmetrised, and its eigenvalues floored in units
+        where every field's scale is 1 (P spans 1e-9 m^2 to 1e10 Pa^2: unscaled, rounding alone
+        makes small eigenvalues negative)."""
+        s = self._scale
+        Ps = 0.5 * (P + P.T) / np.outer(s, s)
+        w, v = np.linalg.eigh(Ps)
+        if w.min() < 1e-12:
+            Ps = (v * np.maximum(w, 1e-12)) @ v.T
+            Ps = 0.5 * (Ps + Ps.T)
+        return Ps * np.outer(s, s)
+
+    def scaled_covariance(self) -> np.ndarray:
+        """The covariance in units of each field's scale (mm, mm/s, bar): well conditioned."""
+        return self.covariance / np.outer(self._scale, self._scale)
+
     def update(self, measurement: Measurement) -> State:
         if not isinstance(measurement, Measurement):
             raise TypeError(f"measurement must be a cranepredict.Measurement, got {type(measurement).__name__}")
@@ -259,11 +302,10 @@ class EKF(Estimator):
             P = IKH @ P @ IKH.T + (K * r) @ K.T
             self.nis.append((float(innov @ np.linalg.solve(S, innov)), len(rows)))
             self.nis = self.nis[-self.window:]
-        P = 0.5 * (P + P.T)
-        w, v = np.linalg.eigh(P)
-        floor = 1e-12 * np.maximum(self._h, 1e-12) ** 2
-        if w.min() <= 0.0:
-            P = (v * np.maximum(w, 0.0)) @ v.T + np.diag(floor)
+            for n, v in zip(names, innov ** 2 / np.diag(S)):
+                self.field_nis.setdefault(n, []).append(float(v))
+                del self.field_nis[n][:-self.window]
+        P = self._positive(P)
         inside = np.clip(x, self.lo, self.hi)
         if np.any(inside != x):
             self.projections += 1
@@ -272,12 +314,5 @@ class EKF(Estimator):
             if getattr(measurement, s) is not None and s in self.sensors:
                 self.spools[j] = getattr(measurement, s)
         self.state = self._state(self.x, measurement.inputs, self.spools)
-        if len(self.nis) >= self.window:
-            total = sum(v for v, _ in self.nis)
-            dof = sum(k for _, k in self.nis)
-            bound = chi2_quantile(self.p, dof)
-            if total > bound:
-                raise InnovationFault(f"normalised innovation {total:.0f} over the last "
-                                      f"{len(self.nis)} cycles exceeds its chi-square {self.p:g} "
-                                      f"bound {bound:.0f} ({dof} degrees of freedom)")
+        self._innovation_test()
         return self.state

@@ -48,8 +48,8 @@ def _friction(actuator: Any, factor: float) -> Any:
         f, coulomb=f.coulomb * factor, static=f.static * factor, viscous=f.viscous * factor))
 
 
-def perturbed_crane(crane: Crane, *, load: float = 1.3, friction: float = 1.5,
-                    supply: float = 0.95) -> Crane:
+def perturbed_crane(crane: Crane, *, load: float = 1.3, friction: float = 1.2,
+                    supply: float = 0.97) -> Crane:
     """The crane with its load mass times ``load``, every friction level times ``friction`` and
     every supply pressure times ``supply`` (a different crane of the same build, as a real one
     differs from its crane file: the load on the hook is guessed, seals wear, the pump's
