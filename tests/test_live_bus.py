@@ -68,7 +68,7 @@ def test_not_available_and_error_codes():
     name, sig = c.decode(c.frame_id("LiftCylinder"), data)
     assert name == "LiftCylinder" and sig["lift_stroke"] is None and sig["lift_p_a"] is ERROR
     assert sig["lift_p_b"] == pytest.approx(2e5)
-    with pytest.raises(ValueError, match=r"LiftCylinder.lift_stroke = 7.0 is outside"):
+    with pytest.raises(ValueError, match=r"LiftCylinder.lift_stroke = 7.0 is outside the signal.s range \[-0.1, 6.3255\]"):
         c.encode("LiftCylinder", {"lift_stroke": 7.0})
     assert c.decode(0x123, bytes(8)) is None
 

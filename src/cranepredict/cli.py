@@ -430,6 +430,9 @@ def main(argv: Optional[List[str]] = None) -> int:
     grd.add_argument("--plot", metavar="DIR", default=None,
                      help="write side and top views (needs the [plot] extra)")
     grd.set_defaults(func=_guard)
+    from .live.cli import add_parsers as _live_parsers
+
+    _live_parsers(sub)
     lst = sub.add_parser("scenarios", help="list the named scenarios")
     lst.set_defaults(func=_scenarios)
     args = parser.parse_args(argv)

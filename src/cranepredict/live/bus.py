@@ -289,7 +289,9 @@ class VerdictMonitor:
     last_time: float = -math.inf
     last_counter: Optional[int] = None
 
-    def feed(self, msg: Any) -> Optional[Dict[str, Any]]:
+    def feed(self, msg: Any, t: Optional[float] = None) -> Optional[Dict[str, Any]]:
+        """One received frame (a Verdict or not); ``t``: its receipt time on the ECU's clock
+        (default: the frame's timestamp). Returns the verdict's signals if fresh."""
         dec = self.codec.decode(msg.arbitration_id, msg.data)
         if dec is None or dec[0] != VERDICT_FRAME:
             return None
@@ -298,7 +300,7 @@ class VerdictMonitor:
         if counter is None or counter is ERROR or _counter_step(self.last_counter, int(counter)) == 0:
             return None    # frozen or missing counter: not a fresh verdict
         self.last_counter = int(counter)
-        self.last, self.last_time = sig, float(msg.timestamp)
+        self.last, self.last_time = sig, float(msg.timestamp if t is None else t)
         return sig
 
     def signal(self, t: float) -> str:

@@ -99,6 +99,8 @@ class _Noise:
 
     position: float = 1e-8         # m^2/s (rad^2/s)
     rate: float = 4e-3             # (m/s)^2/s: unmodelled forces (the load, friction)
+    extension_rate: float = 4e-2   # (m/s)^2/s: the telescope's, larger (its friction and valve
+                                   # are estimates in the crane file)
     pressure: float = 2.5e11       # Pa^2/s: unmodelled flows and loads (5 bar over 1 s)
 
 
@@ -112,7 +114,7 @@ class EKF(Estimator):
     """
 
     def __init__(self, crane: Crane, sensors: Optional[Sensors] = None, *, dt: Optional[float] = None,
-                 window: int = 25, p: float = 0.9999, p_field: float = 1 - 1e-9, noise: Optional[_Noise] = None) -> None:
+                 window: int = 25, p: float = 1 - 1e-7, p_field: float = 1 - 1e-12, noise: Optional[_Noise] = None) -> None:
         if not isinstance(crane, Crane):
             raise TypeError(f"crane must be a cranepredict.Crane, got {type(crane).__name__}")
         self.crane = crane
@@ -130,8 +132,8 @@ class EKF(Estimator):
         self.noise = noise or _Noise()
         self.lo, self.hi = _domain(crane)
         self._index = {n: i for i, n in enumerate(ESTIMATED)}
-        self._q = np.array([self.noise.position] * 4 + [self.noise.rate] * 4
-                           + [self.noise.pressure] * 8)
+        self._q = np.array([self.noise.position] * 4 + [self.noise.rate] * 3
+                           + [self.noise.extension_rate] + [self.noise.pressure] * 8)
         self._h = np.array([_STEP[n] for n in ESTIMATED])
         self._scale = np.array([1e-3] * 4 + [1e-3] * 4 + [1e5] * 8)
         self.projections = 0
@@ -142,6 +144,7 @@ class EKF(Estimator):
         self.covariance = np.zeros((len(ESTIMATED), len(ESTIMATED)))
         self.spools = np.zeros(4)
         self.t: Optional[float] = None
+        self.inputs: Optional[Inputs] = None
         self.nis: List[Tuple[float, int]] = []
         self.field_nis: Dict[str, List[float]] = {}
         self.state: Optional[State] = None
@@ -185,6 +188,7 @@ class EKF(Estimator):
                                 (getattr(m.inputs, j).u if isinstance(getattr(m.inputs, j), Valve) else 0.0)
                                 for j, s in zip(JOINTS, SPOOLS)])
         self.t = m.t
+        self.inputs = m.inputs
         self.state = self._state(self.x, m.inputs, self.spools)
         return self.state
 
@@ -246,7 +250,7 @@ class EKF(Estimator):
         bound = chi2_quantile(self.p, dof)
         if total > bound:
             raise InnovationFault(f"normalised innovation {total:.0f} over the last "
-                                  f"{len(self.nis)} cycles exceeds its chi-square {self.p:g} "
+                                  f"{len(self.nis)} cycles exceeds its chi-square (1 - {1 - self.p:.0e}) "
                                   f"bound {bound:.0f} ({dof} degrees of freedom)")
         for n, vals in self.field_nis.items():
             if len(vals) < self.window:
@@ -255,7 +259,7 @@ class EKF(Estimator):
             if total > bound:
                 raise InnovationFault(f"{n}: normalised innovation {total:.0f} over the last "
                                       f"{len(vals)} samples exceeds its chi-square "
-                                      f"{self.p_field:.10g} bound {bound:.0f} (a stuck or "
+                                      f"(1 - {1 - self.p_field:.0e}) bound {bound:.0f} (a stuck or "
                                       f"drifting sensor?)")
 
     def _positive(self, P: np.ndarray) -> np.ndarray:
@@ -282,7 +286,8 @@ class EKF(Estimator):
         period = measurement.t - self.t
         if not period > 0:
             raise ValueError(f"Measurement.t must increase: {measurement.t} after {self.t}")
-        x, F, spools = self._propagate(measurement.inputs, period)
+        # the valves' commands of the previous measurement, held over the period (zero-order hold)
+        x, F, spools = self._propagate(self.inputs, period)
         P = F @ self.covariance @ F.T + np.diag(self._q * period)
         values = measurement.values()
         rows = [self._index[n] for n in ESTIMATED if n in values and n in self.sensors]
@@ -310,6 +315,7 @@ class EKF(Estimator):
         if np.any(inside != x):
             self.projections += 1
         self.x, self.covariance, self.spools, self.t = inside, P, spools, measurement.t
+        self.inputs = measurement.inputs
         for j, s in enumerate(SPOOLS):
             if getattr(measurement, s) is not None and s in self.sensors:
                 self.spools[j] = getattr(measurement, s)

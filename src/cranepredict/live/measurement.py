@@ -52,8 +52,8 @@ class Measurement:
 
     Each State field (``lift_stroke``, ``tilt_stroke``, ``slew``, ``extension``, ``lift_p_a``, ...)
     holds the measured value, or None where the crane does not measure it or no new sample arrived
-    this cycle. ``inputs`` are the commands the valves received over the last period (after any
-    interlock), as
+    this cycle. ``inputs`` are the valves' commands at ``t`` (after any interlock; the
+    estimator holds them until the next measurement), as
     :class:`~cranepredict.Valve` drives; ``request`` the operator's levers before the interlock
     (None: the same as ``inputs``): the live twin predicts the future under ``request``.
     """

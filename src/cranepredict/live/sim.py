@@ -172,8 +172,8 @@ class SimCrane:
                 self.script.at(self.plant.t), self.valve_scale)
 
     def measurement(self) -> Measurement:
-        values, request, _ = self.measure()
-        return Measurement(t=self.plant.t, inputs=levers(*self.applied),
+        values, request, scale = self.measure()
+        return Measurement(t=self.plant.t, inputs=levers(*(u * scale for u in request)),
                            request=levers(*request), **{k: v for k, v in values.items()})
 
     def step(self, allowed: bool) -> State:
