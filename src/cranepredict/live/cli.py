@@ -133,7 +133,10 @@ def _replay(args: argparse.Namespace) -> int:
         counts = {s: sum(v.signal == s for v in verdicts) for s in ("GO", "WARN", "STOP", "FAULT")}
         print(f"{len(verdicts)} cycles: " + ", ".join(f"{k} {n}" for k, n in counts.items()))
     if args.plot:
-        print(f"plot: {_plot(verdicts, args.plot, os.path.basename(args.log))}")
+        import sys
+
+        print(f"plot: {_plot(verdicts, args.plot, os.path.basename(args.log))}",
+              file=sys.stderr if args.json else sys.stdout)
     return 0
 
 

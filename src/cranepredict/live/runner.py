@@ -42,7 +42,7 @@ def run_twin(bus: Any, twin: LiveTwin, *, stop: Optional[threading.Event] = None
     """Serves the twin on ``bus`` until ``stop`` is set (or ``max_cycles`` verdicts): each Levers
     frame closes a measurement, the verdict goes out at once. Without a Levers frame for the
     sensors' ``levers_max_age``, a FAULT verdict goes out each such period. Returns the number
-    of verdicts sent."""
+    of measurements judged (``max_cycles`` counts these)."""
     asm, out = MeasurementAssembler(), VerdictFrame()
     sent, last = 0, clock()
     age = twin.sensors.levers_max_age
@@ -54,7 +54,7 @@ def run_twin(bus: Any, twin: LiveTwin, *, stop: Optional[threading.Event] = None
             if now - last > age:
                 v = twin.fault(now, "levers stale", f"no lever frame for {now - last:.3f} s")
                 bus.send(verdict_message(out, v, twin.crane, twin.world, now))
-                sent, last = sent + 1, now
+                last = now
                 if on_verdict:
                     on_verdict(v)
             continue
