@@ -174,3 +174,14 @@ def test_the_interlock_obeyed_prevents_the_collision_that_ignoring_it_lets_happe
     obeyed = run_episode(crane, world, start, script, 6.0, obey=True)
     assert not obeyed.collided and obeyed.first_stop is not None
     assert obeyed.counts["STOP"] > 0
+
+
+def test_a_first_position_read_just_beyond_its_end_starts_at_the_end(crane):
+    """Noise at an end stop: the telescope retracted reads -0.7 mm; the estimate starts at 0."""
+    ekf = EKF(crane)
+    s = ekf.update(cp.Measurement(t=0.0, inputs=levers(), lift_stroke=0.2, tilt_stroke=0.3,
+                                  slew=0.0, extension=-7e-4))
+    assert s.extension == crane.geometry.extension_min and ekf.projections == 1
+    s = ekf.update(cp.Measurement(t=0.01, inputs=levers(), lift_stroke=0.2, tilt_stroke=0.3,
+                                  slew=0.0, extension=-7e-4))
+    assert s.extension >= crane.geometry.extension_min

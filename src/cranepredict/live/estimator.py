@@ -170,13 +170,20 @@ class EKF(Estimator):
         missing = [p for p in POSITIONS if p not in values]
         if missing:
             raise ValueError(f"the first measurement must hold every joint's position, missing {missing}")
-        rest = api.state_at_rest(self.crane, values["lift_stroke"], values["tilt_stroke"],
-                                 slew=values["slew"], extension=values["extension"])
+        # a position read a little beyond its end (noise at an end stop) starts at the end
+        pose = {p: min(max(values[p], self.lo[i]), self.hi[i]) for i, p in enumerate(POSITIONS)}
+        if any(pose[p] != values[p] for p in POSITIONS):
+            self.projections += 1
+        rest = api.state_at_rest(self.crane, pose["lift_stroke"], pose["tilt_stroke"],
+                                 slew=pose["slew"], extension=pose["extension"])
         x = self._vector(rest)
         var = []
         for n in ESTIMATED:
-            if n in values and n in self.sensors:
+            if n in values and n in self.sensors and n not in POSITIONS:
                 x[self._index[n]] = values[n]
+                var.append(self.sensors[n].std ** 2)
+            elif n in POSITIONS:
+                x[self._index[n]] = pose[n]
                 var.append(self.sensors[n].std ** 2)
             elif n in RATES:
                 var.append(0.05 ** 2)
