@@ -3,10 +3,10 @@ interlock obeyed and ignored. Prints the table of docs/live.md ("Closed loop").
 
     python tools/closed_loop_study.py [--episodes 100] [--seed 0] [--json FILE]
 
-An episode: an example world, a start pose and a lever combination whose unobeyed future (on the
-twin's crane file) touches an obstacle between 1.5 and 5 s; the plant's load, friction and supply
-pressure drawn off the crane file (x0.7-1.3, x0.8-1.25, x0.95-1.03). Each runs until 1.5 s
-after that contact, once obeying the verdict and once ignoring it. A needless STOP: the obeyed
+An episode: an example world, a start pose clear of every obstacle's margin at rest, and a lever
+combination whose future (on the twin's crane file) comes within the margin between 1.5 and 4 s;
+the plant's load, friction and supply pressure drawn off the crane file (x0.7-1.3, x0.8-1.25,
+x0.95-1.03). Each runs until 2 s after that, once obeying the verdict and once ignoring it. A needless STOP: the obeyed
 run's first STOP comes while the ignored run does not touch within the horizon (2 s) after it.
 """
 
@@ -43,10 +43,12 @@ def draw(rng: np.random.Generator, crane: cp.Crane):
             continue
         inputs = cp.live.levers(*u)
         try:
-            v = cp.guard(crane, world, start, inputs, 5.0, margin=0.0)
+            v = cp.guard(crane, world, start, inputs, 5.0)
+            rest = cp.guard(crane, world, start, cp.live.levers(), 0.5)
         except ValueError:
             continue
-        if v.contact is not None and 1.5 <= v.contact.t <= 5.0:
+        # clear of the margin at rest; the levers bring the crane within it 1.5-4 s ahead
+        if rest.contact is None and v.contact is not None and 1.5 <= v.contact.t <= 4.0:
             script = LeverScript(((0.0, (0.0,) * 4), (0.3, u)))
             return world, start, script, plant, v.contact.t + 0.3
 
@@ -63,7 +65,7 @@ def main() -> None:
     t0 = time.time()
     for k in range(a.episodes):
         world, start, script, plant, t_contact = draw(rng, crane)
-        seconds = t_contact + 1.5
+        seconds = t_contact + 2.0
         ign = run_episode(crane, world, start, script, seconds, obey=False, plant_crane=plant, seed=k)
         obe = run_episode(crane, world, start, script, seconds, obey=True, plant_crane=plant, seed=k)
         t_hit = None
