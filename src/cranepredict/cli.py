@@ -278,6 +278,9 @@ def main(argv: Optional[List[str]] = None) -> int:
     vw.add_argument("--serve-for", type=float, default=None, metavar="S",
                     help="stop after S seconds (default: serve until Ctrl-C)")
     vw.set_defaults(func=_view)
+    from .live.cli import add_parsers as _live_parsers
+
+    _live_parsers(sub)
     lst = sub.add_parser("scenarios", help="list the named scenarios")
     lst.set_defaults(func=_scenarios)
     args = parser.parse_args(argv)
