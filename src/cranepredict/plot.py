@@ -171,7 +171,7 @@ def near_in_depth(s: dict, axis: int, lo: float, hi: float, near: float = NEAR) 
 
 def guard_plot(v: Any, sc: Any, out_dir: str, g: Any) -> str:
     """The guard's verdict: side (X, Z) and top (X, Y) views of the crane now, at the first
-    contact and at the last stop point, each part's predicted path, and the obstacles near the
+    contact and at the latest stop point, each part's predicted path, and the obstacles near the
     crane's path in each view; returns the file written."""
     plt = _plt()
     os.makedirs(out_dir, exist_ok=True)
@@ -201,7 +201,7 @@ def guard_figure(v: Any, sc: Any, g: Any) -> Any:
         c = v.contact
         poses.append(((c.theta, c.slew, c.extension), "tab:red", f"at first contact, t = {c.t:.3f} s"))
     if stop_t is not None and np.isfinite(stop_t) and stop_t >= 0:
-        poses.append((at(stop_t), "tab:orange", f"last stop point, t = {stop_t:.3f} s"))
+        poses.append((at(stop_t), "tab:orange", f"latest stop point, t = {stop_t:.3f} s"))
     if v.contact is None:
         poses.append((at(float(traj.t[-1])), "tab:blue", f"crane at t = {traj.t[-1]:.2f} s"))
     every = max(1, len(traj.t) // 80)
