@@ -62,6 +62,7 @@ def test_guard_world_that_is_a_directory(tmp_path):
 
 
 def test_guard_plot_into_an_unwritable_place_before_the_prediction(tmp_path):
+    pytest.importorskip("matplotlib")   # without it, --plot says it needs the [plot] extra
     blocker = tmp_path / "a-file"
     blocker.write_text("x")
     _one_line_exit_2(_cli("guard", "--world", "cab", "--plot", str(blocker / "sub")), "--plot",
