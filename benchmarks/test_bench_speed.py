@@ -362,3 +362,24 @@ def test_scipy_dop853(benchmark, ratio):
     benchmark.extra_info["rhs_evaluations"] = int(sol.nfev)
     _record_error(benchmark, "both-cylinders", err)
     assert err <= TOL
+
+
+def test_crane_construction(benchmark):
+    """Building a Crane (every construction runs the crane's checks: types here, every rule in
+    the C core): ``with_load`` on the PATU 655. Target: well under 1 ms."""
+    crane = cp.Crane.patu655()
+    loads = iter(np.linspace(0.0, 500.0, 1_000_000))
+    c = benchmark(lambda: crane.with_load(next(loads)))
+    assert isinstance(c, cp.Crane)
+    if benchmark.stats is not None:
+        print(f"\n[crane] with_load: {benchmark.stats['median'] * 1e3:.3f} ms (median)")
+
+
+def test_predict_call_overhead(benchmark):
+    """The cost of predict() beyond the steps: one 5-ms step of paper-fig4 (argument checks, the
+    cffi structs, the output array and the Trajectory)."""
+    sc = cp.scenarios.get("paper-fig4")
+    tr = benchmark(lambda: cp.predict(sc.crane, sc.initial, sc.inputs, cp.DEFAULT_DT))
+    assert len(tr.t) == 2
+    if benchmark.stats is not None:
+        print(f"\n[overhead] predict() of one step: {benchmark.stats['median'] * 1e6:.1f} us (median)")

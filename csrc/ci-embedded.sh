@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# The C core on embedded targets and foreign CPUs, and its hardening (issue 5). One script, for CI
+# The C core on embedded targets and foreign CPUs, and its hardening. One script, for CI
 # and for a fresh Debian 12 machine (as root):
 #
 #   bash csrc/ci-embedded.sh

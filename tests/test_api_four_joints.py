@@ -309,6 +309,7 @@ def test_slewing_folded_turns_farther_than_stretched():
     assert far["slew-stretched"] > 0.1 and far["slew-folded"] > 5 * far["slew-stretched"]
 
 
+@pytest.mark.slow
 def test_telescope_scenario_reaches_its_end_stop():
     sc = cp.scenarios.get("telescope-end-stop")
     tr = cp.predict(sc.crane, sc.initial, sc.inputs, sc.horizon, backend="python")
@@ -319,6 +320,7 @@ def test_telescope_scenario_reaches_its_end_stop():
     assert np.all(tr.extension_rate[on] == 0.0)
 
 
+@pytest.mark.slow
 def test_slew_stop_scenario_brakes_the_slew():
     sc = cp.scenarios.get("slew-stop-load-out")
     tr = cp.predict(sc.crane, sc.initial, sc.inputs, sc.horizon, backend="python")

@@ -21,6 +21,7 @@ def _compare(c, initial, inputs, horizon, dt=None):
             float(np.max(np.abs(a.omega - b.omega))))
 
 
+@pytest.mark.slow
 def test_fifty_random_scenarios_agree():
     crane = cp.Crane.patu655()
     rng = np.random.default_rng(2026)
@@ -54,21 +55,22 @@ def test_odd_horizon_and_initial_velocity_agree(crane):
 def _random_valve_case(rng, crane, horizon=2.0):
     """A valve-driven case: levers constant or sampled (also slammed), the other cylinder often
     pressure-driven or held, strokes over the whole range (stops included), loads 0-500 kg."""
-    c = crane.with_load(float(rng.uniform(0, 500)))
-    lc, tc = c.lift_cylinder, c.tilt_cylinder
-    strokes = [float(rng.choice([rng.uniform(cyl.stroke_min, cyl.stroke_max), cyl.stroke_min,
-                                 cyl.stroke_max], p=[0.8, 0.1, 0.1])) for cyl in (lc, tc)]
-    extension = float(rng.uniform(0, 1))
-    try:
-        rest = cp.state_at_rest(c, *strokes, extension=extension,
-                                lift_rod_pressure=float(rng.uniform(1e5, 40e5)),
-                                tilt_rod_pressure=float(rng.uniform(1e5, 40e5)))
-    except ValueError:   # that rod pressure cannot hold this pose: the tank pressure can
+    while True:
+        c = crane.with_load(float(rng.uniform(0, 500)))
+        lc, tc = c.lift_cylinder, c.tilt_cylinder
+        strokes = [float(rng.choice([rng.uniform(cyl.stroke_min, cyl.stroke_max), cyl.stroke_min,
+                                     cyl.stroke_max], p=[0.8, 0.1, 0.1])) for cyl in (lc, tc)]
+        extension = float(rng.uniform(0, 1))
         try:
-            rest = cp.state_at_rest(c, *strokes, extension=extension)
-        except ValueError:   # not within the relief setting either: the crane without its load
-            c = c.with_load(0.0)
-            rest = cp.state_at_rest(c, *strokes, extension=extension)
+            rest = cp.state_at_rest(c, *strokes, extension=extension,
+                                    lift_rod_pressure=float(rng.uniform(1e5, 40e5)),
+                                    tilt_rod_pressure=float(rng.uniform(1e5, 40e5)))
+        except ValueError:   # that rod pressure cannot hold this pose: the tank pressure can
+            try:
+                rest = cp.state_at_rest(c, *strokes, extension=extension)
+            except ValueError:   # not even below the relief setting: another load and pose
+                continue
+        break
     drives = []
     for _ in range(2):
         kind = rng.integers(0, 5)
@@ -92,6 +94,7 @@ def _random_valve_case(rng, crane, horizon=2.0):
     return c, dataclasses.replace(rest, **spools), cp.Inputs(lift=drives[0], tilt=drives[1])
 
 
+@pytest.mark.slow
 def test_twenty_random_valve_driven_cases_agree():
     """Tip to 1e-9 m and chamber pressures to 1e-3 Pa (the issue's targets; measured 7e-15 m
     and 3e-7 Pa. With the earlier tanh friction law, smoothing over 1 mm/s, a release from a stop

@@ -294,6 +294,7 @@ def test_core_checks_the_valves_of_the_slew_and_the_extension(crane):
         assert st == lib.CRANE_E_VALVE and len(out) == 0
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("seed", range(6))
 def test_core_valve_driven_four_joints_match_the_twin(crane, seed):
     """Random valve-driven futures of all four joints (constant and sampled levers, the crane at

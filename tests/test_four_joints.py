@@ -91,6 +91,7 @@ def crane():
 
 # -- the oracle against the planar one ---------------------------------------------------------
 
+@pytest.mark.slow
 def test_oracle_without_slew_and_extension_motion_is_the_planar_oracle(crane):
     """tests/lagrange.py (planar, 2 joints) and the spatial oracle agree on the lift and tilt
     torques when the slew and the extension do not move (any slew angle, any extension)."""
@@ -440,6 +441,7 @@ def test_a_slew_impact_leaves_the_boom_rates_alone(crane):
     assert abs(z[4 + LIFT] - x2[4 + LIFT]) > 1e-3
 
 
+@pytest.mark.slow
 def test_extension_friction_substeps_keep_the_default_step_accurate(crane, monkeypatch):
     """The light extension boom (16 kg + load) on a cylinder's friction is stiff near rest:
     lambda = G_f (M^-1)_ee reaches 1e4 /s, beyond RK4's reach at 2 ms. With the substeps the

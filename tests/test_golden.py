@@ -8,12 +8,15 @@ import subprocess
 import sys
 from pathlib import Path
 
+import pytest
+
 ROOT = Path(__file__).resolve().parents[1]
 _spec = importlib.util.spec_from_file_location("golden", ROOT / "tools" / "golden.py")
 golden = importlib.util.module_from_spec(_spec)
 _spec.loader.exec_module(golden)
 
 
+@pytest.mark.slow
 def test_generated_golden_files_are_up_to_date():
     r = subprocess.run([sys.executable, str(ROOT / "tools" / "golden.py"), "--check"],
                        capture_output=True, text=True, timeout=300)

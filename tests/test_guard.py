@@ -169,6 +169,7 @@ def test_box_over_the_lift_boom_clears_by_a_known_margin(crane):
 CASES = [("power-line", "paper-fig4"), ("building-edge", "end-stop-lift-lower")]
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("world_name, scenario", CASES)
 def test_first_contact_matches_dense_brute_force(crane, world_name, scenario):
     """The guard judges every 8th sample of a prediction at 1.25 ms (its samples 10 ms apart);
@@ -187,6 +188,7 @@ def test_first_contact_matches_dense_brute_force(crane, world_name, scenario):
     assert v.contact.clearance <= world.margin + 0.01
 
 
+@pytest.mark.slow
 def test_random_worlds_first_contact_and_minimum_clearance(crane):
     """Random boxes, spheres and wires near a scenario's path; the guard judges every 4th sample of
     a 2.5 ms prediction, brute force every sample. Contact never late and at most a sample early;

@@ -114,6 +114,7 @@ def theirs(a: dict, b: dict, exact_cylinder: bool = False) -> float:
     return coal.distance(ga, ta, gb, tb, req, res)
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("part", PART_KINDS)
 @pytest.mark.parametrize("obstacle", OBSTACLE_KINDS)
 def test_distance_matches_coal(part: str, obstacle: str) -> None:

@@ -66,6 +66,7 @@ def _brute_first(crane, world, f):
 WALL_BESIDE = {"name": "wall", "kind": "box", "centre": [4.0, 2.6, 1.5], "size": [8.0, 0.3, 6.0]}
 
 
+@pytest.mark.slow
 def test_slewing_alone_meets_a_wall_beside_the_crane(crane):
     """Boom held, the slew driven (60 bar): the tip swings toward a wall beside the crane (parallel
     to X, 2.45 m to the side). Held, the slew finds nothing; slewing, the guard (every 10th sample
@@ -133,6 +134,7 @@ def _dense_first(crane, world, coarse, per_step):
     return None, least
 
 
+@pytest.mark.slow
 def test_nothing_is_missed_with_all_four_joints_moving(crane):
     """Lifting, slewing and telescoping at once; the guard judges samples 50 ms apart. Random
     obstacles (boxes, spheres, wires) near the path of the load and the extension boom. Against

@@ -87,6 +87,7 @@ def test_latest_stop_is_kept_with_the_slew_and_the_telescope_moving(crane):
     assert not _stays_clear(crane, state, inputs, world, v.stop.latest + G.GUARD_SPACING, 3.0)
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("seed", range(12))
 def test_latest_stop_over_random_four_drive_commands(crane, seed):
     rng = np.random.default_rng(1000 + seed)

@@ -35,6 +35,7 @@ def _compliance(h: cp.Hydraulics, v: np.ndarray, v_hose: float) -> np.ndarray:
     return v / h.oil_bulk_modulus + (v - v_hose) / h.cylinder_bulk_modulus + v_hose / h.hose_bulk_modulus
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("backend", BACKENDS)
 def test_power_balance(crane, backend):
     """pump work = change of mechanical energy + friction work + throttling losses + change of the
@@ -93,6 +94,7 @@ S3_LIFT = dict(valve="compensated", supply_pressure=160e5, nominal_flow=40e-3 / 
                hose_bulk_modulus=0.5e9, cylinder_bulk_modulus=1.3e11, relief_pressure=200e5)
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("backend", BACKENDS)
 def test_compensated_valve_at_constant_lever_gives_q_over_a(crane, backend):
     """Meter-in flow source: the stroke rate settles at r nominal_flow / A_a whatever the load."""
@@ -154,6 +156,7 @@ def test_orifice_valve_pressure_split(crane, backend):
     assert np.max(np.abs(tr.p_b[late, 0] - split_b)) < 0.02e5
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("backend", BACKENDS)
 def test_closed_valve_static_pressures_and_oil_spring_frequency(crane, backend):
     """A closed valve holding a load: 100 kg added to a crane at rest on its oil. The lift
@@ -231,6 +234,7 @@ def _corners(crane):
     ]
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("backend", BACKENDS)
 def test_dangerous_corners_are_stable_and_accurate_at_the_default_step(crane, backend):
     """At the default step every corner stays within 1 mm (tip) and 1 bar of a run at dt/20, and

@@ -3,8 +3,6 @@ with the index of the bad future."""
 
 from __future__ import annotations
 
-import os
-
 import numpy as np
 import pytest
 
@@ -35,7 +33,7 @@ def _futures(crane: cp.Crane, n: int, seed: int = 4, horizon: float = HORIZON):
 FIELDS = cp.types.ARRAYS
 
 
-@pytest.mark.parametrize("threads", [t for t in (1, 2, 3) if t <= (os.cpu_count() or 1)])
+@pytest.mark.parametrize("threads", [1, 2])   # at most the cores (CI: 2)
 def test_equals_predict(crane, threads):
     initials, inputs = _futures(crane, 24)
     batch = cp.predict_many(crane, initials, inputs, HORIZON, dt=DT, threads=threads)

@@ -11,6 +11,9 @@ import pytest
 
 exudyn = pytest.importorskip("exudyn", reason="the reference model needs Exudyn ([reference] extra)")
 
+#: The Exudyn reference runs for minutes: `pytest -m slow` (CI runs it).
+pytestmark = pytest.mark.slow
+
 import cranepredict as cp  # noqa: E402
 from cranepredict import reference as ref  # noqa: E402
 

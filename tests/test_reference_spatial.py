@@ -26,7 +26,9 @@ import cranepredict as cp
 from cranepredict import reference_spatial as rs
 from test_four_joints import _frictionless4, _run4
 
-pytestmark = pytest.mark.skipif(not rs.available(), reason="the spatial reference needs Exudyn ([reference] extra)")
+# The Exudyn reference runs for minutes: `pytest -m slow` (CI runs it).
+pytestmark = [pytest.mark.slow,
+              pytest.mark.skipif(not rs.available(), reason="the spatial reference needs Exudyn ([reference] extra)")]
 
 H = cp.Hold()
 TIP_MAX = 20e-3

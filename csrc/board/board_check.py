@@ -31,7 +31,7 @@ import sys
 TIP_TOL = 1e-6                 # m: the issue's bound for the board vs the host float build
 CLOCK_HZ = 168e6               # the Cortex-M4F of the issue (e.g. STM32F407 at its top clock)
 INSNS_PER_TICK = 40            # 1 ns per instruction (-icount shift=0) at the 25 MHz timer clock
-DEFAULT_SCENARIO = "paper-dt2ms"   # the Python API's default step (cranepredict.api.DEFAULT_DT)
+DEFAULT_SCENARIO = "paper-dt2ms"   # the scenario the board's figures are quoted for (dt = 2 ms)
 RATIO_GOAL = 100.0
 
 HERE = os.path.dirname(os.path.abspath(__file__))

@@ -86,8 +86,9 @@ def speed(board, cpi, profiled):
                           f"parts and two obstacles, 1,001 samples) takes {g:,} instructions more: "
                           f"{t[0] * 1e3:.1f} / {t[1] * 1e3:.1f} / {t[2] * 1e3:.1f} ms.")]
     n = board["ticks"][f"crane_predict[{bc.DEFAULT_SCENARIO}]"] * bc.INSNS_PER_TICK
+    dt = bc.real(board["samples"][bc.DEFAULT_SCENARIO][1][0])
     return "\n".join([
-        wrap(f"A 2-s prediction of the paper scenario at the default step executes **{n:,} "
+        wrap(f"A 2-s prediction of the paper scenario at dt = {dt * 1e3:g} ms executes **{n:,} "
              f"instructions** on the board (the timer; QEMU's execution log counts {profiled:,}). "
              f"Times on a {bc.CLOCK_HZ / 1e6:g} MHz Cortex-M4F, as low bound / flash estimate / "
              f"high bound, with the CPI of the default scenario's profile for both rows:"),

@@ -68,7 +68,7 @@
     {.mode = CRANE_DRIVE_HOLD}}}
 #define CRANE_SCENARIO_END_STOP_TILT_HORIZON CRANE_R(2.0)
 
-/* extend-while-slewing: Extending while slewing (issue 11): from rest on closed valves (200 kg, outer boom near horizontal), the slew lever at -0.7 and the telescope lever fully open at t = 0, the booms' valves closed; the extension running out brakes the slew (Coriolis) and raises its inertia. */
+/* extend-while-slewing: Extending while slewing: from rest on closed valves (200 kg, outer boom near horizontal), the slew lever at -0.7 and the telescope lever fully open at t = 0, the booms' valves closed; the extension running out brakes the slew (Coriolis) and raises its inertia. */
 #define CRANE_SCENARIO_EXTEND_WHILE_SLEWING_LOAD_MASS CRANE_R(200.0)
 #define CRANE_SCENARIO_EXTEND_WHILE_SLEWING_STATE { \
     .stroke = {CRANE_R(0.2), CRANE_R(0.05)}, \
@@ -186,7 +186,7 @@
     {.mode = CRANE_DRIVE_HOLD}}}
 #define CRANE_SCENARIO_PRESSURE_RAMPS_HORIZON CRANE_R(2.0)
 
-/* slew-folded: Slewing with the boom folded (issue 11; compare slew-stretched): 20 bar on the slew drive's chamber a, the booms and telescope held folded in (lift 0.05 m, tilt 0.75 m, extension 0), 200 kg; the slew inertia is about 6x smaller than stretched, so it turns about 7x as far in 2 s (1.43 rad against 0.19 rad). */
+/* slew-folded: Slewing with the boom folded (compare slew-stretched): 20 bar on the slew drive's chamber a, the booms and telescope held folded in (lift 0.05 m, tilt 0.75 m, extension 0), 200 kg; the slew inertia is about 6x smaller than stretched, so it turns about 7x as far in 2 s (1.43 rad against 0.19 rad). */
 #define CRANE_SCENARIO_SLEW_FOLDED_LOAD_MASS CRANE_R(200.0)
 #define CRANE_SCENARIO_SLEW_FOLDED_STATE { \
     .stroke = {CRANE_R(0.05), CRANE_R(0.75)}, \
@@ -200,7 +200,7 @@
     {.mode = CRANE_DRIVE_HOLD}}}
 #define CRANE_SCENARIO_SLEW_FOLDED_HORIZON CRANE_R(2.0)
 
-/* slew-stop-load-out: Stopping a slew with the load out (issue 11): 500 kg at full reach (boom stretched, telescope out), the slew lever fully open for 1 s and then back to neutral within 0.2 s; the closed valve and the oil brake the slewing load, the chamber pressures peak at the relief. */
+/* slew-stop-load-out: Stopping a slew with the load out: 500 kg at full reach (boom stretched, telescope out), the slew lever fully open for 1 s and then back to neutral within 0.2 s; the closed valve and the oil brake the slewing load, the chamber pressures peak at the relief. */
 #define CRANE_SCENARIO_SLEW_STOP_LOAD_OUT_LOAD_MASS CRANE_R(500.0)
 #define CRANE_SCENARIO_SLEW_STOP_LOAD_OUT_STATE { \
     .stroke = {CRANE_R(0.2), CRANE_R(0.05)}, \
@@ -217,7 +217,7 @@
     {.mode = CRANE_DRIVE_VALVE, .u = CRANE_R(0.0)}}}
 #define CRANE_SCENARIO_SLEW_STOP_LOAD_OUT_HORIZON CRANE_R(2.5)
 
-/* slew-stretched: Slewing with the boom stretched (issue 11; compare slew-folded): 20 bar on the slew drive's chamber a, the booms and telescope held stretched out (lift 0.05 m, tilt 0.0 m, extension 1.0 m), 200 kg. */
+/* slew-stretched: Slewing with the boom stretched (compare slew-folded): 20 bar on the slew drive's chamber a, the booms and telescope held stretched out (lift 0.05 m, tilt 0.0 m, extension 1.0 m), 200 kg. */
 #define CRANE_SCENARIO_SLEW_STRETCHED_LOAD_MASS CRANE_R(200.0)
 #define CRANE_SCENARIO_SLEW_STRETCHED_STATE { \
     .stroke = {CRANE_R(0.05), CRANE_R(0.0)}, \
@@ -231,7 +231,7 @@
     {.mode = CRANE_DRIVE_HOLD}}}
 #define CRANE_SCENARIO_SLEW_STRETCHED_HORIZON CRANE_R(2.0)
 
-/* slew-while-lifting: Slewing while lifting (issue 11): from rest on closed valves (200 kg, boom out), the slew lever at 0.8 and the lift lever at 0.6 at t = 0, the tilt and telescope valves closed; the rising boom changes the slew inertia and the slew rate loads the booms. */
+/* slew-while-lifting: Slewing while lifting: from rest on closed valves (200 kg, boom out), the slew lever at 0.8 and the lift lever at 0.6 at t = 0, the tilt and telescope valves closed; the rising boom changes the slew inertia and the slew rate loads the booms. */
 #define CRANE_SCENARIO_SLEW_WHILE_LIFTING_LOAD_MASS CRANE_R(200.0)
 #define CRANE_SCENARIO_SLEW_WHILE_LIFTING_STATE { \
     .stroke = {CRANE_R(0.1), CRANE_R(0.2)}, \
@@ -262,7 +262,7 @@
     {.mode = CRANE_DRIVE_HOLD}}}
 #define CRANE_SCENARIO_SLEWED_EXTENDED_HORIZON CRANE_R(2.0)
 
-/* telescope-end-stop: The telescope into its end stop (issue 11): from rest on closed valves (200 kg, outer boom near horizontal), the telescope lever fully open from 0.7 m; the extension reaches extension_max (1.0 m) and stops there, the oil pressure rising to the supply. */
+/* telescope-end-stop: The telescope into its end stop: from rest on closed valves (200 kg, outer boom near horizontal), the telescope lever fully open from 0.7 m; the extension reaches extension_max (1.0 m) and stops there, the oil pressure rising to the supply. */
 #define CRANE_SCENARIO_TELESCOPE_END_STOP_LOAD_MASS CRANE_R(200.0)
 #define CRANE_SCENARIO_TELESCOPE_END_STOP_STATE { \
     .stroke = {CRANE_R(0.2), CRANE_R(0.05)}, \

@@ -1,6 +1,6 @@
 /* SPDX-License-Identifier: MIT */
 /*
- * Bounded work and arguments that overflow (issue 8, findings 3 and 5): the limits of crane.h
+ * Bounded work and arguments that overflow: the limits of crane.h
  * (CRANE_MAX_STEPS, CRANE_MAX_SAMPLES, CRANE_MAX_BATCH_STEPS) are checked before anything runs,
  * with a status that names what to change; the entry points that answered CRANE_OK with an
  * infinite result or read past an array now return a status. Double and float builds. The last

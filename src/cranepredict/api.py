@@ -4,6 +4,7 @@
 from __future__ import annotations
 
 import os
+import warnings
 from typing import Any, Optional, Sequence
 
 import numpy as np
@@ -11,7 +12,7 @@ import numpy as np
 from ._checks import MAX_SAMPLES, MAX_STEPS, kept_samples, step_count
 from ._checks import number as _number
 from .crane import Crane
-from .statics import holding_forces
+from .statics import holding_forces, supply_short
 from .types import (ARRAYS, POINT_NAMES, Hold, Inputs, PressureSeries, State, Trajectory,
                     TrajectoryBatch, Valve, ValveSeries)
 
@@ -34,7 +35,7 @@ def _core_module() -> Any:
 
 #: Default RK4 step and sample interval, s. Chosen by measured accuracy (tools/dt_study.py, checked
 #: by tests/test_default_step.py): over the named scenarios and 30 random ones the tip stays within
-#: 0.36 mm of a converged run (issue 9's bound is 1 mm; 10 ms misses it); see README. Steps are cut
+#: 0.36 mm of a converged run (the accuracy target is 1 mm; 10 ms misses it; docs/dt-study.md). Steps are cut
 #: at the samples of sampled drives, and valve-driven cylinders add their own substeps.
 DEFAULT_DT = 5e-3
 
@@ -53,15 +54,33 @@ def _sample_arrays(samples: np.ndarray) -> dict:
 
 
 def _check(crane: Crane, initial: State, inputs: Inputs, horizon: float, dt: float,
-           backend: str) -> None:
-    """Checks that need more than one argument, naming the field and the allowed range."""
+           backend: str, sample_every: int = 1) -> int:
+    """Checks that need more than one argument, naming the field and the allowed range; returns
+    the number of steps."""
     n_steps = _check_shared(crane, horizon, dt, backend)
-    if n_steps + 1 > MAX_SAMPLES:
+    _check_sample_every(sample_every)
+    kept = kept_samples(n_steps, int(sample_every))
+    if kept > MAX_SAMPLES:
         raise ValueError(f"horizon / dt must give at most {MAX_SAMPLES:,} samples per call "
                          f"(cranepredict.MAX_SAMPLES), got horizon {horizon:g} s / dt {dt:g} s = "
-                         f"{n_steps + 1:,} samples: shorten the horizon, take a larger dt, or use "
-                         "predict_many with sample_every")
+                         f"{kept:,} samples: shorten the horizon, take a larger dt, or raise "
+                         "sample_every")
     _check_future(crane, initial, inputs, horizon)
+    return n_steps
+
+
+def _check_sample_every(sample_every: Any) -> None:
+    if isinstance(sample_every, bool) or not isinstance(sample_every, (int, np.integer)) \
+            or not 1 <= sample_every <= MAX_STEPS:
+        raise ValueError(f"sample_every must be an int in [1, {MAX_STEPS:,}] (cranepredict.MAX_STEPS), "
+                         f"got {sample_every!r}")
+
+
+def _kept_rows(n_steps: int, sample_every: int) -> np.ndarray:
+    """Rows of a full prediction (n_steps + 1 samples) that sample_every keeps: t = 0, after every
+    sample_every-th step and after the last step (the C core's crane_sample_count_every)."""
+    rows = np.arange(0, n_steps + 1, sample_every)
+    return rows if rows[-1] == n_steps else np.append(rows, n_steps)
 
 
 def _check_shared(crane: Crane, horizon: float, dt: float, backend: str) -> int:
@@ -137,23 +156,42 @@ def _check_drive(joint: str, hydraulics: Any, actuator: str, drive: Any, initial
 
 
 def predict(crane: Crane, initial: State, inputs: Inputs, horizon: float, *,
-            dt: Optional[float] = None, backend: str = "c") -> Trajectory:
+            dt: Optional[float] = None, sample_every: int = 1, backend: str = "c") -> Trajectory:
     """Predicts the crane's motion over ``horizon`` seconds from rest (or the given stroke rates).
 
     ``backend="c"`` runs the C core (the product); ``backend="python"`` runs the pure-Python twin,
     an independent implementation of the same model used to validate the core. All four joints
-    move (lift, tilt, slew, extension; docs/model.md "Four joints"); a slew or extension drive left
-    out of ``inputs`` is held at the value in ``initial``. A call takes at most MAX_STEPS
-    steps and returns at most MAX_SAMPLES samples (both checked before anything runs). Raises
-    ValueError/TypeError naming the field and its allowed range on bad input; the arguments are
-    never modified.
+    move (lift, tilt, slew, extension; docs/model.md "Four joints"); a drive left out of
+    ``inputs`` is held at the value in ``initial``. ``sample_every = m`` keeps only t = 0, every
+    m-th step and the last step, as in :func:`predict_many` (the integration still takes every
+    step). A call takes at most MAX_STEPS steps and returns at most MAX_SAMPLES samples (both
+    checked before anything runs). Raises ValueError/TypeError naming the field and its allowed
+    range on bad input; the arguments are never modified.
+
+    A valve-driven boom cylinder levered against a load that needs more than its supply pressure
+    to hold is listed in ``Trajectory.supply_short`` and warned about (``warnings.warn``): levered
+    against the load, the boom sinks.
     """
     dt = DEFAULT_DT if dt is None else dt
-    _check(crane, initial, inputs, horizon, dt, backend)
+    n_steps = _check(crane, initial, inputs, horizon, dt, backend, sample_every)
+    valves = (Valve, ValveSeries)
+    short = supply_short(crane, initial, inputs) \
+        if isinstance(inputs.lift, valves) or isinstance(inputs.tilt, valves) else ()
+    for joint, needed, supply in short:
+        warnings.warn(f"Inputs.{joint}: holding the load at this pose takes {needed / 1e5:.1f} bar, "
+                      f"more than the supply's {supply / 1e5:.1f} bar ({joint}_cylinder.hydraulics."
+                      f"supply_pressure): levered against the load, the {joint} boom sinks",
+                      UserWarning, stacklevel=2)
+    every = int(sample_every)
     points: Any
     if backend == "c":
         _core = _core_module()
-        arrays = _sample_arrays(_core.predict(crane, initial, inputs, float(horizon), float(dt)))
+        if every == 1:
+            samples = _core.predict(crane, initial, inputs, float(horizon), float(dt))
+        else:   # the C core thins the samples itself (no full-length buffer)
+            samples = _core.predict_many(crane, [initial], [inputs], float(horizon), float(dt),
+                                         every, 1)[0]
+        arrays = _sample_arrays(samples)
 
         def points(theta: np.ndarray, slew: np.ndarray, extension: np.ndarray) -> np.ndarray:
             return _poses(lambda e, s, th: _core.points(crane, e, s, th), theta, slew, extension)
@@ -168,6 +206,9 @@ def predict(crane: Crane, initial: State, inputs: Inputs, horizon: float, *,
             raise ValueError(f"the twin's arithmetic failed ({exc}): a parameter of crane "
                              f"{crane.name!r} is beyond what a double can carry through the model "
                              "(check the crane file for absurd magnitudes)") from None
+        if every > 1:
+            rows = _kept_rows(n_steps, every)
+            arrays = {k: np.ascontiguousarray(a[rows]) for k, a in arrays.items()}
 
         def points(theta: np.ndarray, slew: np.ndarray, extension: np.ndarray) -> np.ndarray:
             return twin.points(crane, extension, slew, theta)
@@ -176,7 +217,8 @@ def predict(crane: Crane, initial: State, inputs: Inputs, horizon: float, *,
             return twin.stroke_transmission(crane, joint, stroke, extension)
     for a in arrays.values():
         a.setflags(write=False)
-    return Trajectory(**arrays, backend=backend, _points=points, _transmission=transmission)
+    return Trajectory(**arrays, backend=backend, _points=points, _transmission=transmission,
+                      supply_short=tuple(j for j, _, _ in short))
 
 
 def _sample_times(n_steps: int, horizon: float, dt: float, sample_every: int) -> np.ndarray:
@@ -315,10 +357,7 @@ def predict_many(crane: Crane, initials: Sequence[State], inputs_list: Sequence[
     """
     dt = DEFAULT_DT if dt is None else dt
     n_steps = _check_shared(crane, horizon, dt, "c")
-    if isinstance(sample_every, bool) or not isinstance(sample_every, (int, np.integer)) \
-            or not 1 <= sample_every <= MAX_STEPS:
-        raise ValueError(f"sample_every must be an int in [1, {MAX_STEPS:,}] (cranepredict.MAX_STEPS), "
-                         f"got {sample_every!r}")
+    _check_sample_every(sample_every)
     initials = _sequence(initials, "initials", State)
     inputs_list = _sequence(inputs_list, "inputs_list", Inputs)
     if len(initials) != len(inputs_list):

@@ -63,48 +63,10 @@ def _demo(args: argparse.Namespace) -> int:
 
 
 def _demo_plot(sc, traj, out_dir: str) -> str:
-    """Side view (radial distance from the slew axis vs height) and top view (X, Y: the slew) of
-    the crane at a few samples and the tip's path."""
-    import os
+    """Side and top views of the motion (plot.py)."""
+    from . import plot
 
-    import matplotlib
-
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-
-    pts = traj.points()
-    chain = ("pillar_base", "lift_pivot", "tilt_pivot", "extension_mount", "tip")
-    fig, (side, top) = plt.subplots(1, 2, figsize=(12, 5.5))
-    n = len(traj.t)
-
-    def radial(xyz: np.ndarray, psi: np.ndarray) -> np.ndarray:
-        """Signed distance from the slew axis in the boom plane (its outward direction)."""
-        return xyz[..., 0] * np.cos(psi) + xyz[..., 1] * np.sin(psi)
-
-    for i, k in enumerate(sorted({0, n // 4, n // 2, 3 * n // 4, n - 1})):
-        xyz = np.array([pts[name][k] for name in chain])
-        shade = str(0.75 - 0.75 * i / 4)
-        label = f"t = {traj.t[k]:.2f} s"
-        side.plot(radial(xyz, traj.slew[k]), xyz[:, 2], "o-", color=shade, lw=2, ms=3, label=label)
-        top.plot(xyz[:, 0], xyz[:, 1], "o-", color=shade, lw=2, ms=3, label=label)
-    side.plot(radial(traj.tip, traj.slew), traj.tip[:, 2], "r-", lw=1, label="tip path")
-    top.plot(traj.tip[:, 0], traj.tip[:, 1], "r-", lw=1, label="tip path")
-    reach = float(np.max(np.hypot(traj.tip[:, 0], traj.tip[:, 1]))) * 1.1 + 0.5
-    arc = np.linspace(float(traj.slew.min()), float(traj.slew.max()), 50)
-    top.plot(0.5 * reach * np.cos(arc), 0.5 * reach * np.sin(arc), "b:", lw=1,
-             label=f"slew {np.degrees(traj.slew[0]):.0f} -> {np.degrees(traj.slew[-1]):.0f} deg")
-    side.set(xlabel="outward from the slew axis (boom plane), m", ylabel="Z (up), m", title="side view")
-    top.set(xlabel="X, m", ylabel="Y, m", title="top view", xlim=(-reach, reach), ylim=(-reach, reach))
-    for ax in (side, top):
-        ax.set_aspect("equal")
-        ax.grid(alpha=0.3)
-    top.legend(fontsize=8, loc="lower left")
-    fig.suptitle(f"{sc.name} ({traj.backend})")
-    fig.tight_layout()
-    path = os.path.join(out_dir, f"demo-{sc.name}.png")
-    fig.savefig(path, dpi=90)
-    plt.close(fig)
-    return path
+    return plot.demo_plot(sc, traj, out_dir)
 
 
 def _scenarios(args: argparse.Namespace) -> int:
@@ -182,41 +144,18 @@ def _check_plot_dir(out_dir: str) -> None:
 
 
 def _plots(rows, out_dir: str) -> None:
-    import os
+    """A tip-path and error plot per scenario (plot.py)."""
+    from . import plot
 
-    import matplotlib
-
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-
-    os.makedirs(out_dir, exist_ok=True)
-    for r in rows:
-        fast, ref, err = r["_fast"], r["_ref"], r["_err"]
-        fig, (ax, ax2) = plt.subplots(1, 2, figsize=(11, 4.5))
-        for traj, style, label in ((fast, "-", "fast model (C)"), (ref, "--", "reference (Exudyn)")):
-            radial = np.hypot(traj.tip[:, 0], traj.tip[:, 1])
-            ax.plot(radial, traj.tip[:, 2], style, label=label)
-        ax.plot(*[np.hypot(fast.tip[0, 0], fast.tip[0, 1]), fast.tip[0, 2]], "ko", label="start")
-        ax.set_xlabel("horizontal reach in the boom plane, m")
-        ax.set_ylabel("height, m")
-        ax.set_aspect("equal", adjustable="datalim")
-        ax.grid(True)
-        ax.legend()
-        ax.set_title(f"{r['name']}: tip path")
-        ax2.plot(fast.t, err * 1e3)
-        if r["first_stop_time_s"] is not None:
-            ax2.axvline(r["first_stop_time_s"], color="r", ls=":", label="first end stop")
-            ax2.legend()
-        ax2.set_xlabel("t, s")
-        ax2.set_ylabel("tip error |fast - reference|, mm")
-        ax2.grid(True)
-        ax2.set_title(f"max {r['max_error_mm']:.3f} mm, RMS {r['rms_error_mm']:.3f} mm")
-        fig.tight_layout()
-        fig.savefig(os.path.join(out_dir, f"{r['name']}.png"), dpi=90)
-        plt.close(fig)
+    plot.validate_plots(rows, out_dir)
 
 
 # -- guard: the collision guard's verdict on a scenario (docs/guard.md) ----------------------------
+
+#: The exit status of ``cranepredict guard`` per verdict, so that a script can branch on it; 2
+#: stays a usage or input error and 130 an interrupt, as for every command.
+GUARD_EXIT = {"GO": 0, "WARN": 3, "STOP": 4}
+
 
 def _guard(args: argparse.Namespace) -> int:
     import importlib
@@ -245,7 +184,7 @@ def _guard(args: argparse.Namespace) -> int:
         d = v.to_dict()
         d["scenario"] = sc.name
         print(json.dumps(d, indent=2))
-        return 0
+        return GUARD_EXIT[v.signal]
     print(f"world      {world.name}: {world.description} (margin {v.margin:g} m, "
           f"{len(world.obstacles)} obstacles)")
     print(f"scenario   {sc.name}: {sc.description} (horizon {horizon:g} s)")
@@ -265,130 +204,20 @@ def _guard(args: argparse.Namespace) -> int:
               f"{v.stop.note}")
     if args.plot:
         print(f"plot       {path}")
-    return 0
-
-
-def _hull(p: np.ndarray) -> np.ndarray:
-    """Convex hull of 2-D points (monotone chain), closed."""
-    pts = sorted(map(tuple, p))
-    if len(pts) < 3:
-        return np.array(pts + pts[:1])
-
-    def half(seq):
-        out: list = []
-        for q in seq:
-            while len(out) >= 2 and ((out[-1][0] - out[-2][0]) * (q[1] - out[-2][1]) -
-                                     (out[-1][1] - out[-2][1]) * (q[0] - out[-2][0])) <= 0:
-                out.pop()
-            out.append(q)
-        return out
-
-    lower, upper = half(pts), half(pts[::-1])
-    ring = lower[:-1] + upper[:-1]
-    return np.array(ring + ring[:1])
+    return GUARD_EXIT[v.signal]
 
 
 def _guard_plot(v, sc, out_dir: str, g) -> str:
-    import os
+    """Side and top views of the verdict (plot.py)."""
+    from . import plot
 
-    import matplotlib
+    return plot.guard_plot(v, sc, out_dir, g)
 
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
 
-    os.makedirs(out_dir, exist_ok=True)
-    traj, state, crane = v.trajectory, sc.initial, sc.crane
-    views = (("side view", (0, 2), "X, m", "Z (up), m"), ("top view", (1,), "X, m", "Y, m"))
-    fig, axes = plt.subplots(1, 2, figsize=(13, 6))
-    stop_t = v.stop.latest if v.stop is not None else None
-    # per sample (a Trajectory of a frozen slew and extension holds one value of each)
-    slews, extensions = (np.broadcast_to(a, traj.t.shape) for a in (traj.slew, traj.extension))
+def _view(args: argparse.Namespace) -> int:
+    from .view import app
 
-    def at(t):
-        """(theta, slew, extension) of the judged motion at t (linear between samples)."""
-        th = np.array([np.interp(t, traj.t, traj.theta[:, j]) for j in range(2)])
-        return th, float(np.interp(t, traj.t, slews)), float(np.interp(t, traj.t, extensions))
-
-    poses = [(at(0.0), "0.6", "crane at t = 0")]
-    if v.contact is not None:
-        c = v.contact
-        poses.append(((c.theta, c.slew, c.extension), "tab:red", f"at first contact, t = {c.t:.3f} s"))
-    if stop_t is not None and stop_t >= 0:
-        poses.append((at(stop_t), "tab:orange", f"last stop point, t = {stop_t:.3f} s"))
-    every = max(1, len(traj.t) // 80)
-    path = [g.part_solids(crane, state, th, slew=ps, extension=e)
-            for th, ps, e in zip(traj.theta[::every], slews[::every], extensions[::every])]
-    for ax, (title, idx, xl, yl) in zip(axes, views):
-        j = idx[-1] if title == "side view" else 1
-
-        def xy(p):
-            return p[0], p[j]
-
-        for o in v.world.obstacles:
-            s = o.solid()
-            if s["kind"] == "plane":
-                n = np.asarray(s["b"])
-                if title == "side view" and abs(n[2]) > 0.99:
-                    ax.axhline(s["a"][2], color="saddlebrown", lw=2, label=o.name)
-                continue
-            if s["kind"] == "box":
-                R = np.array(s["axes"]).reshape(3, 3)
-                corners = np.array([np.asarray(s["a"]) + R.T @ (np.array([a, b, c]) * s["half"])
-                                    for a in (-1, 1) for b in (-1, 1) for c in (-1, 1)])
-                ring = _hull(np.column_stack([corners[:, 0], corners[:, j]]))
-                ax.fill(ring[:, 0], ring[:, 1], color="tab:brown", alpha=0.35)
-                ax.plot(ring[:, 0], ring[:, 1], color="tab:brown", lw=1)
-                ax.annotate(o.name, xy(np.asarray(s["a"])), fontsize=8, ha="center")
-            elif s["kind"] == "sphere":
-                ax.add_patch(plt.Circle(xy(s["a"]), s["radius"], color="tab:brown", alpha=0.4))
-                ax.annotate(o.name, xy(s["a"]), fontsize=8)
-            else:
-                a, b = np.asarray(s["a"]), np.asarray(s["b"])
-                if np.hypot(b[0] - a[0], b[j] - a[j]) < 1e-9:   # seen end-on: a circle
-                    ax.add_patch(plt.Circle(xy(a), max(s["radius"], 0.05), color="tab:brown", alpha=0.6))
-                    ax.add_patch(plt.Circle(xy(a), s["radius"] + v.margin, fill=False, ls=":",
-                                            color="tab:brown"))
-                else:
-                    ax.plot([a[0], b[0]], [a[j], b[j]], color="tab:brown",
-                            lw=max(1.5, 2 * s["radius"] * 20))
-                ax.annotate(o.name, xy((a + b) / 2), fontsize=8)
-        # the predicted path of each part's far end (the load: its centre)
-        for name in v.clearance:
-            end = np.array([(p[name]["b"] if p[name]["kind"] == "capsule" else p[name]["a"]) for p in path])
-            ax.plot(end[:, 0], end[:, j], lw=0.8, alpha=0.7)
-        for (th, ps, e), colour, label in poses:
-            solids = g.part_solids(crane, state, th, slew=ps, extension=e)
-            first = True
-            for s in solids.values():
-                a = s["a"]
-                if s["kind"] == "capsule":
-                    b = s["b"]
-                    ax.plot([a[0], b[0]], [a[j], b[j]], color=colour, lw=3, solid_capstyle="round",
-                            label=label if first else None)
-                else:
-                    ax.add_patch(plt.Circle(xy(a), s["radius"] or 0.2, fill=False, color=colour, lw=2))
-                first = False
-        if v.contact is not None:
-            c = v.contact
-            ax.plot([c.on_part[0], c.on_obstacle[0]], [c.on_part[j], c.on_obstacle[j]], "k-", lw=1)
-            ax.plot(*xy(c.on_part), "kx", ms=10, mew=2, label="first contact (closest points)")
-        # frame the crane's reach, not the whole world (a power line may run 60 m)
-        reach = np.array([x for p in path for sd in p.values() for x in (sd["a"], sd["b"])])
-        lo, hi = reach.min(axis=0) - 2.0, reach.max(axis=0) + 2.0
-        ax.set_xlim(lo[0], hi[0])
-        ax.set_ylim(lo[j], hi[j])
-        ax.set_xlabel(xl)
-        ax.set_ylabel(yl)
-        ax.set_aspect("equal", adjustable="box")
-        ax.grid(True, alpha=0.4)
-        ax.set_title(title)
-    axes[0].legend(fontsize=8, loc="best")
-    fig.suptitle(f"{sc.name} in {v.world.name}: {v.signal} - {v.reason}", fontsize=9)
-    fig.tight_layout()
-    path_out = os.path.join(out_dir, f"guard-{sc.name}-{v.world.name}.png")
-    fig.savefig(path_out, dpi=90)
-    plt.close(fig)
-    return path_out
+    return app.run(args)
 
 
 def main(argv: Optional[List[str]] = None) -> int:
@@ -402,8 +231,7 @@ def main(argv: Optional[List[str]] = None) -> int:
     demo.add_argument("--repeat", type=int, default=None,
                       help="timed repetitions (default: 201 on the C core, 3 on the twin)")
     demo.add_argument("--backend", choices=("c", "python"), default=None,
-                      help="c (the C core) or python (the twin); default: c, the twin for a scenario "
-                           "that moves the slew or the extension while the C core cannot")
+                      help="c (the C core) or python (the twin); default: c")
     demo.add_argument("--plot", metavar="DIR", default=None,
                       help="write side and top views of the motion (needs the [plot] extra)")
     demo.set_defaults(func=_demo)
@@ -420,7 +248,8 @@ def main(argv: Optional[List[str]] = None) -> int:
                      help="reference step, s (default: cranepredict.reference.DEFAULT_REFERENCE_DT, 2.5e-4)")
     val.set_defaults(func=_validate)
     grd = sub.add_parser("guard", help="the collision guard's verdict (GO/WARN/STOP) on a scenario's "
-                                       "future against a world's obstacles")
+                                       "future against a world's obstacles",
+                         epilog="exit status: 0 GO, 3 WARN, 4 STOP, 2 bad input")
     grd.add_argument("--world", required=True,
                      help="world file (TOML), or an example world's name (wall, cab, power-line, building-edge)")
     grd.add_argument("--scenario", default="paper-fig4", help="scenario name (default: paper-fig4)")
@@ -432,6 +261,26 @@ def main(argv: Optional[List[str]] = None) -> int:
     grd.add_argument("--plot", metavar="DIR", default=None,
                      help="write side and top views (needs the [plot] extra)")
     grd.set_defaults(func=_guard)
+    vw = sub.add_parser("view", help="the operator's display in a browser: the crane now, where it "
+                                     "will be and the guard's verdict (needs the [view] extra)")
+    vw.add_argument("--scenario", default="paper-fig4", help="scenario name (default: paper-fig4)")
+    vw.add_argument("--world", default="wall",
+                    help="world file (TOML), or an example world's name (default: wall)")
+    vw.add_argument("--horizon", type=float, default=None, help="s (default: the scenario's)")
+    vw.add_argument("--reaction", type=float, default=0.2,
+                    help="delay from the stop decision to the stop, s (default: 0.2)")
+    vw.add_argument("--cycle", type=float, default=0.01, help="control cycle, s (default: 0.01)")
+    vw.add_argument("--ghosts", type=int, default=4, help="future poses drawn (default: 4)")
+    vw.add_argument("--host", default="127.0.0.1",
+                    help="address to listen on (default: 127.0.0.1, this machine only; 0.0.0.0: "
+                         "every network of this machine)")
+    vw.add_argument("--port", type=int, default=8080, help="port (default: 8080; 0: any free one)")
+    vw.add_argument("--serve-for", type=float, default=None, metavar="S",
+                    help="stop after S seconds (default: serve until Ctrl-C)")
+    vw.set_defaults(func=_view)
+    from .live.cli import add_parsers as _live_parsers
+
+    _live_parsers(sub)
     lst = sub.add_parser("scenarios", help="list the named scenarios")
     lst.set_defaults(func=_scenarios)
     args = parser.parse_args(argv)

@@ -327,43 +327,77 @@ def _unwrap_optional(hint: Any) -> Any:
     return hint
 
 
+_HINTS: dict = {}
+
+
 def _hints(cls: type) -> dict:
+    """The resolved type hints of a crane dataclass (cached: typing.get_type_hints costs about
+    1 ms per class and a Crane is checked on every construction, with_load included)."""
     import typing
 
-    return typing.get_type_hints(cls, globalns=globals())
+    hints = _HINTS.get(cls)
+    if hints is None:
+        hints = _HINTS[cls] = typing.get_type_hints(cls, globalns=globals())
+    return hints
+
+
+# The kinds of field _check_shapes tells apart.
+_SHAPE, _TABLE, _VEC2, _STR, _STRS, _NUMBER = range(6)
+_PLANS: dict = {}
+
+
+def _plan(cls: type) -> list:
+    """(name, kind, optional, table class) per field of a crane dataclass, from its type hints,
+    built once per class so that checking a crane compares no typing objects."""
+    plan = _PLANS.get(cls)
+    if plan is not None:
+        return plan
+    plan = []
+    hints = _hints(cls)
+    for f in dataclasses.fields(cls):
+        hint = hints[f.name]
+        inner = _unwrap_optional(hint)
+        optional = inner is not hint
+        if inner is Shape:
+            kind = _SHAPE
+        elif dataclasses.is_dataclass(inner):
+            kind = _TABLE
+        elif inner is Vec2:
+            kind = _VEC2
+        elif inner is str:
+            kind = _STR
+        elif inner == Tuple[str, ...]:
+            kind = _STRS
+        else:
+            kind = _NUMBER
+        plan.append((f.name, kind, optional, inner))
+    _PLANS[cls] = plan
+    return plan
 
 
 def _check_shapes(obj: Any, cls: type, prefix: str) -> None:
     """Types and shapes of a (possibly directly constructed) dataclass, naming the field."""
-    hints = _hints(cls)
-    for f in dataclasses.fields(cls):
-        name, value, hint = prefix + f.name, getattr(obj, f.name), hints[f.name]
-        if hint == Optional[Shape]:   # checked by Shape itself (the collision guard's parts)
-            if value is not None and not isinstance(value, Shape):
-                raise TypeError(f"{name} must be a cranepredict.Shape, got {type(value).__name__}")
+    for fname, kind, optional, inner in _plan(cls):
+        name, value = prefix + fname, getattr(obj, fname)
+        if optional and value is None:
             continue
-        if hint == Optional[Body]:
-            if value is None:
-                continue
-            hint = Body
-        if _unwrap_optional(hint) is not hint:
-            if value is None:
-                continue
-            hint = _unwrap_optional(hint)
-        if dataclasses.is_dataclass(hint):
-            if not isinstance(value, hint):
-                raise TypeError(f"{name} must be a {hint.__name__}, got {type(value).__name__}")
-            _check_shapes(value, hint, name + ".")
-        elif hint is Vec2:
+        if kind == _SHAPE:   # checked by Shape itself (the collision guard's parts)
+            if not isinstance(value, Shape):
+                raise TypeError(f"{name} must be a cranepredict.Shape, got {type(value).__name__}")
+        elif kind == _TABLE:
+            if not isinstance(value, inner):
+                raise TypeError(f"{name} must be a {inner.__name__}, got {type(value).__name__}")
+            _check_shapes(value, inner, name + ".")
+        elif kind == _VEC2:
             if not isinstance(value, tuple) or len(value) != 2:
                 raise TypeError(f"{name} must be a pair (x, y) of numbers, got {value!r}")
             for i, x in enumerate(value):
                 if isinstance(x, bool) or not isinstance(x, (int, float)):
                     raise TypeError(f"{name}[{i}] must be a number, got {type(x).__name__}")
-        elif hint is str:
+        elif kind == _STR:
             if not isinstance(value, str):
                 raise TypeError(f"{name} must be a string, got {type(value).__name__}")
-        elif hint == Tuple[str, ...]:
+        elif kind == _STRS:
             if not isinstance(value, tuple) or not all(isinstance(v, str) for v in value):
                 raise TypeError(f"{name} must be a tuple of strings")
         elif isinstance(value, bool) or not isinstance(value, (int, float)):

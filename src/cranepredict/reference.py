@@ -1010,7 +1010,7 @@ def predict_reference(crane: Crane, initial: State, inputs: Inputs, horizon: flo
 TARGET_MAX_MM = 20.0
 TARGET_RMS_MM = 10.0
 TARGET_SPEED_RATIO = 100.0
-#: and for valve-driven cylinders a chamber-pressure RMS error of at most 2 bar (issue 9).
+#: and for valve-driven cylinders a chamber-pressure RMS error of at most 2 bar (the validation targets).
 TARGET_PRESSURE_RMS_BAR = 2.0
 
 def compare(scenario, *, dt_ref: float = DEFAULT_REFERENCE_DT, dt_fast: Optional[float] = None,

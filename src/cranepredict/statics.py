@@ -8,13 +8,18 @@ pressure is one value: a little more raises the boom, a little less lets it sink
 
 from __future__ import annotations
 
-from typing import Optional, Tuple
+from typing import TYPE_CHECKING, Optional, Tuple
+
+import numpy as np
 
 from ._checks import number as _number
 from .crane import Crane
 from .types import PRESSURE_MAX, State
 
-__all__ = ["holding_pressure", "holding_forces"]
+if TYPE_CHECKING:
+    from .types import Inputs
+
+__all__ = ["holding_pressure", "holding_forces", "supply_short"]
 
 _JOINTS = ("lift", "tilt")
 
@@ -83,3 +88,37 @@ def holding_forces(crane: Crane, lift_stroke: float, tilt_stroke: float,
         ratio.append(ds)
     tau = _core.inverse_dynamics(crane, extension, theta, (0.0, 0.0), (0.0, 0.0))
     return tau[0] / ratio[0], tau[1] / ratio[1]
+
+
+def supply_short(crane: Crane, state: State, inputs: "Inputs") -> Tuple[Tuple[str, float, float], ...]:
+    """The valve-driven boom cylinders levered against their load (at any time of the drive) whose
+    load at the pose of ``state`` needs more pressure to hold than their supply gives: (joint,
+    holding pressure in Pa, supply pressure in Pa) each.
+
+    The load-carrying chamber is the bore side when the load pushes the cylinder in (the PATU's
+    lift) and the rod side when it pulls it out (its tilt); the other chamber is at the tank
+    pressure, as when the lever drives against the load. Above the supply pressure the lever
+    cannot move the boom against its load: levered up, it sinks. The pose must be in range (the
+    callers check it)."""
+    from .types import Valve, ValveSeries
+
+    driven = [j for j, name in enumerate(_JOINTS)
+              if isinstance(getattr(inputs, name), (Valve, ValveSeries))]
+    if not driven:
+        return ()
+    forces = holding_forces(crane, state.lift_stroke, state.tilt_stroke, state.extension)
+    short = []
+    for j in driven:
+        cyl = (crane.lift_cylinder, crane.tilt_cylinder)[j]
+        hyd = cyl.hydraulics
+        force, tank = forces[j], hyd.tank_pressure
+        lever = np.asarray(getattr(inputs, _JOINTS[j]).u, dtype=float)
+        if not np.any(lever * (1.0 if force >= 0.0 else -1.0) > 0.0):
+            continue   # never levered against the load: a closed valve holds up to the relief
+        if force >= 0.0:
+            needed = (force + tank * cyl.area_b) / cyl.area_a
+        else:
+            needed = (tank * cyl.area_a - force) / cyl.area_b
+        if needed > hyd.supply_pressure:
+            short.append((_JOINTS[j], needed, hyd.supply_pressure))
+    return tuple(short)

@@ -7,6 +7,7 @@ are [lift, tilt].
 
 from __future__ import annotations
 
+import warnings
 from dataclasses import dataclass, field
 from typing import Any, Callable, Dict, Optional, Tuple, Union
 
@@ -51,6 +52,21 @@ def _pressure(value: object, name: str) -> float:
     if not 0.0 <= p <= PRESSURE_MAX:
         raise ValueError(f"{name} must be in [0, {PRESSURE_MAX:g}] Pa, got {p!r}")
     return p
+
+
+#: Pa (1 bar): a drive whose every pressure lies in (0, this) is warned about: the PATU's
+#: cylinders need tens of bar to move, so such a drive was most likely written in bar, not Pa.
+PLAUSIBLE_PRESSURE_MIN = 1e5
+
+
+def _warn_if_bar(drive: str, peaks: Dict[str, float]) -> None:
+    """warnings.warn naming the fields when a drive's largest pressure is above 0 but below
+    PLAUSIBLE_PRESSURE_MIN (175 for 175 bar); stacklevel points at the caller's constructor."""
+    top = max(peaks.values())
+    if 0.0 < top < PLAUSIBLE_PRESSURE_MIN:
+        fields = ", ".join(f"{drive}.{k} = {v:g} Pa" for k, v in peaks.items() if v > 0.0)
+        warnings.warn(f"{fields}: below 1 bar, where a crane's cylinders need tens of bar; "
+                      f"pressures are in Pa (175 bar = 175e5 Pa)", UserWarning, stacklevel=4)
 
 
 @dataclass(frozen=True)
@@ -113,6 +129,11 @@ class State:
                 raise ValueError(f"State.{name} must be in [{CHAMBER_PRESSURE_MIN:g}, "
                                  f"{PRESSURE_MAX:g}] Pa, got {p!r}")
             object.__setattr__(self, name, p)
+        given = {name: getattr(self, name) for name in ("lift_p_a", "lift_p_b", "tilt_p_a", "tilt_p_b",
+                                                         "slew_p_a", "slew_p_b", "extension_p_a",
+                                                         "extension_p_b") if getattr(self, name) is not None}
+        if given:
+            _warn_if_bar("State", {k: abs(v) for k, v in given.items()})
         for name in ("lift_spool", "tilt_spool", "slew_spool", "extension_spool"):
             if not -1.0 <= getattr(self, name) <= 1.0:
                 raise ValueError(f"State.{name} must be in [-1, 1], got {getattr(self, name)}")
@@ -135,6 +156,7 @@ class Pressure:
     def __post_init__(self) -> None:
         object.__setattr__(self, "p_a", _pressure(self.p_a, "Pressure.p_a"))
         object.__setattr__(self, "p_b", _pressure(self.p_b, "Pressure.p_b"))
+        _warn_if_bar("Pressure", {"p_a": self.p_a, "p_b": self.p_b})
 
     @property
     def t(self) -> None:
@@ -191,6 +213,7 @@ class PressureSeries:
                                  f"got [{float(a.min())!r}, {float(a.max())!r}]")
         for name, a in arrays.items():
             object.__setattr__(self, name, a)
+        _warn_if_bar("PressureSeries", {"p_a": float(self.p_a.max()), "p_b": float(self.p_b.max())})
 
     @classmethod
     def ramp(cls, t0: float, t1: float, start: Tuple[float, float], end: Tuple[float, float],
@@ -216,10 +239,16 @@ class Hold:
     held = True
 
 
+def _percent_hint(worst: float) -> str:
+    """A hint for a lever given in percent (|u| up to 100) instead of a fraction of full opening."""
+    return " (in percent? the lever is a fraction: give u / 100)" if 1.0 < worst <= 100.0 else ""
+
+
 def _lever(value: object, name: str) -> float:
     u = _number(value, name)
     if not -1.0 <= u <= 1.0:
-        raise ValueError(f"{name} must be in [-1, 1] (the lever; > 0 extends), got {u!r}")
+        raise ValueError(f"{name} must be in [-1, 1] (the lever; > 0 extends), got {u!r}"
+                         + _percent_hint(abs(u)))
     return u
 
 
@@ -262,7 +291,8 @@ class ValveSeries:
         u = arrays["u"]
         if u.min() < -1.0 or u.max() > 1.0:
             raise ValueError(f"ValveSeries.u must be in [-1, 1] (the lever), "
-                             f"got [{float(u.min())!r}, {float(u.max())!r}]")
+                             f"got [{float(u.min())!r}, {float(u.max())!r}]"
+                             + _percent_hint(float(abs(u).max())))
         for name, a in arrays.items():
             object.__setattr__(self, name, a)
 
@@ -276,11 +306,11 @@ Drive = Union[Pressure, PressureSeries, Hold, Valve, ValveSeries]
 @dataclass(frozen=True)
 class Inputs:
     """How each joint's actuator is driven during the prediction: the lift and tilt cylinders,
-    the slew drive and the extension cylinder. A slew or extension drive left out is held
-    (:class:`Hold`), so lift-and-tilt inputs keep their meaning."""
+    the slew drive and the extension cylinder. A drive left out is held (:class:`Hold`): its
+    joint keeps the value of the initial state, as a closed valve without give would."""
 
-    lift: Drive
-    tilt: Drive
+    lift: Drive = field(default_factory=lambda: Hold())
+    tilt: Drive = field(default_factory=lambda: Hold())
     slew: Drive = field(default_factory=lambda: Hold())
     extension: Drive = field(default_factory=lambda: Hold())
 
@@ -307,6 +337,9 @@ class Trajectory:
     valve-driven); spool (N, 4): the spool position (0 unless valve-driven).
     ``points()`` gives the world positions of every pivot and pin, to draw the crane;
     ``state(i)`` (and ``final_state``) the :class:`State` at sample i, to continue from.
+    ``supply_short``: the valve-driven boom cylinders ("lift", "tilt") levered against their load
+    whose load at the initial pose needs more than their supply pressure to hold: levered
+    against it, the boom sinks (:func:`cranepredict.holding_pressure`); empty otherwise.
     """
 
     t: np.ndarray
@@ -326,6 +359,7 @@ class Trajectory:
     flow_a: Optional[np.ndarray] = None
     flow_b: Optional[np.ndarray] = None
     spool: Optional[np.ndarray] = None
+    supply_short: Tuple[str, ...] = ()
     #: (joint, stroke, extension) -> ds/dtheta of a boom cylinder, by the backend that predicted
     _transmission: Optional[Callable[[int, float, float], float]] = field(default=None, repr=False)
 

@@ -1,0 +1,124 @@
+"""Update rate of the operator's display (docs/display.md): the crane, 4 ghosts, the tip's path
+and 20 obstacles, redrawn per frame on a running display with a client connected.
+
+    pytest benchmarks/test_bench_view.py --benchmark-only      the figures of docs/display.md
+    pytest benchmarks --benchmark-disable                      each once, as a test (CI)
+
+Target: >= 20 frames per second. Printed (frames/s in extra_info), not asserted: timings on a
+shared machine are noisy. Each frame alternates between two verdicts (WARN and STOP, different
+poses and obstacles in contact), so every update changes what is drawn.
+"""
+
+from __future__ import annotations
+
+import threading
+import time
+
+import pytest
+
+import cranepredict as cp
+
+from test_bench_guard import site_world
+
+viser = pytest.importorskip("viser")
+from cranepredict.view import Frame, Viewer  # noqa: E402
+from cranepredict.view import scene as sc  # noqa: E402
+
+TARGET_HZ = 20.0
+
+
+def _frames(world):
+    out = []
+    for name in ("paper-fig4", "end-stop-lift-lower"):
+        s = cp.scenarios.get(name)
+        out.append(Frame.predict(s.crane, world, s.initial, s.inputs, s.horizon))
+    return out
+
+
+class _Client:
+    """A websocket client that receives and drops everything the display sends (as a browser
+    would receive it), so that the server really encodes and sends each frame."""
+
+    def __init__(self, url: str) -> None:
+        from websockets.sync.client import connect
+
+        self.ws = connect(url.replace("http://", "ws://"),
+                          subprotocols=[f"viser-v{viser.__version__}"], max_size=None)
+        self.received = 0
+        self.thread = threading.Thread(target=self._drain, daemon=True)
+        self.thread.start()
+
+    def _drain(self) -> None:
+        try:
+            for message in self.ws:
+                self.received += len(message)
+        except Exception:   # closed at the end of the benchmark
+            pass
+
+    def close(self) -> None:
+        self.ws.close()
+        self.thread.join(timeout=5)
+
+
+@pytest.fixture(scope="module")
+def display():
+    world = site_world()
+    assert len(world.obstacles) == 20
+    frames = _frames(world)
+    v = Viewer(port=0, ghosts=4)
+    v.show(frames[0])
+    client = _Client(v.url)
+    yield v, frames, world, client
+    client.close()
+    v.close()
+
+
+def _report(benchmark, label: str) -> None:
+    stats = getattr(benchmark, "stats", None)
+    if stats is None or not getattr(stats, "stats", None):
+        return
+    mean = stats.stats.mean
+    benchmark.extra_info["frames_per_s"] = round(1.0 / mean, 1)
+    print(f"\n{label}: {mean * 1e3:.2f} ms per frame = {1.0 / mean:.0f} frames/s "
+          f"(target >= {TARGET_HZ:g})")
+
+
+def test_view_scene_of_a_frame(benchmark, display):
+    """The arrays of one frame: the parts at 5 poses (now + 4 ghosts) as instances."""
+    _, frames, _, _ = display
+    scene = benchmark(sc.frame_scene, frames[0])
+    assert len(scene.ghost_times) == 4
+    _report(benchmark, "scene of a frame (crane + 4 ghosts)")
+
+
+def test_view_update_rate(benchmark, display):
+    """Viewer.show on a running display with a client: crane, 4 ghosts, tip path, contact, banner
+    and (the obstacle in contact changes) the 20 obstacles."""
+    v, frames, _, client = display
+    i = iter(range(10 ** 9))
+
+    def one():
+        v.show(frames[next(i) % 2])
+
+    before = client.received
+    benchmark(one)
+    assert v.frames_shown > 1
+    v.server.flush()
+    deadline = time.time() + 5
+    while client.received == before and time.time() < deadline:
+        time.sleep(0.05)
+    assert client.received > before        # the client really got the updates
+    _report(benchmark, "display update (crane + 4 ghosts + 20 obstacles)")
+
+
+def test_view_guard_and_update_rate(benchmark, display):
+    """A whole cycle of a live display: the guard's verdict on a 2-s future (20 obstacles), its
+    frame and the update."""
+    v, _, world, _ = display
+    s = cp.scenarios.get("paper-fig4")
+
+    def cycle():
+        v.show(Frame.predict(s.crane, world, s.initial, s.inputs, s.horizon))
+
+    benchmark(cycle)
+    _report(benchmark, "guard + display update")
