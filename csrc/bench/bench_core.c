@@ -138,11 +138,12 @@ static int print_substeps(const crane_params *p, const crane_inputs *in, const c
                 x->stroke[0], x->stroke[1],
                 p->slew_drive.pinion_radius * (x->slew - p->slew_drive.slew_min),
                 x->extension - p->extension_min};
-            nv = crane__substeps(&m, stroke, valve, h);
+            crane_real coef[8];   /* the limit valves' rates: not needed here */
+            nv = crane__substeps(&m, stroke, valve, h, coef);
             for (j = 0; j < 4; ++j) {   /* each valve-driven actuator's chambers alone */
                 int one[4] = {0, 0, 0, 0};
                 one[j] = valve[j];
-                by_joint[j] += valve[j] ? crane__substeps(&m, stroke, one, h) : 1;
+                by_joint[j] += valve[j] ? crane__substeps(&m, stroke, one, h, coef) : 1;
             }
         }
         if (ext_moves) {
