@@ -41,7 +41,7 @@ DEFAULT_STOP_HORIZON = 0.5
 #: The longest a stop is followed, s: a stop that has not come to rest by then (a slewing load on
 #: its relief valves) is not a stop the guard can vouch for: that stop time counts as unsafe.
 STOP_FOLLOW_MAX = 10.0
-#: At rest: every point of the crane's path slower than this over the last STOP_REST_WINDOW s of the
+#: At rest: every point of the crane's path slower than this over the final STOP_REST_WINDOW s of the
 #: stop (the tip is the fastest point of a turning boom, and carries the slew and the telescope).
 STOP_REST_SPEED = 0.005   # m/s
 STOP_REST_WINDOW = 0.1    # s
@@ -453,7 +453,7 @@ def stop_state(traj: Trajectory, k: int, inputs: Inputs) -> State:
 
 
 def _at_rest(traj: Trajectory) -> bool:
-    """Every point of the crane slower than STOP_REST_SPEED over the last STOP_REST_WINDOW s:
+    """Every point of the crane slower than STOP_REST_SPEED over the final STOP_REST_WINDOW s:
     the tip's speed bounds the booms' (it is their farthest point from every joint's axis) and
     carries the slew and the telescope."""
     t, tip = traj.t, traj.tip
