@@ -120,9 +120,20 @@ class Page:
                     box: [r.left, r.top, r.right, r.bottom]};
         }""")
 
-    def toggle(self, label: str) -> None:
-        self.page.get_by_role("checkbox", name=label).click()
+    def changed(self, before: bytes, timeout: float = 30.0) -> None:
+        """Waits until the page differs from the screenshot ``before`` (the server's answer to
+        an action has arrived), then until it settles."""
+        deadline = time.time() + timeout
+        while self.page.screenshot() == before:
+            if time.time() > deadline:
+                pytest.fail(f"the page did not change within {timeout:g} s")
+            time.sleep(0.2)
         self.settle()
+
+    def toggle(self, label: str) -> None:
+        before = self.page.screenshot()
+        self.page.get_by_role("checkbox", name=label).click()
+        self.changed(before)
 
     def foreign_requests(self) -> list:
         """Requests to anything but the display's own server (blob: and data: are in-page)."""
@@ -258,9 +269,10 @@ def test_warn_scenario_scrubbing_the_timeline_moves_the_crane_ahead(browser, sho
         before = _scene_region(page.png(shots / "view-warn-now.png"), b["box"])
         # a person types a time into the timeline's box: the crane at that time appears
         box = page.page.locator("input[type=number], input.mantine-NumberInput-input").first
+        shot = page.page.screenshot()
         box.fill("1.5")
         box.press("Enter")
-        page.settle()
+        page.changed(shot)
         after = _scene_region(page.png(shots / "view-warn-scrub-1.5s.png"), b["box"])
         assert abs(v._timeline.value - 1.5) < 0.02
         assert "t = 1.50 s" in page.page.inner_text("body")

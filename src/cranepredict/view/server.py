@@ -96,7 +96,8 @@ class Viewer:
         s = self.server
         s.gui.configure_theme(control_layout="floating", control_width="large", show_logo=False,
                               show_share_button=False, dark_mode=False)
-        s.gui.set_panel_label(title) if hasattr(s.gui, "set_panel_label") else None
+        if hasattr(s.gui, "set_panel_label"):
+            s.gui.set_panel_label(title)
         s.scene.set_up_direction("+z")
         # plain lights, no image-based lighting nor shadows: a PC without a GPU (WebGL in
         # software) then draws the scene some 40 times as often
@@ -212,8 +213,7 @@ class Viewer:
 
     # -- drawing ----------------------------------------------------------------------------------
 
-    def _layer(self, name: str, inst: Dict[str, sc.Instances], visible: bool = True,
-               opacity: Optional[float] = None) -> None:
+    def _layer(self, name: str, inst: Dict[str, sc.Instances], visible: bool = True) -> None:
         for shape, x in inst.items():
             key = f"/{name}/{shape}"
             h = self._handles.get(key)
