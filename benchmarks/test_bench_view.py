@@ -25,6 +25,9 @@ from cranepredict.view import Frame, Viewer  # noqa: E402
 from cranepredict.view import scene as sc  # noqa: E402
 
 TARGET_HZ = 20.0
+#: The browser benchmark's pushing rate (above the target) and duration.
+PUSH_HZ = 25.0
+SECONDS = 4.0
 
 
 def _frames(world):
@@ -122,3 +125,57 @@ def test_view_guard_and_update_rate(benchmark, display):
 
     benchmark(cycle)
     _report(benchmark, "guard + display update")
+
+
+def test_view_update_rate_seen_by_the_browser(display):
+    """The frames a browser page actually receives and draws per second: headless Chromium (no
+    GPU: WebGL in software) on the display while frames are pushed at PUSH_HZ for SECONDS s (a
+    live loop's pace); the page counts, at each of its animation frames, the distinct frame
+    numbers in the banner.
+    Skips where Debian's chromium or Playwright's client is missing (in CI both are installed)."""
+    import shutil
+
+    playwright = pytest.importorskip("playwright.sync_api")
+    exe = shutil.which("chromium")
+    if exe is None:
+        pytest.skip("Debian's chromium is not installed")
+    _, frames, _, _ = display
+    v = Viewer(port=0, ghosts=4)        # the browser its only client
+    v.show(frames[0])
+    flags = ["--headless", "--no-sandbox", "--disable-gpu", "--disable-background-networking",
+             "--disable-component-update", "--no-first-run", "--enable-unsafe-swiftshader"]
+    with playwright.sync_playwright() as p:
+        browser = p.chromium.launch(executable_path=exe, args=flags)
+        try:
+            page = browser.new_page(viewport={"width": 1280, "height": 800})
+            page.goto(v.url)
+            page.wait_for_selector("#cp-banner[data-frame]", timeout=60_000)
+            time.sleep(2.0)
+            page.evaluate("""() => {
+                window.cpSeen = []; window.cpPaints = 0;
+                const tick = () => {
+                    window.cpPaints += 1;
+                    const b = document.querySelector('#cp-banner');
+                    const n = b ? b.dataset.frame : null;
+                    if (n !== null && (cpSeen.length === 0 || cpSeen[cpSeen.length - 1] !== n))
+                        cpSeen.push(n);
+                    requestAnimationFrame(tick);
+                };
+                requestAnimationFrame(tick);
+            }""")
+            pushed, t0 = 0, time.perf_counter()
+            while time.perf_counter() - t0 < SECONDS:     # at the pace of a live loop
+                v.show(frames[pushed % 2])
+                pushed += 1
+                time.sleep(max(0.0, t0 + pushed / PUSH_HZ - time.perf_counter()))
+            wall = time.perf_counter() - t0
+            time.sleep(0.5)
+            seen, paints = page.evaluate("() => [window.cpSeen.length, window.cpPaints]")
+        finally:
+            browser.close()
+            v.close()
+    print(f"\nbrowser (headless Chromium, software WebGL): {seen / wall:.0f} frames/s received "
+          f"and drawn, {paints / (wall + 0.5):.0f} page paints/s; {pushed / wall:.0f} frames/s "
+          f"pushed (target >= {TARGET_HZ:g})")
+    assert pushed >= 0.8 * PUSH_HZ * SECONDS - 1     # the pushing side kept the pace
+    assert seen > 1

@@ -153,6 +153,7 @@ def test_validate_plot_of_a_slew_shows_the_top_view(tmp_path):
         assert "top view" in ax.get_title()
         (x0, x1), (y0, y1) = ax.get_xlim(), ax.get_ylim()
         assert y1 - y0 >= 0.5 and y0 < fast.tip[:, 1].min() and fast.tip[:, 1].max() < y1
+        assert x0 < fast.tip[:, 0].min() and fast.tip[:, 0].max() < x1
         assert set(plt.get_fignums()) - fig_before
     finally:
         orig_close(fig)

@@ -85,14 +85,24 @@ class Page:
         self.page.wait_for_selector("#cp-banner:not([data-signal=FAULT])", timeout=60_000)
         self.page.wait_for_selector("canvas", timeout=60_000)
         # the software-WebGL notice (headless has no GPU) covers part of the scene: close it
-        time.sleep(1.0)
+        self.settle()
         for button in self.page.locator(".mantine-Notification-closeButton").all():
             button.click()
         self.settle()
 
-    def settle(self, seconds: float = 2.5) -> None:
-        """Waits for the scene to be received and drawn (software WebGL is slow)."""
-        time.sleep(seconds)
+    def settle(self, timeout: float = 30.0) -> None:
+        """Waits for the scene to be received and drawn: until two screenshots 0.4 s apart are
+        the same (software WebGL is slow, and slower on a busy machine)."""
+        deadline = time.time() + timeout
+        time.sleep(0.4)
+        last = self.page.screenshot()
+        while time.time() < deadline:
+            time.sleep(0.4)
+            shot = self.page.screenshot()
+            if shot == last:
+                return
+            last = shot
+        pytest.fail(f"the page did not settle within {timeout:g} s")
 
     def png(self, path: Path) -> np.ndarray:
         data = self.page.screenshot(path=str(path))
@@ -110,9 +120,20 @@ class Page:
                     box: [r.left, r.top, r.right, r.bottom]};
         }""")
 
-    def toggle(self, label: str) -> None:
-        self.page.get_by_role("checkbox", name=label).click()
+    def changed(self, before: bytes, timeout: float = 30.0) -> None:
+        """Waits until the page differs from the screenshot ``before`` (the server's answer to
+        an action has arrived), then until it settles."""
+        deadline = time.time() + timeout
+        while self.page.screenshot() == before:
+            if time.time() > deadline:
+                pytest.fail(f"the page did not change within {timeout:g} s")
+            time.sleep(0.2)
         self.settle()
+
+    def toggle(self, label: str) -> None:
+        before = self.page.screenshot()
+        self.page.get_by_role("checkbox", name=label).click()
+        self.changed(before)
 
     def foreign_requests(self) -> list:
         """Requests to anything but the display's own server (blob: and data: are in-page)."""
@@ -222,8 +243,6 @@ def test_stop_scenario_shows_red_banner_part_and_obstacle(browser, shots):
         scene = _scene_region(img, b["box"])
         # the obstacle in contact is drawn in its own colour (magenta), the load within the
         # margin in red
-        from cranepredict.view.scene import CLEARANCE_COLOURS, CONTACT_OBSTACLE_COLOUR  # noqa: F401
-
         magenta = (scene[..., 0] > scene[..., 1] + 60) & (scene[..., 2] > scene[..., 1] + 60)
         red = (scene[..., 0] > scene[..., 1] + 90) & (scene[..., 0] > scene[..., 2] + 90)
         assert np.count_nonzero(magenta) > 2000
@@ -250,9 +269,10 @@ def test_warn_scenario_scrubbing_the_timeline_moves_the_crane_ahead(browser, sho
         before = _scene_region(page.png(shots / "view-warn-now.png"), b["box"])
         # a person types a time into the timeline's box: the crane at that time appears
         box = page.page.locator("input[type=number], input.mantine-NumberInput-input").first
+        shot = page.page.screenshot()
         box.fill("1.5")
         box.press("Enter")
-        page.settle()
+        page.changed(shot)
         after = _scene_region(page.png(shots / "view-warn-scrub-1.5s.png"), b["box"])
         assert abs(v._timeline.value - 1.5) < 0.02
         assert "t = 1.50 s" in page.page.inner_text("body")
@@ -285,7 +305,7 @@ def test_replay_position_and_fault(browser, shots):
         for i, want in ((1, "WARN"), (2, "FAULT")):
             v._log_slider.value = i        # as the slider in the page does
             page.page.wait_for_selector(f"#cp-banner[data-signal={want}]", timeout=20_000)
-            page.settle(1.5)
+            page.settle()
         img = page.png(shots / "view-replay-fault.png")
         b = page.banner()
         assert "no CAN message for 0.25 s" in b["text"] and "at 10.20 s" in b["text"]

@@ -60,7 +60,8 @@ def test_box_obstacle_instance_has_the_worlds_corners():
     want = sorted(tuple(np.round(centre + R @ (0.5 * size * np.array(sg)), 9))
                   for sg in np.ndindex(2, 2, 2) for sg in [np.array(sg) * 2 - 1])
     k = int(np.argmin(np.linalg.norm(inst.positions - centre, axis=1)))
-    got = sorted(tuple(np.round(inst.positions[k] + _rotate(inst.wxyzs[k], inst.scales[k] * (np.array(sg) - 0.5)), 9))
+    got = sorted(tuple(np.round(inst.positions[k] +
+                                _rotate(inst.wxyzs[k], inst.scales[k] * (np.array(sg) - 0.5)), 9))
                  for sg in np.ndindex(2, 2, 2))
     np.testing.assert_allclose(got, want, atol=1e-9)
     # the ground plane: a thin square whose top face is the plane

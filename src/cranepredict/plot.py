@@ -15,7 +15,8 @@ from typing import Any, Dict, Iterable, List, Sequence, Tuple
 
 import numpy as np
 
-__all__ = ["demo_plot", "guard_plot", "demo_figure", "guard_figure", "validate_plots", "fit", "near_in_depth", "tip_view",
+__all__ = ["demo_plot", "guard_plot", "demo_figure", "guard_figure", "validate_plots", "fit",
+           "near_in_depth", "tip_view",
            "MIN_SPAN", "NEAR"]
 
 #: The smallest extent a view shows, m.

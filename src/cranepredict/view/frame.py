@@ -70,7 +70,8 @@ class Frame:
             a = np.array(np.broadcast_to(np.asarray(getattr(self, name), dtype=float), shape)) \
                 if name in ("slew", "extension") else np.array(getattr(self, name), dtype=float)
             if a.shape != shape:
-                raise ValueError(f"{name} must have shape {shape} (one row per sample), got {a.shape}")
+                raise ValueError(f"{name} must have shape {shape} (one row per sample), "
+                                 f"got {a.shape}")
             if not np.all(np.isfinite(a)):
                 raise ValueError(f"{name} must be finite")
             a.setflags(write=False)
@@ -92,7 +93,8 @@ class Frame:
         return float(self.t[-1])
 
     @classmethod
-    def from_verdict(cls, crane: Crane, state: State, verdict: Verdict, clock: float = 0.0) -> "Frame":
+    def from_verdict(cls, crane: Crane, state: State, verdict: Verdict,
+                     clock: float = 0.0) -> "Frame":
         """The frame of a verdict of :func:`cranepredict.guard` (its judged samples)."""
         if not isinstance(verdict, Verdict):
             raise TypeError(f"verdict must be a cranepredict.Verdict, got {type(verdict).__name__}")

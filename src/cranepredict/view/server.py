@@ -10,7 +10,7 @@ from __future__ import annotations
 import html
 import math
 import threading
-from typing import Any, Dict, Iterable, List, Optional, Sequence
+from typing import Any, Dict, Iterable, Optional, Sequence
 
 import numpy as np
 
@@ -24,6 +24,7 @@ DEFAULT_PORT = 8080
 _TIP_PATH_COLOUR = (20, 90, 220)
 _CONTACT_COLOUR = (0, 0, 0)
 _SCRUB_OPACITY = 0.75
+_TIP_SEGMENTS = 50
 
 
 def require_viser() -> Any:
@@ -35,7 +36,7 @@ def require_viser() -> Any:
     return viser
 
 
-def _banner_html(b: sc.Banner, clock: Optional[float]) -> str:
+def _banner_html(b: sc.Banner, clock: Optional[float], number: int = 0) -> str:
     def field(name: str, value: str) -> str:
         return (f'<div><span style="opacity:0.8">{name}</span> '
                 f'<b data-field="{name}">{html.escape(value)}</b></div>')
@@ -50,7 +51,7 @@ def _banner_html(b: sc.Banner, clock: Optional[float]) -> str:
     rows = "".join([field("time to contact", ttc), field("part", b.part or "-"),
                     field("obstacle", b.obstacle or "-"), field("begin stopping by", stop)])
     when = "" if clock is None else f'<div style="opacity:0.8">at {clock:.2f} s</div>'
-    return (f'<div id="cp-banner" data-signal="{b.signal}" style="background:{b.colour};color:#fff;'
+    return (f'<div id="cp-banner" data-signal="{b.signal}" data-frame="{number}" style="background:{b.colour};color:#fff;'
             f'padding:10px 12px;border-radius:6px;font-family:sans-serif;line-height:1.35">'
             f'<div id="cp-signal" style="font-size:34px;font-weight:800;letter-spacing:2px">'
             f'{b.signal}</div>'
@@ -95,8 +96,16 @@ class Viewer:
         s = self.server
         s.gui.configure_theme(control_layout="floating", control_width="large", show_logo=False,
                               show_share_button=False, dark_mode=False)
-        s.gui.set_panel_label(title) if hasattr(s.gui, "set_panel_label") else None
+        if hasattr(s.gui, "set_panel_label"):
+            s.gui.set_panel_label(title)
         s.scene.set_up_direction("+z")
+        # plain lights, no image-based lighting nor shadows: a PC without a GPU (WebGL in
+        # software) then draws the scene some 40 times as often
+        s.scene.configure_environment_map(None)
+        s.scene.configure_default_lights(True, cast_shadow=False)
+        s.scene.add_light_hemisphere("/lights/sky", sky_color=(255, 255, 255),
+                                     ground_color=(150, 150, 150), intensity=1.6)
+        s.scene.add_light_ambient("/lights/ambient", intensity=0.8)
         s.initial_camera.position = (-2.0, -11.0, 5.0)   # beside the crane, looking at its reach
         s.initial_camera.look_at = (2.5, 0.0, 1.2)
         s.scene.add_grid("/grid", width=20.0, height=20.0, plane="xy", position=(0.0, 0.0, 0.0),
@@ -115,6 +124,7 @@ class Viewer:
         self._recording: Sequence[Frame] = ()
         self._meshes = sc.unit_meshes()
         self._handles: Dict[str, Any] = {}
+        self._sent: Dict[str, Dict[str, np.ndarray]] = {}
         self._frame: Optional[Frame] = None
         self._world = None
         self._highlight: tuple = ()
@@ -154,7 +164,7 @@ class Viewer:
             self._tip_path(scene.tip_path)
             self._contact(scene.contact)
             self._banner.content = _banner_html(scene.banner, frame.clock if self._recording
-                                                or frame.clock else None)
+                                                or frame.clock else None, self.frames_shown + 1)
             self._frame = frame
             step = float(np.min(np.diff(frame.t))) if len(frame.t) > 1 else 0.01
             if len(frame.t) > 1:
@@ -203,16 +213,15 @@ class Viewer:
 
     # -- drawing ----------------------------------------------------------------------------------
 
-    def _layer(self, name: str, inst: Dict[str, sc.Instances], visible: bool = True,
-               opacity: Optional[float] = None) -> None:
+    def _layer(self, name: str, inst: Dict[str, sc.Instances], visible: bool = True) -> None:
         for shape, x in inst.items():
             key = f"/{name}/{shape}"
             h = self._handles.get(key)
             translucent = bool(len(x)) and bool(np.any(x.opacities < 1.0))
             if h is not None and (len(h.batched_positions) != len(x) or
                                   (h.batched_opacities is not None) != translucent):
-                h.remove()
-                h = self._handles.pop(key)
+                self._handles.pop(key).remove()
+                self._sent.pop(key, None)
                 h = None
             if not len(x):
                 continue
@@ -224,16 +233,26 @@ class Viewer:
                     batched_opacities=x.opacities if translucent else None, lod="off",
                     side="double", cast_shadow=False, receive_shadow=False, visible=visible)
             else:
-                h.batched_positions = x.positions.astype(np.float32)
-                h.batched_wxyzs = x.wxyzs.astype(np.float32)
-                h.batched_scales = x.scales.astype(np.float32)
-                h.batched_colors = x.colours
-                if translucent:
-                    h.batched_opacities = x.opacities.astype(np.float32)
-                h.visible = visible
+                # send only what changed (a browser re-uploads each array it receives)
+                sent = self._sent.setdefault(key, {})
+                for attr, value in (("batched_positions", x.positions.astype(np.float32)),
+                                    ("batched_wxyzs", x.wxyzs.astype(np.float32)),
+                                    ("batched_scales", x.scales.astype(np.float32)),
+                                    ("batched_colors", x.colours),
+                                    ("batched_opacities", x.opacities.astype(np.float32)
+                                     if translucent else None)):
+                    if value is None or (attr in sent and np.array_equal(sent[attr], value)):
+                        continue
+                    setattr(h, attr, value)
+                    sent[attr] = value
+                if h.visible != visible:
+                    h.visible = visible
+                continue
+            self._sent.pop(key, None)
         for key in [k for k in self._handles if k.startswith(f"/{name}/")]:
             if key.rsplit("/", 1)[1] not in inst or not len(inst[key.rsplit("/", 1)[1]]):
                 self._handles.pop(key).remove()
+                self._sent.pop(key, None)
 
     def _set_visible(self, name: str, visible: bool) -> None:
         with self._lock:
@@ -247,6 +266,11 @@ class Viewer:
             if h is not None:
                 self._handles.pop("/tip_path").remove()
             return
+        # at most _TIP_SEGMENTS segments (through the first and the last sample): thick lines
+        # are rebuilt by the browser at every update
+        keep = np.unique(np.linspace(0, len(tip) - 1, min(len(tip), _TIP_SEGMENTS + 1)).round()
+                         .astype(int))
+        tip = tip[keep]
         seg = np.stack([tip[:-1], tip[1:]], axis=1).astype(np.float32)
         if h is not None and len(h.points) == len(seg):
             h.points = seg
@@ -254,22 +278,32 @@ class Viewer:
             if h is not None:
                 h.remove()
             self._handles["/tip_path"] = self.server.scene.add_line_segments(
-                "/tip_path", points=seg, colors=_TIP_PATH_COLOUR, thickness=3.0, thickness_units="screen")
+                "/tip_path", points=seg, colors=_TIP_PATH_COLOUR, thickness=3.0,
+                thickness_units="screen")
 
     def _contact(self, contact: Optional[tuple]) -> None:
-        for key in ("/contact/line", "/contact/point"):
-            h = self._handles.pop(key, None)
-            if h is not None:
-                h.remove()
+        """The closest points of the first contact: a line and a ball on the part (made once,
+        then moved, hidden when there is no contact)."""
+        line, ball = self._handles.get("/contact/line"), self._handles.get("/contact/point")
         if contact is None:
+            for h in (line, ball):
+                if h is not None and h.visible:
+                    h.visible = False
             return
-        a, b = contact
-        self._handles["/contact/line"] = self.server.scene.add_line_segments(
-            "/contact/line", points=np.array([[a, b]], dtype=np.float32), colors=_CONTACT_COLOUR,
-            thickness=3.0, thickness_units="screen")
-        self._handles["/contact/point"] = self.server.scene.add_icosphere(
-            "/contact/point", radius=0.08, color=sc.CLEARANCE_COLOURS["within margin"],
-            position=tuple(float(x) for x in a))
+        a, b = (np.asarray(p, dtype=np.float32) for p in contact)
+        if line is None:
+            self._handles["/contact/line"] = self.server.scene.add_line_segments(
+                "/contact/line", points=np.array([[a, b]]), colors=_CONTACT_COLOUR,
+                thickness=3.0, thickness_units="screen")
+            self._handles["/contact/point"] = self.server.scene.add_icosphere(
+                "/contact/point", radius=0.08, color=sc.CLEARANCE_COLOURS["within margin"],
+                position=tuple(float(x) for x in a))
+            return
+        line.points = np.array([[a, b]])
+        ball.position = tuple(float(x) for x in a)
+        for h in (line, ball):
+            if not h.visible:
+                h.visible = True
 
     def _draw_scrub(self) -> None:
         with self._lock:
