@@ -80,12 +80,26 @@ def test_readme_guard_block_runs_on_every_example_world():
 
 # -- implausible magnitudes -------------------------------------------------------------------------
 
-def test_a_pressure_in_bar_is_warned_about_naming_the_field():
-    with pytest.warns(UserWarning, match=r"Pressure\.p_a = 175 Pa: below 1 bar") as rec:
-        cp.Pressure(175, 0)
+def test_a_pressure_in_bar_is_warned_about_naming_the_field(crane):
+    initial = cp.State(lift_stroke=0.116, tilt_stroke=0.20)
+    with pytest.warns(UserWarning, match=r"Inputs\.lift: Pressure\.p_a = 175 Pa: below 1 bar, where "
+                                         r"holding the lift boom at this pose takes \d+ bar") as rec:
+        cp.predict(crane, initial, cp.Inputs(lift=cp.Pressure(175, 0)), 0.1)
     assert rec[0].filename == __file__                   # points at the caller's line
-    with pytest.warns(UserWarning, match=r"PressureSeries\.p_b = 50 Pa"):
-        cp.PressureSeries(t=[0, 2], p_a=[0, 0], p_b=[20, 50])
+    lever = cp.PressureSeries(t=[0, 2], p_a=[0, 0], p_b=[20, 50])
+    with pytest.warns(UserWarning, match=r"Inputs\.tilt: PressureSeries\.p_b = 50 Pa"):
+        cp.predict(crane, initial, cp.Inputs(lift=cp.Hold(), tilt=lever), 0.1)
+
+
+def test_small_pressures_where_small_ones_hold_are_not_warned_about(crane):
+    """The telescope near horizontal holds on a fraction of a bar; a boom drive of 0 Pa is 'no
+    pressure', not a unit slip."""
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        cp.Pressure(175, 0)                              # no crane, no pose: nothing to compare
+        initial = cp.State(lift_stroke=0.116, tilt_stroke=0.20, extension=0.5)
+        cp.predict(crane, initial, cp.Inputs(extension=cp.Pressure(0.5e5, 0)), 0.1)
+        cp.predict(crane, initial, cp.Inputs(lift=cp.Pressure(0, 0)), 0.1)
 
 
 def test_measured_chamber_pressures_in_bar_are_warned_about():
@@ -103,10 +117,10 @@ def test_measured_chamber_pressures_in_bar_are_warned_about():
 def test_plausible_pressures_are_not_warned_about():
     with warnings.catch_warnings():
         warnings.simplefilter("error")
-        cp.Pressure(175e5, 0)
-        cp.Pressure(0, 0)                                # nothing pushing: plausible
-        cp.Pressure(2e5, 0.5e5)                          # a low bore pressure, a tank-like rod side
-        cp.PressureSeries(t=[0, 2], p_a=[40e5, 90e5], p_b=[0, 0])
+        initial = cp.State(lift_stroke=0.116, tilt_stroke=0.20)
+        for lift in (cp.Pressure(175e5, 0), cp.Pressure(2e5, 0.5e5),
+                     cp.PressureSeries(t=[0, 2], p_a=[40e5, 90e5], p_b=[0, 0])):
+            cp.predict(cp.Crane.patu655(), initial, cp.Inputs(lift=lift), 0.1)
 
 
 def test_a_lever_in_percent_is_refused_with_the_hint():

@@ -12,8 +12,8 @@ import numpy as np
 from ._checks import MAX_SAMPLES, MAX_STEPS, kept_samples, step_count
 from ._checks import number as _number
 from .crane import Crane
-from .statics import holding_forces, supply_short
-from .types import (ARRAYS, POINT_NAMES, Hold, Inputs, PressureSeries, State, Trajectory,
+from .statics import holding_forces, pressures_in_bar, supply_short
+from .types import (ARRAYS, POINT_NAMES, Hold, Inputs, Pressure, PressureSeries, State, Trajectory,
                     TrajectoryBatch, Valve, ValveSeries)
 
 __all__ = ["predict", "predict_many", "state_at_rest", "DEFAULT_DT", "BACKENDS", "MAX_STEPS",
@@ -174,6 +174,10 @@ def predict(crane: Crane, initial: State, inputs: Inputs, horizon: float, *,
     """
     dt = DEFAULT_DT if dt is None else dt
     n_steps = _check(crane, initial, inputs, horizon, dt, backend, sample_every)
+    pressures = (Pressure, PressureSeries)
+    if isinstance(inputs.lift, pressures) or isinstance(inputs.tilt, pressures):
+        for text in pressures_in_bar(crane, initial, inputs):
+            warnings.warn(text, UserWarning, stacklevel=2)
     valves = (Valve, ValveSeries)
     short = supply_short(crane, initial, inputs) \
         if isinstance(inputs.lift, valves) or isinstance(inputs.tilt, valves) else ()

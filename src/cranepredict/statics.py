@@ -19,7 +19,7 @@ from .types import PRESSURE_MAX, State
 if TYPE_CHECKING:
     from .types import Inputs
 
-__all__ = ["holding_pressure", "holding_forces", "supply_short"]
+__all__ = ["holding_pressure", "holding_forces", "supply_short", "pressures_in_bar"]
 
 _JOINTS = ("lift", "tilt")
 
@@ -122,3 +122,31 @@ def supply_short(crane: Crane, state: State, inputs: "Inputs") -> Tuple[Tuple[st
         if needed > hyd.supply_pressure:
             short.append((_JOINTS[j], needed, hyd.supply_pressure))
     return tuple(short)
+
+
+def pressures_in_bar(crane: Crane, state: State, inputs: "Inputs") -> Tuple[str, ...]:
+    """Warning texts for the pressure-driven boom cylinders whose given pressures all lie below
+    1 bar while holding the booms at the pose of ``state`` takes more than 10 bar: pressures
+    written in bar where Pa are meant (``Pressure(175, 0)``)."""
+    from .types import Pressure, PressureSeries, bar_for_pa
+
+    texts = []
+    forces = None
+    for j, name in enumerate(_JOINTS):
+        drive = getattr(inputs, name)
+        if not isinstance(drive, (Pressure, PressureSeries)):
+            continue
+        kind = type(drive).__name__
+        text = bar_for_pa(f"Inputs.{name}: {kind}", {"p_a": float(np.max(drive.p_a)),
+                                                     "p_b": float(np.max(drive.p_b))})
+        if text is None:
+            continue
+        if forces is None:
+            forces = holding_forces(crane, state.lift_stroke, state.tilt_stroke, state.extension)
+        cyl = (crane.lift_cylinder, crane.tilt_cylinder)[j]
+        needed = abs(forces[j]) / (cyl.area_a if forces[j] >= 0.0 else cyl.area_b)
+        if needed > 10e5:
+            texts.append(text.replace("where the boom cylinders need tens of bar",
+                                      f"where holding the {name} boom at this pose takes "
+                                      f"{needed / 1e5:.0f} bar"))
+    return tuple(texts)

@@ -54,19 +54,27 @@ def _pressure(value: object, name: str) -> float:
     return p
 
 
-#: Pa (1 bar): a drive whose every pressure lies in (0, this) is warned about: the PATU's
-#: cylinders need tens of bar to move, so such a drive was most likely written in bar, not Pa.
+#: Pa (1 bar): boom-cylinder pressures that all lie in (0, this) where holding the booms takes
+#: tens of bar are warned about: most likely written in bar, not Pa.
 PLAUSIBLE_PRESSURE_MIN = 1e5
 
 
-def _warn_if_bar(drive: str, peaks: Dict[str, float]) -> None:
-    """warnings.warn naming the fields when a drive's largest pressure is above 0 but below
-    PLAUSIBLE_PRESSURE_MIN (175 for 175 bar); stacklevel points at the caller's constructor."""
+def bar_for_pa(owner: str, peaks: Dict[str, float]) -> Optional[str]:
+    """The warning text when the largest of ``peaks`` (Pa) is above 0 but below
+    PLAUSIBLE_PRESSURE_MIN (175 for 175 bar), naming the fields; else None."""
     top = max(peaks.values())
-    if 0.0 < top < PLAUSIBLE_PRESSURE_MIN:
-        fields = ", ".join(f"{drive}.{k} = {v:g} Pa" for k, v in peaks.items() if v > 0.0)
-        warnings.warn(f"{fields}: below 1 bar, where a crane's cylinders need tens of bar; "
-                      f"pressures are in Pa (175 bar = 175e5 Pa)", UserWarning, stacklevel=4)
+    if not 0.0 < top < PLAUSIBLE_PRESSURE_MIN:
+        return None
+    fields = ", ".join(f"{owner}.{k} = {v:g} Pa" for k, v in peaks.items() if v > 0.0)
+    return (f"{fields}: below 1 bar, where the boom cylinders need tens of bar; pressures are in "
+            "Pa (175 bar = 175e5 Pa)")
+
+
+def _warn_if_bar(owner: str, peaks: Dict[str, float]) -> None:
+    """warnings.warn(bar_for_pa(...)) if it applies; stacklevel points at the caller's constructor."""
+    text = bar_for_pa(owner, peaks)
+    if text is not None:
+        warnings.warn(text, UserWarning, stacklevel=4)
 
 
 @dataclass(frozen=True)
@@ -129,9 +137,10 @@ class State:
                 raise ValueError(f"State.{name} must be in [{CHAMBER_PRESSURE_MIN:g}, "
                                  f"{PRESSURE_MAX:g}] Pa, got {p!r}")
             object.__setattr__(self, name, p)
-        given = {name: getattr(self, name) for name in ("lift_p_a", "lift_p_b", "tilt_p_a", "tilt_p_b",
-                                                         "slew_p_a", "slew_p_b", "extension_p_a",
-                                                         "extension_p_b") if getattr(self, name) is not None}
+        # the boom cylinders carry the booms' weight: tens of bar at any pose off the stops (the
+        # slew drive and the telescope may hold with less)
+        given = {name: getattr(self, name) for name in ("lift_p_a", "lift_p_b", "tilt_p_a", "tilt_p_b")
+                 if getattr(self, name) is not None}
         if given:
             _warn_if_bar("State", {k: abs(v) for k, v in given.items()})
         for name in ("lift_spool", "tilt_spool", "slew_spool", "extension_spool"):
@@ -156,7 +165,6 @@ class Pressure:
     def __post_init__(self) -> None:
         object.__setattr__(self, "p_a", _pressure(self.p_a, "Pressure.p_a"))
         object.__setattr__(self, "p_b", _pressure(self.p_b, "Pressure.p_b"))
-        _warn_if_bar("Pressure", {"p_a": self.p_a, "p_b": self.p_b})
 
     @property
     def t(self) -> None:
@@ -213,7 +221,6 @@ class PressureSeries:
                                  f"got [{float(a.min())!r}, {float(a.max())!r}]")
         for name, a in arrays.items():
             object.__setattr__(self, name, a)
-        _warn_if_bar("PressureSeries", {"p_a": float(self.p_a.max()), "p_b": float(self.p_b.max())})
 
     @classmethod
     def ramp(cls, t0: float, t1: float, start: Tuple[float, float], end: Tuple[float, float],
