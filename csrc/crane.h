@@ -47,7 +47,7 @@ typedef enum {
     CRANE_E_CAPACITY = 17,      /* output buffer smaller than the number of samples */
     CRANE_E_ANGLE = 18,         /* an angle outside the range reachable by the cylinder */
     CRANE_E_SAMPLE_EVERY = 19,  /* sample_every is 0 (or over LONG_MAX) */
-    CRANE_E_DIVERGED = 20,      /* the state stopped being finite (absurd parameters, e.g. gravity) */
+    CRANE_E_DIVERGED = 20,      /* the state stopped being finite or physical (absurd parameters) */
     CRANE_E_FIELD = 21,         /* a crane parameter outside its range (crane_params_check names it) */
     CRANE_E_OVERFLOW = 22,      /* an argument so large that a result is not finite or a size overflows */
     CRANE_E_STEPS = 23,         /* horizon / dt asks for more than CRANE_MAX_STEPS steps */
@@ -91,7 +91,8 @@ enum { CRANE_CHAMBER_PRESSURE_MIN = -100000 };  /* Pa gauge (vacuum): the lowest
  *     step is at most 1.25 dt long, and k dt is within dt/8 of its exact value, so the sample times
  *     stay strictly increasing.
  *   CRANE_MAX_SAMPLES: samples written by one call (all futures of crane_predict_many): 2^23,
- *     0.74 GB of crane_sample in double; a single prediction (n + 1 <= 2^20 + 1) never reaches it.
+ *     2.4 GB of crane_sample in double (288 bytes each); a single prediction (n + 1 <= 2^20 + 1)
+ *     never reaches it.
  *   CRANE_MAX_BATCH_STEPS: steps of one crane_predict_many call, n_futures x n: 2^23, about 4 s;
  *     split larger batches into several calls (they may run on several threads). */
 enum { CRANE_MAX_STEPS = 1048576, CRANE_MAX_SAMPLES = 8388608, CRANE_MAX_BATCH_STEPS = 8388608 };
@@ -484,10 +485,12 @@ crane_status crane_sample_count(crane_real horizon, crane_real dt, size_t *count
 
 /* Predicts the motion from state0 under the inputs over [0, horizon] with RK4 step dt.
  * Writes *n_written samples (t = 0 first) into out[0..capacity).
- * CRANE_E_DIVERGED is the one error after which samples have been written: if theta or omega
- * stop being finite (possible only with absurd parameters, e.g. gravity 1e135) the prediction
- * stops there, *n_written is the number of samples written before it (all finite; may be 0) and
- * nothing non-finite is ever written. Every other error writes nothing. */
+ * CRANE_E_DIVERGED is the one error after which samples have been written: if the state stops
+ * being finite or a valve-driven actuator leaves the physical domain (a spool beyond [-1, 1], a
+ * chamber above CRANE_PRESSURE_MAX: possible only with absurd parameters, e.g. gravity 1e135) the
+ * prediction stops there, *n_written is the number of samples before it (all finite and
+ * physical; may be 0); nothing non-finite is ever written and what lies beyond *n_written is not
+ * a result. Every other error writes nothing. */
 crane_status crane_predict(const crane_params *params, const crane_state *state0,
                            const crane_inputs *inputs, crane_real horizon, crane_real dt,
                            crane_sample *out, size_t capacity, size_t *n_written);

@@ -55,6 +55,8 @@ static inline crane_real crane__ceil(crane_real x) { return ceil(x); }
 
 /* isfinite is a type-generic macro; wrapping it keeps the call sites typed. */
 static inline int crane__finite(crane_real x) { return isfinite(x) != 0; }
+/* lo <= x <= hi (false for NaN) */
+static inline int crane__in_range(crane_real x, crane_real lo, crane_real hi) { return x >= lo && x <= hi; }
 
 static inline int crane__finite_vec(crane_vec2 v) { return crane__finite(v.x) && crane__finite(v.y); }
 

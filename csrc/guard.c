@@ -612,7 +612,7 @@ crane_status crane_guard(const crane_model *model, const crane_part *parts, size
     crane_status st;
 
     if (!model || !samples || !config || !result || (n_parts && (!parts || !part_clearance)) ||
-        (n_obstacles && !obstacles) || (n_pairs && !work))
+        (n_obstacles && !obstacles) || (n_parts && !work))
         return CRANE_E_NULL;
     st = check_config(config);
     if (st == CRANE_OK)

@@ -166,17 +166,25 @@ static crane_real substep_count(crane_real lam, crane_real h)
     return n < 1 ? 1 : n;
 }
 
-/* lambda of docs/model.md, "Hydraulics": both chambers' self-feedback rate bound at a stroke. */
+/* lambda of docs/model.md, "Hydraulics": the bound of the actuator's pressure and spool rates at
+ * a stroke. A chamber's self-feedback (one valve edge and the relief or anti-cavitation valve, each
+ * at most the gradient G) plus the leakage twice: it couples the pair, whose difference relaxes
+ * at leakage (1/C_a + 1/C_b) (Gershgorin: each row's diagonal and off-diagonal); and the spool's
+ * pole 1/tau. */
 static crane_real stiffness(const crane_model *m, int joint, crane_real stroke)
 {
     const crane_hydraulics *const h = crane__circuit(m, joint);
     crane_real g, la, lb, v_a, v_b, ab[4];
 
     volumes(m, joint, h, stroke, ab, &v_a, &v_b);
-    g = 2 * gradient(h) + h->leakage;
+    g = 2 * (gradient(h) + h->leakage);
     la = g / compliance(h, v_a, h->hose_volume_a);
     lb = g / compliance(h, v_b, h->hose_volume_b);
-    return la > lb ? la : lb;
+    if (lb > la)
+        la = lb;
+    if (h->spool_time_constant > 0 && 1 / h->spool_time_constant > la)
+        la = 1 / h->spool_time_constant;
+    return la;
 }
 
 long crane__substeps(const crane_model *m, const crane_real stroke[4], const int valve[4],

@@ -608,11 +608,13 @@ static void put_sample(ctx_t *c, crane_real t, const xstate *x, crane_real cpsi,
 static int finite_state(const ctx_t *c, const xstate *x)
 {
 #if CRANE_HYDRAULICS
+    /* the physical domain too (crane_predict's CRANE_E_DIVERGED): an integrator gone unstable
+     * shows there first, and finite garbage is never a result */
     int k;
     for (k = 0; c->hyd && k < 4; ++k)
-        if (!crane__finite(x->p[k]))
+        if (!crane__in_range(x->p[k], -(crane_real)CRANE_PRESSURE_MAX, (crane_real)CRANE_PRESSURE_MAX))
             return 0;
-    if (c->hyd && (!crane__finite(x->y[0]) || !crane__finite(x->y[1])))
+    if (c->hyd && (!crane__in_range(x->y[0], -1, 1) || !crane__in_range(x->y[1], -1, 1)))
         return 0;
 #else
     (void)c;

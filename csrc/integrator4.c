@@ -626,12 +626,17 @@ static void put_sample4(c4 *c, crane_real t, const x4 *x, crane_sample *o)
     o->tip[2] = tip.y;
 }
 
+/* Finite, and the chambers and spools in their physical domain (crane_predict's
+ * CRANE_E_DIVERGED): an integrator gone unstable shows there first. */
 static int finite_state4(const c4 *c, const x4 *x)
 {
     int i;
-    for (i = 0; i < n_used(c); ++i)
-        if (!crane__finite(x->v[i]))
+    for (i = 0; i < n_used(c); ++i) {
+        /* the pressures, then the spool, of each valve-driven joint from H on (x4_slot) */
+        const crane_real lim = (i - H) % 3 == 2 ? 1 : (crane_real)CRANE_PRESSURE_MAX;
+        if (i < H ? !crane__finite(x->v[i]) : !crane__in_range(x->v[i], -lim, lim))
             return 0;
+    }
     return 1;
 }
 

@@ -489,16 +489,16 @@ const char *crane_status_message(crane_status status)
     case CRANE_E_HORIZON: return "horizon <= 0";
     case CRANE_E_CAPACITY: return "the output buffer is smaller than the number of samples";
     case CRANE_E_ANGLE: return "an angle is outside the range reachable by the cylinder";
-    case CRANE_E_SAMPLE_EVERY: return "sample_every must be >= 1";
-    case CRANE_E_DIVERGED: return "the prediction diverged (the state stopped being finite): the parameters are not physical";
+    case CRANE_E_SAMPLE_EVERY: return "sample_every must be in [1, CRANE_MAX_STEPS]";
+    case CRANE_E_DIVERGED: return "the prediction diverged (a state not finite or out of range): the parameters are not physical";
     case CRANE_E_FIELD: return "a crane parameter is outside its range";
     case CRANE_E_OVERFLOW: return "an argument is too large: a result would not be finite or a size would overflow";
-    case CRANE_E_STEPS: return "horizon / dt asks for more than CRANE_MAX_STEPS (1048576) steps (with valve-driven cylinders: their worst-case substeps included): raise dt or shorten the horizon";
-    case CRANE_E_SAMPLE_COUNT: return "more than CRANE_MAX_SAMPLES (8388608) samples in one call: raise sample_every or dt, shorten the horizon or split the futures";
-    case CRANE_E_BATCH: return "futures x steps over CRANE_MAX_BATCH_STEPS (8388608) in one call: split the futures into several calls";
+    case CRANE_E_STEPS: return "horizon / dt asks for more than CRANE_MAX_STEPS (1048576) steps, worst-case substeps included: raise dt or shorten the horizon";
+    case CRANE_E_SAMPLE_COUNT: return "more than CRANE_MAX_SAMPLES (8388608) samples in one call: raise sample_every or dt, or split the futures";
+    case CRANE_E_BATCH: return "futures x steps over CRANE_MAX_BATCH_STEPS (8388608) in one call: split the futures";
     case CRANE_E_HYDRAULICS: return "a hydraulic parameter is out of range (docs/model.md, Hydraulics)";
-    case CRANE_E_VALVE: return "a valve drive is invalid: lever outside [-1, 1], no hydraulics for the cylinder, or a chamber pressure/spool of the state out of range";
-    case CRANE_E_ACTUATOR: return "a slew or extension drive on a crane without a slew drive / extension cylinder (its joint can only be held)";
+    case CRANE_E_VALVE: return "a valve drive is invalid: lever outside [-1, 1], no hydraulics, or a state's chamber pressure/spool out of range";
+    case CRANE_E_ACTUATOR: return "a slew or extension drive on a crane without that actuator (its joint can only be held)";
     case CRANE_E_SOLID:
     case CRANE_E_PART:
     case CRANE_E_GUARD: return crane__guard_status_message(status);

@@ -116,14 +116,18 @@ def test_predict_many_stops_between_chunks_on_ctrl_c(crane, monkeypatch):
 
 
 def test_chunked_batch_equals_one_call(crane, monkeypatch):
+    from cranepredict import api
+
     initials = [cp.State(lift_stroke=0.05 + 0.01 * k, tilt_stroke=0.3) for k in range(30)]
     inputs = [cp.Inputs(lift=cp.Pressure(60e5 + 1e5 * k, 0), tilt=cp.Hold()) for k in range(30)]
     whole = cp.predict_many(crane, initials, inputs, 0.5, threads=1)
     monkeypatch.setattr(_core, "CHUNK_STEPS", 700)  # 2 futures of 250 steps per chunk
-    for threads in (1, 2, 3):
-        chunked = cp.predict_many(crane, initials, inputs, 0.5, threads=threads)
+    for threads in (1, 2, 3):   # 3 through the core layer: the API allows at most the cores
+        chunked = api._sample_arrays(_core.predict_many(crane, initials, inputs, 0.5,
+                                                        cp.DEFAULT_DT, 1, threads))
         for name in cp.types.ARRAYS:
-            assert np.array_equal(getattr(chunked, name), getattr(whole, name)), (threads, name)
+            got = chunked[name][0] if name == "t" else chunked[name]
+            assert np.array_equal(got, getattr(whole, name)), (threads, name)
 
 
 def test_chunked_batch_names_the_failed_future(crane, monkeypatch):
@@ -220,3 +224,20 @@ def test_ctrl_c_while_waiting_for_the_other_threads_stops_them(crane, monkeypatc
     chunks = len(worker_chunks)
     time.sleep(0.3)  # a worker left running would go on: 6 chunks in this time
     assert len(worker_chunks) == chunks and 1 <= chunks <= 3, worker_chunks  # of its 20
+
+
+def test_a_valid_valve_batch_is_never_refused_for_its_substeps(crane):
+    """1,200 lever-open futures in one thread: the core counts each future's valve substeps at
+    their bound against CRANE_MAX_BATCH_STEPS; a chunk over it is split, never refused."""
+    sc = cp.scenarios.get("lever-open")
+    batch = cp.predict_many(sc.crane, [sc.initial] * 1200, [sc.inputs] * 1200, 2.0,
+                            sample_every=400, threads=1)
+    one = cp.predict(sc.crane, sc.initial, sc.inputs, 2.0)
+    assert np.array_equal(batch.tip[1199, -1], one.tip[-1])
+
+
+def test_threads_beyond_the_cores_are_refused(crane):
+    import os
+
+    with pytest.raises(ValueError, match=r"threads must be an int in \[1, \d+\] \(os.cpu_count"):
+        cp.predict_many(crane, [STATE], [INPUTS], 0.5, threads=(os.cpu_count() or 1) + 1)

@@ -21,7 +21,7 @@ def test_guard_prints_the_verdict_per_part():
     assert "signal     WARN: contact of extension_boom and conductor 3" in r.stdout
     for part in ("pillar", "lift_boom", "outer_boom", "extension_boom", "load"):
         assert f"\n  {part} " in r.stdout
-    assert "closing: lift" in r.stdout and "under-estimates the stopping distance" in r.stdout
+    assert "closing: lift" in r.stdout and "valve to neutral" in r.stdout
 
 
 def test_guard_json_from_a_world_file(tmp_path):

@@ -27,8 +27,9 @@ PRESSURE_MAX = 1e8
 MAX_STEPS = 1_048_576
 
 #: The most output samples one call may return (predict: steps + 1; predict_many: futures x kept
-#: samples per future): the C core's CRANE_MAX_SAMPLES (2^23). A sample takes 88 bytes in the C
-#: core's output, so this bounds a call's output at about 740 MB.
+#: samples per future): the C core's CRANE_MAX_SAMPLES (2^23). A sample takes
+#: sizeof(crane_sample) = 288 bytes in the C core's double output (tests/test_bounds.py checks
+#: it), so this bounds a call's output at about 2.4 GB.
 MAX_SAMPLES = 8_388_608
 
 

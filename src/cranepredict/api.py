@@ -162,7 +162,12 @@ def predict(crane: Crane, initial: State, inputs: Inputs, horizon: float, *,
     else:
         from . import twin
 
-        arrays = twin.simulate(crane, initial, inputs, float(horizon), float(dt))
+        try:
+            arrays = twin.simulate(crane, initial, inputs, float(horizon), float(dt))
+        except (OverflowError, ZeroDivisionError) as exc:
+            raise ValueError(f"the twin's arithmetic failed ({exc}): a parameter of crane "
+                             f"{crane.name!r} is beyond what a double can carry through the model "
+                             "(check the crane file for absurd magnitudes)") from None
 
         def points(theta: np.ndarray, slew: np.ndarray, extension: np.ndarray) -> np.ndarray:
             return twin.points(crane, extension, slew, theta)
@@ -172,6 +177,17 @@ def predict(crane: Crane, initial: State, inputs: Inputs, horizon: float, *,
     for a in arrays.values():
         a.setflags(write=False)
     return Trajectory(**arrays, backend=backend, _points=points, _transmission=transmission)
+
+
+def _sample_times(n_steps: int, horizon: float, dt: float, sample_every: int) -> np.ndarray:
+    """The times of the kept samples (docs/model.md: t_k = k dt, the last one at the horizon), for
+    a batch of no futures, whose arrays still have the batch's sample axis."""
+    k = np.arange(0, n_steps + 1, sample_every, dtype=float)
+    if k[-1] != n_steps:
+        k = np.append(k, n_steps)
+    t = k * dt
+    t[-1] = horizon
+    return t
 
 
 def _c_transmission(crane: Crane) -> Any:
@@ -246,6 +262,15 @@ def state_at_rest(crane: Crane, lift_stroke: float, tilt_stroke: float, *, slew:
                 raise ValueError(f"state_at_rest: holding the crane needs {joint} {side} = {p:g} Pa, "
                                  f"outside [{CHAMBER_PRESSURE_MIN:g}, {PRESSURE_MAX:g}] Pa "
                                  f"(check {joint}_rod_pressure)")
+            if p > hyd.relief_pressure:
+                name = "slew_drive" if joint == "slew" else \
+                    "extension_cylinder" if joint == "extension" else f"{joint}_cylinder"
+                raise ValueError(
+                    f"state_at_rest: holding the crane at this pose with load_mass = "
+                    f"{crane.load_mass:g} kg needs {joint} {side} = {p / 1e5:.1f} bar, above "
+                    f"{name}.hydraulics.relief_pressure = {hyd.relief_pressure / 1e5:g} bar: the "
+                    f"relief valve would open and the {joint} would sink; lighten the load or "
+                    f"choose another pose")
         fields[f"{joint}_p_a"] = p_a
         fields[f"{joint}_p_b"] = p_b
     return State(lift_stroke=base.lift_stroke, tilt_stroke=base.tilt_stroke, slew=base.slew,
@@ -313,12 +338,16 @@ def predict_many(crane: Crane, initials: Sequence[State], inputs_list: Sequence[
             raise type(e)(f"future {k} (initials[{k}], inputs_list[{k}]): {e}") from None
     if threads is None:
         threads = min(2, os.cpu_count() or 1) if f >= 2 * MIN_FUTURES_PER_THREAD else 1
-    if isinstance(threads, bool) or not isinstance(threads, (int, np.integer)) or threads < 1:
-        raise ValueError(f"threads must be an int >= 1, got {threads!r}")
+    cores = os.cpu_count() or 1
+    if isinstance(threads, bool) or not isinstance(threads, (int, np.integer)) or \
+            not 1 <= threads <= max(cores, 1):
+        raise ValueError(f"threads must be an int in [1, {cores}] (os.cpu_count(): more threads "
+                         f"than cores only add memory and delay Ctrl-C), got {threads!r}")
     _core = _core_module()
     arrays = _sample_arrays(_core.predict_many(crane, initials, inputs_list, float(horizon),
                                                float(dt), int(sample_every), min(int(threads), max(f, 1))))
-    arrays["t"] = arrays["t"][0] if f else np.zeros(0)
+    arrays["t"] = arrays["t"][0] if f else _sample_times(n_steps, float(horizon), float(dt),
+                                                          int(sample_every))
     for a in arrays.values():
         a.setflags(write=False)
 

@@ -226,6 +226,8 @@ def _guard(args: argparse.Namespace) -> int:
     from . import scenarios, world as world_mod
 
     g = importlib.import_module("cranepredict.guard")
+    if args.plot:
+        _check_plot_dir(args.plot)   # before the prediction, not after
     if os.path.exists(args.world):
         world = world_mod.World.from_toml(args.world)
     elif args.world in world_mod.names():

@@ -22,7 +22,7 @@ from .shape import Shape
 from .types import Hold, Inputs, Pressure, PressureSeries, State, Trajectory, Valve, ValveSeries
 from .world import World
 
-__all__ = ["guard", "Verdict", "Contact", "StopAnalysis", "stop_inputs", "part_solids",
+__all__ = ["guard", "Verdict", "Contact", "StopAnalysis", "stop_inputs", "stop_state", "part_solids",
            "DEFAULT_REACTION", "DEFAULT_CYCLE", "SIGNALS"]
 
 #: Delay from the stop decision to the stop taking effect, s (operator or controller + valve).
@@ -34,14 +34,19 @@ DEFAULT_CLEARANCE_TOLERANCE = 1e-3   # m: per-part minima may be this much too l
 #: Default spacing of the samples the guard judges, s: every round(GUARD_SPACING / dt)-th step of
 #: the prediction (which still integrates at dt). Between them the motion bound finds any contact.
 GUARD_SPACING = 0.01
-#: How long the stop of valve-driven cylinders is followed, s: the PATU 655 at full lever comes to
-#: rest within about 0.1 s of its valve reaching neutral (then oscillates by millimetres on the oil).
+#: How long each piece of a stop is predicted, s: the PATU 655 at full lever comes to rest within
+#: about 0.1 s of its valve reaching neutral (then oscillates by millimetres on the oil); a stop
+#: still moving at the end of a piece is followed by another, up to STOP_FOLLOW_MAX.
 DEFAULT_STOP_HORIZON = 0.5
+#: The longest a stop is followed, s: a stop that has not come to rest by then (a slewing load on
+#: its relief valves) is not a stop the guard can vouch for: that stop time counts as unsafe.
+STOP_FOLLOW_MAX = 10.0
+#: At rest: every point of the crane's path slower than this over the last STOP_REST_WINDOW s of the
+#: stop (the tip is the fastest point of a turning boom, and carries the slew and the telescope).
+STOP_REST_SPEED = 0.005   # m/s
+STOP_REST_WINDOW = 0.1    # s
 SIGNALS = ("GO", "WARN", "STOP")
 JOINTS = ("lift", "tilt", "slew", "extension")
-#: The levers Inputs has today (the slew's and the extension's come with issue 11's API).
-LEVERS = ("lift", "tilt")
-
 
 
 def _c() -> Any:
@@ -78,20 +83,40 @@ def _frame(body: str) -> int:
 # -- what "stop" means -----------------------------------------------------------------------------
 
 def _stop_drive(drive: Any) -> Any:
-    """The stop of one lever. A valve-driven cylinder stops by its valve to neutral (lever 0): the
-    model then decelerates it through the spool's lag and the oil's stiffness. Pressure-driven
-    cylinders (and held ones) stop by Hold: the stroke freezes at once, which under-estimates the
-    stopping distance (a real crane decelerates)."""
-    if isinstance(drive, (Valve, ValveSeries)):
+    """The stop of one drive: the operator's lever to neutral. A valve-driven actuator (Valve,
+    ValveSeries) stops by its valve to neutral (lever 0) and decelerates through the spool's lag,
+    the oil's stiffness and its relief valves. A pressure-driven one (Pressure, PressureSeries: the
+    pressures were given, the valve that made them was not) stops the same way: its valve to
+    neutral, from the chamber pressures it had (the guard starts the spool fully open in the
+    direction of motion: the longest the valve can take to close). A held actuator stays held."""
+    if isinstance(drive, (Valve, ValveSeries, Pressure, PressureSeries)):
         return Valve(0.0)
-    if isinstance(drive, (Pressure, PressureSeries, Hold)):
+    if isinstance(drive, Hold):
         return Hold()
     raise TypeError(f"no stop is defined for a {type(drive).__name__} drive")
 
 
 def stop_inputs(inputs: Inputs) -> Inputs:
-    """The inputs that stop the crane: every lever to its stop (the one place that says so)."""
-    return Inputs(**{name: _stop_drive(getattr(inputs, name)) for name in LEVERS})
+    """The inputs that stop the crane: every drive (lift, tilt, slew, extension) to its stop,
+    the valve to neutral (the one place that says so); held drives stay held."""
+    if not isinstance(inputs, Inputs):
+        raise TypeError(f"inputs must be a cranepredict.Inputs, got {type(inputs).__name__}")
+    return Inputs(**{name: _stop_drive(getattr(inputs, name)) for name in JOINTS})
+
+
+def _unmodelled_stop(crane: Crane, inputs: Inputs) -> Optional[str]:
+    """Why the stop of these inputs cannot be predicted (a moving drive whose actuator has no
+    valve in the crane file), or None."""
+    actuators = {"lift": crane.lift_cylinder, "tilt": crane.tilt_cylinder,
+                 "slew": crane.slew_drive, "extension": crane.extension_cylinder}
+    for name in JOINTS:
+        if isinstance(getattr(inputs, name), Hold):
+            continue
+        act = actuators[name]
+        if act is None or getattr(act, "hydraulics", None) is None:
+            return (f"the {name} is pressure-driven and its actuator has no hydraulics table in "
+                    f"the crane file: its stop (the valve to neutral) cannot be predicted")
+    return None
 
 
 # -- results ---------------------------------------------------------------------------------------
@@ -313,10 +338,12 @@ def guard(crane: Crane, world: World, state: State, inputs: Inputs, horizon: flo
     between samples too, to ``time_tolerance``), the stop analysis and the signal: GO (no contact
     within the horizon), WARN (contact predicted, stopping can wait beyond the next control
     ``cycle``), STOP (stopping must begin now, or the clearance is already within the margin).
-    The stop is :func:`stop_inputs`: valve-driven cylinders stop by their valve to neutral (the
-    stop is then predicted over ``stop_horizon`` s from each candidate stop time); pressure-driven
-    ones by Hold, which stops instantly and so under-estimates the stopping distance
-    (``Verdict.stop.note``). ``margin`` defaults to the
+    The stop is :func:`stop_inputs`: every moving drive's valve to neutral, taking effect
+    ``reaction`` s after the decision, followed through the oil and the inertia until the crane is
+    at rest (pieces of ``stop_horizon`` s, at most STOP_FOLLOW_MAX s); the latest stop time is the
+    last judged sample from which that stop keeps the margin (docs/guard.md, "The guarantee").
+    A stop the model cannot predict (a pressure drive without hydraulics, a stop that does not come
+    to rest, a state the core cannot continue from) counts as unsafe. ``margin`` defaults to the
     world's. The parts move with each sample's joint angles, slew and extension. The prediction
     integrates at ``dt``; the guard judges every ``sample_every``-th step (default: about every
     GUARD_SPACING = 10 ms), the per-part minima are over those samples, and contacts are found
@@ -325,6 +352,10 @@ def guard(crane: Crane, world: World, state: State, inputs: Inputs, horizon: flo
     shape = _shape(crane, shape)
     if not isinstance(world, World):
         raise TypeError(f"world must be a cranepredict.World, got {type(world).__name__}")
+    if not isinstance(state, State):
+        raise TypeError(f"state must be a cranepredict.State, got {type(state).__name__}")
+    if not isinstance(inputs, Inputs):
+        raise TypeError(f"inputs must be a cranepredict.Inputs, got {type(inputs).__name__}")
     margin = world.margin if margin is None else margin
     checks = (("margin", margin, 0.0, True), ("reaction", reaction, 0.0, True),
               ("cycle", cycle, 0.0, False), ("time_tolerance", time_tolerance, 0.0, False),
@@ -334,8 +365,11 @@ def guard(crane: Crane, world: World, state: State, inputs: Inputs, horizon: flo
     for name, value, low, closed in checks:
         v = _number(value, name)
         if not (math.isfinite(v) and (v >= low if closed else v > low)):
-            raise ValueError(f"{name} must be {'>=' if closed else '>'} {low:g} and finite, got {v}")
+            raise ValueError(f"{name} must be {'>=' if closed else '>'} {low:g} and finite, got {v:g}")
         values[name] = v
+    if values["stop_horizon"] > STOP_FOLLOW_MAX:
+        raise ValueError(f"stop_horizon must be in (0, {STOP_FOLLOW_MAX:g}] s "
+                         f"(cranepredict.guard.STOP_FOLLOW_MAX), got {values['stop_horizon']:g}")
     dt = api.DEFAULT_DT if dt is None else dt
     if sample_every is None:
         step = _number(dt, "dt")
@@ -348,15 +382,18 @@ def guard(crane: Crane, world: World, state: State, inputs: Inputs, horizon: flo
     if verdict.contact is None or _freezes(stop):
         return verdict
     if verdict.contact.at_start:   # too late for any stop: say which stop that is
-        return _with_stop(verdict, -math.inf, values)
-    latest = _latest_valve_stop(crane, world, traj, stop, shape, values, values["stop_horizon"],
-                                dt, sample_every, verdict.contact.t)
-    return _with_stop(verdict, latest, values)
+        return _with_stop(verdict, -math.inf, values, None)
+    why = _unmodelled_stop(crane, inputs)
+    if why is not None:
+        return _with_stop(verdict, -math.inf, values, why)
+    latest, why = _latest_stop(crane, world, traj, inputs, stop, shape, values, dt, sample_every,
+                               verdict.contact.t)
+    return _with_stop(verdict, latest, values, why)
 
 
 def _freezes(stop: Inputs) -> bool:
-    """True if every lever stops by Hold: the crane is frozen when the stop takes effect."""
-    return all(isinstance(getattr(stop, name), Hold) for name in LEVERS)
+    """True if every drive is held: nothing moves, so a contact can only be one at t = 0."""
+    return all(isinstance(getattr(stop, name), Hold) for name in JOINTS)
 
 
 #: What crane_guard reads of a sample: the joint angles, slew, extension and their rates.
@@ -368,11 +405,8 @@ def _samples(traj: Trajectory) -> np.ndarray:
     from . import _core
 
     samples = np.zeros(len(traj.t), dtype=_core.SAMPLE_DTYPE)
-    for name in SAMPLE_FIELDS[:5]:
+    for name in SAMPLE_FIELDS:
         samples[name] = getattr(traj, name)
-    # a Trajectory whose slew and extension are frozen (one value, no rates) until issue 11's API
-    for name in SAMPLE_FIELDS[5:]:
-        samples[name] = getattr(traj, name, 0.0)
     return samples
 
 
@@ -404,56 +438,93 @@ def _judge(crane: Crane, world: World, samples: np.ndarray, shape: Shape,
     return res, clearance
 
 
-def _state_at(crane: Crane, traj: Trajectory, k: int, stop: Inputs) -> State:
-    """The state at sample k of a prediction, as the start of the stop: strokes, stroke rates
-    (0 for a lever that stops by Hold: it freezes), chamber pressures and spools; the slew and
-    the extension as in the prediction."""
-    from . import _core
+def stop_state(traj: Trajectory, k: int, inputs: Inputs) -> State:
+    """The state from which the stop starts at sample k of a prediction under ``inputs``: the
+    sample's state (Trajectory.state), with the spool of each pressure-driven actuator fully open
+    in the direction of its motion (its valve then takes the longest to close; at rest, closed)."""
+    import dataclasses
 
-    drives = [getattr(stop, name) for name in LEVERS]
-    slew, extension = (float(np.broadcast_to(a, traj.t.shape)[k]) for a in (traj.slew, traj.extension))
-    rates = []
-    for j, drive in enumerate(drives):
-        if isinstance(drive, Hold):
-            rates.append(0.0)
-        else:
-            _, ds = _core.joint_angle(crane, j, float(traj.strokes[k, j]), extension)
-            rates.append(float(traj.omega[k, j]) * ds)
-    extra: Dict[str, float] = {}
-    for j, name in enumerate(LEVERS):
-        if not isinstance(drives[j], Hold) and traj.p_a is not None:
-            extra[f"{name}_p_a"] = float(traj.p_a[k, j])
-            extra[f"{name}_p_b"] = float(traj.p_b[k, j])
-            if traj.spool is not None:
-                extra[f"{name}_spool"] = float(traj.spool[k, j])
-    return State(lift_stroke=float(traj.strokes[k, 0]), tilt_stroke=float(traj.strokes[k, 1]),
-                 slew=slew, extension=extension, lift_stroke_rate=rates[0],
-                 tilt_stroke_rate=rates[1], **extra)
+    st = traj.state(k)
+    rates = {"lift": st.lift_stroke_rate, "tilt": st.tilt_stroke_rate, "slew": st.slew_rate,
+             "extension": st.extension_rate}
+    spools = {f"{name}_spool": float(np.sign(rates[name])) for name in JOINTS
+              if isinstance(getattr(inputs, name), (Pressure, PressureSeries))}
+    return dataclasses.replace(st, **spools) if spools else st
 
 
-def _latest_valve_stop(crane: Crane, world: World, traj: Trajectory, stop: Inputs,
-                       shape: Shape, values: Dict[str, float], stop_horizon: float,
-                       dt: float, sample_every: int, t_contact: float) -> float:
+def _at_rest(traj: Trajectory) -> bool:
+    """Every point of the crane slower than STOP_REST_SPEED over the last STOP_REST_WINDOW s:
+    the tip's speed bounds the booms' (it is their farthest point from every joint's axis) and
+    carries the slew and the telescope."""
+    t, tip = traj.t, traj.tip
+    last = t >= t[-1] - STOP_REST_WINDOW - 1e-12
+    k = max(1, int(np.argmax(last)))
+    speed = np.linalg.norm(np.diff(tip[k - 1:], axis=0), axis=1) / np.diff(t[k - 1:])
+    return bool(speed.max() < STOP_REST_SPEED)
+
+
+def _joint_ranges(q: np.ndarray) -> np.ndarray:
+    """Per joint: (min, max) over rows of q (lift angle, tilt angle, slew, extension), (4, 2)."""
+    return np.column_stack([q.min(axis=0), q.max(axis=0)])
+
+
+def _stop_is_safe(crane: Crane, world: World, start: State, stop: Inputs, shape: Shape,
+                  values: Dict[str, float], dt: float, sample_every: int) -> Tuple[bool, str]:
+    """Predicts the stop from ``start`` over stop_horizon, then over twice as long and so on (at
+    most STOP_FOLLOW_MAX), judging each, until the crane is at rest or only repeats itself (the
+    second half stays within the joint ranges of the first: an oscillation on the closed valves'
+    oil, which no energy feeds); (safe, why not)."""
+    horizon = values["stop_horizon"]
+    while True:
+        piece = api.predict_many(crane, [start], [stop], horizon, dt=dt,
+                                 sample_every=sample_every)[0]
+        res, _ = _judge(crane, world, _samples(piece), shape, values)
+        if res.contact:
+            return False, ""
+        if _at_rest(piece):
+            return True, ""
+        half = int(np.searchsorted(piece.t, 0.5 * horizon))
+        q = np.column_stack([piece.theta, np.broadcast_to(piece.slew, piece.t.shape),
+                             np.broadcast_to(piece.extension, piece.t.shape)])
+        if half >= 2 and horizon >= 2 * values["stop_horizon"] - 1e-12:
+            first, second = _joint_ranges(q[:half]), _joint_ranges(q[half:])
+            if np.all(second[:, 0] >= first[:, 0]) and np.all(second[:, 1] <= first[:, 1]):
+                return True, ""
+        if horizon >= STOP_FOLLOW_MAX - 1e-9:
+            return False, (f"a stop was still moving to new poses {STOP_FOLLOW_MAX:g} s after it "
+                           "took effect: that stop time counts as unsafe")
+        horizon = min(2 * horizon, STOP_FOLLOW_MAX)
+
+
+def _latest_stop(crane: Crane, world: World, traj: Trajectory, inputs: Inputs, stop: Inputs,
+                 shape: Shape, values: Dict[str, float], dt: float, sample_every: int,
+                 t_contact: float) -> Tuple[float, Optional[str]]:
     """The latest judged sample time t_s at which stopping (taking effect at the first sample at or
     after t_s + reaction) keeps the clearance above the margin, by bisection over the samples:
     stopping later is taken never to be safer. Each candidate predicts the stop from the state
-    there under ``stop`` over ``stop_horizon`` and judges it; the command's own path is clear
-    before its first contact. -inf if not even stopping at t = 0 is safe."""
+    there (stop_state) until the crane is at rest and judges it; the command's own path is clear
+    before its first contact. -inf if not even stopping at t = 0 is safe. A candidate whose stop
+    cannot be predicted counts as unsafe; the second value says why, if that decided anything."""
     reaction = values["reaction"]
     t = traj.t
+    notes: list = []
 
     def safe(k: int) -> bool:
         m = int(np.searchsorted(t, t[k] + reaction - 1e-12))
         if m >= len(t) or t[m] >= t_contact:
             return False
-        after = api.predict_many(crane, [_state_at(crane, traj, m, stop)], [stop],
-                                 stop_horizon, dt=dt, sample_every=sample_every)[0]
-        res, _ = _judge(crane, world, _samples(after), shape, values)
-        return not res.contact
+        try:
+            start = stop_state(traj, m, inputs)
+            ok, why = _stop_is_safe(crane, world, start, stop, shape, values, dt, sample_every)
+        except ValueError as e:   # the core or State refuse the state there: no verdict from it
+            ok, why = False, f"the stop from t = {t[m]:.3f} s could not be predicted ({e})"
+        if why:
+            notes.append(why)
+        return ok
 
     lo, hi = -1, int(np.searchsorted(t, t_contact - reaction, side="right"))  # safe(lo), not hi
     if hi <= 0 or not safe(0):
-        return -math.inf
+        return -math.inf, (notes[-1] if notes else None)
     lo = 0
     while hi - lo > 1:
         mid = (lo + hi) // 2
@@ -461,18 +532,23 @@ def _latest_valve_stop(crane: Crane, world: World, traj: Trajectory, stop: Input
             lo = mid
         else:
             hi = mid
-    return float(t[lo])
+    return float(t[lo]), (notes[-1] if notes else None)
 
 
-def _with_stop(v: "Verdict", latest: float, values: Dict[str, float]) -> "Verdict":
+STOP_MODEL = "valves to neutral"
+STOP_NOTE = ("stop = every moving drive's valve to neutral (lift, tilt, slew, telescope; a "
+             "pressure-driven one from its pressures, its spool fully open): the crane decelerates "
+             "through the spool's lag, the oil's stiffness and the relief valves, followed until at "
+             "rest; the latest time is that of the judged samples, found by bisection")
+
+
+def _with_stop(v: "Verdict", latest: float, values: Dict[str, float],
+               why: Optional[str]) -> "Verdict":
     """The verdict with the stop analysis of valves to neutral (the signal follows from it)."""
     import dataclasses
 
-    stop = StopAnalysis(
-        latest=latest, reaction=values["reaction"], model="valves to neutral",
-        note="stop = every valve to neutral (lever 0; pressure-driven cylinders held): the crane "
-             "decelerates through the spool's lag and the oil's stiffness as modelled; the latest "
-             "time is that of the judged samples, found by bisection")
+    note = STOP_NOTE if why is None else f"{STOP_NOTE}; {why}"
+    stop = StopAnalysis(latest=latest, reaction=values["reaction"], model=STOP_MODEL, note=note)
     signal = "STOP" if latest < values["cycle"] else "WARN"
     c = v.contact
     assert c is not None
@@ -481,6 +557,8 @@ def _with_stop(v: "Verdict", latest: float, values: Dict[str, float]) -> "Verdic
         return dataclasses.replace(v, stop=stop)
     if signal == "STOP":
         when = "no stop keeps the margin" if latest == -math.inf else f"by t = {latest:.3f} s: now"
+        if why is not None and latest == -math.inf:
+            when = f"now ({why})"
         reason = (f"contact of {pair} predicted at t = {c.t:.3f} s; with a {values['reaction']:g} s "
                   f"reaction and the valves to neutral stopping must begin {when}")
     else:
@@ -509,8 +587,8 @@ def _verdict(res: Any, clearance: np.ndarray, shape: Shape, world: World, v: Dic
             at_start=bool(res.at_start))
         stop = StopAnalysis(
             latest=float(res.stop_latest), reaction=reaction, model="hold",
-            note="stop = every cylinder held (valve closed): the crane freezes at once, which "
-                 "under-estimates the stopping distance of a real crane")
+            note="every drive is held: the crane does not move, so a contact is one at t = 0 "
+                 "and no stop can remove it")
         pair = f"{contact.part} and {contact.obstacle}"
         if contact.at_start:
             state = "in contact" if contact.clearance <= 0 else \

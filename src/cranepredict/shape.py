@@ -62,7 +62,7 @@ class Part:
 
     def __post_init__(self) -> None:
         where = f"shape.{self.name}"
-        if self.kind not in PART_KINDS:
+        if not isinstance(self.kind, str) or self.kind not in PART_KINDS:
             raise ValueError(f"{where}.kind must be one of {PART_KINDS}, got {self.kind!r}")
         object.__setattr__(self, "a", _point(self.a, f"{where}.a"))
         r = _number(self.radius, f"{where}.radius")
@@ -102,6 +102,11 @@ class Part:
         if self.kind == "box":
             out["size"] = list(self.size)
         return out
+
+
+#: The fields each kind of part takes in a crane file's [shape] table.
+_KIND_FIELDS = {"capsule": {"kind", "a", "b", "radius"}, "sphere": {"kind", "a", "radius", "drop"},
+                "box": {"kind", "a", "size", "drop"}}
 
 
 def _plain_point(p: Optional[Point]) -> Any:
@@ -147,6 +152,12 @@ class Shape:
                                  f"{', '.join(sorted(allowed))}")
             if "kind" not in table or "a" not in table:
                 raise ValueError(f"shape.{name}: kind and a are required")
+            kind = table["kind"]
+            if isinstance(kind, str) and kind in _KIND_FIELDS:
+                extra = sorted(set(table) - _KIND_FIELDS[kind])
+                if extra:
+                    raise ValueError(f"shape.{name}: {', '.join(extra)} is not a field of a {kind} "
+                                     f"(a {kind} takes {', '.join(sorted(_KIND_FIELDS[kind]))})")
             parts.append(Part(name=name, **dict(table)))
         return cls(parts=tuple(parts), estimates=tuple(est))
 

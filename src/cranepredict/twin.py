@@ -1174,10 +1174,12 @@ class _ValveDrive:
         return dp_a, dp_b, dy
 
     def stiffness(self, stroke: float) -> float:
-        """lambda of docs/model.md: the bound of both chambers' self-feedback rate at this stroke."""
+        """lambda of docs/model.md: the bound of the pressure and spool rates at this stroke (each
+        chamber's self-feedback, the leakage counted twice for the pair it couples, 1/tau)."""
         v_a, v_b = self.volumes(stroke)
-        g = 2.0 * self.gradient + self.leakage
-        return max(g / self.compliance(v_a, 0), g / self.compliance(v_b, 1))
+        g = 2.0 * self.gradient + 2.0 * self.leakage
+        lam = max(g / self.compliance(v_a, 0), g / self.compliance(v_b, 1))
+        return max(lam, 1.0 / self.tau) if self.tau > 0 else lam
 
 
 #: Substeps keep lambda h/n below this (RK4 is stable on the negative real axis up to 2.785).
@@ -1757,9 +1759,10 @@ def _run(crane: Any, state: Any, inputs: Any, horizon: float, dt: float
             t = t_q
             if t >= t_end:
                 break
-        if not all(math.isfinite(v) for v in x):
-            raise ValueError(f"the prediction diverged at t = {t:g} s (the state is no longer finite): "
-                             "check the crane's parameters for absurd values")
+        if not _physical(x):
+            raise ValueError(f"the prediction diverged at t = {t:g} s (the state is no longer finite, "
+                             "or a spool or chamber pressure left its range): check the crane's "
+                             "parameters for absurd values")
         record(k + 1, horizon if last else (k + 1) * dt, x)
 
     out = {"t": t_out, "strokes": strokes, "theta": theta, "omega": omega,
@@ -1767,6 +1770,19 @@ def _run(crane: Any, state: Any, inputs: Any, horizon: float, dt: float
            "slew_rate": rates[:, 0].copy(), "extension_rate": rates[:, 1].copy(), "tip": tip,
            "stop": stop, "p_a": p_a, "p_b": p_b, "flow_a": flow_a, "flow_b": flow_b, "spool": spool}
     return out, pred.events
+
+
+def _physical(x: Sequence[float]) -> bool:
+    """Finite, and (with valves) every chamber pressure within +-PRESSURE_MAX and every spool in
+    [-1, 1]: an integration gone unstable shows there first (docs/model.md, "Bad input")."""
+    from ._checks import PRESSURE_MAX
+
+    if not all(math.isfinite(v) for v in x):
+        return False
+    if len(x) > HYD:
+        return all(-PRESSURE_MAX <= v <= PRESSURE_MAX for v in x[HYD:SPOOL]) and \
+            all(-1.0 <= v <= 1.0 for v in x[SPOOL:])
+    return True
 
 
 def simulate(crane: Any, state: Any, inputs: Any, horizon: float, dt: float) -> dict:

@@ -49,7 +49,7 @@ SLEW_RATE_MAX = 10.0
 def _pressure(value: object, name: str) -> float:
     p = _number(value, name)
     if not 0.0 <= p <= PRESSURE_MAX:
-        raise ValueError(f"{name} must be in [0, {PRESSURE_MAX:g}] Pa, got {p:g}")
+        raise ValueError(f"{name} must be in [0, {PRESSURE_MAX:g}] Pa, got {p!r}")
     return p
 
 
@@ -101,7 +101,7 @@ class State:
             v = getattr(self, name)
             if not -limit <= v <= limit:
                 raise ValueError(f"State.{name} must be in [-{limit:g}, {limit:g}] "
-                                 f"{unit} (cranepredict.{const}), got {v:g}")
+                                 f"{unit} (cranepredict.{const}), got {v!r}")
 
         for name in ("lift_p_a", "lift_p_b", "tilt_p_a", "tilt_p_b", "slew_p_a", "slew_p_b",
                      "extension_p_a", "extension_p_b"):
@@ -111,7 +111,7 @@ class State:
             p = _number(v, f"State.{name}")
             if not CHAMBER_PRESSURE_MIN <= p <= PRESSURE_MAX:
                 raise ValueError(f"State.{name} must be in [{CHAMBER_PRESSURE_MIN:g}, "
-                                 f"{PRESSURE_MAX:g}] Pa, got {p:g}")
+                                 f"{PRESSURE_MAX:g}] Pa, got {p!r}")
             object.__setattr__(self, name, p)
         for name in ("lift_spool", "tilt_spool", "slew_spool", "extension_spool"):
             if not -1.0 <= getattr(self, name) <= 1.0:
@@ -144,6 +144,13 @@ class Pressure:
 def _signal(value: Any, name: str) -> np.ndarray:
     """A read-only float copy of a sampled signal: 1-D, at least 2 samples, finite; a huge int,
     a non-number or a bad shape names the field."""
+    if isinstance(value, (str, bytes)) or not hasattr(value, "__len__"):
+        raise TypeError(f"{name} must be a sequence of numbers, got {type(value).__name__}")
+    if not (isinstance(value, np.ndarray) and value.dtype.kind in "iuf"):
+        for i, v in enumerate(value):
+            if isinstance(v, (bool, np.bool_)) or \
+                    not isinstance(v, (int, float, np.floating, np.integer)):
+                raise TypeError(f"{name}[{i}] must be a number, got {type(v).__name__}")
     try:
         a = np.array(value, dtype=float, copy=True)
     except OverflowError:
@@ -181,7 +188,7 @@ class PressureSeries:
             a = arrays[name]
             if a.min() < 0.0 or a.max() > PRESSURE_MAX:
                 raise ValueError(f"PressureSeries.{name} must be in [0, {PRESSURE_MAX:g}] Pa, "
-                                 f"got [{a.min():g}, {a.max():g}]")
+                                 f"got [{float(a.min())!r}, {float(a.max())!r}]")
         for name, a in arrays.items():
             object.__setattr__(self, name, a)
 
@@ -212,7 +219,7 @@ class Hold:
 def _lever(value: object, name: str) -> float:
     u = _number(value, name)
     if not -1.0 <= u <= 1.0:
-        raise ValueError(f"{name} must be in [-1, 1] (the lever; > 0 extends), got {u:g}")
+        raise ValueError(f"{name} must be in [-1, 1] (the lever; > 0 extends), got {u!r}")
     return u
 
 
@@ -255,7 +262,7 @@ class ValveSeries:
         u = arrays["u"]
         if u.min() < -1.0 or u.max() > 1.0:
             raise ValueError(f"ValveSeries.u must be in [-1, 1] (the lever), "
-                             f"got [{u.min():g}, {u.max():g}]")
+                             f"got [{float(u.min())!r}, {float(u.max())!r}]")
         for name, a in arrays.items():
             object.__setattr__(self, name, a)
 

@@ -73,7 +73,7 @@ class Obstacle:
     def make(cls, name: str, kind: str, where: str = "", **values: Any) -> "Obstacle":
         """Checks and builds an obstacle; errors name it as ``where`` (default: its name)."""
         where = where or f"obstacle {name!r}"
-        if kind not in OBSTACLE_KINDS:
+        if not isinstance(kind, str) or kind not in OBSTACLE_KINDS:
             raise ValueError(f"{where}.kind must be one of {tuple(OBSTACLE_KINDS)}, got {kind!r}")
         required, optional = OBSTACLE_KINDS[kind]
         unknown = sorted(set(values) - set(required) - set(optional))
@@ -140,8 +140,8 @@ class World:
         if not (math.isfinite(m) and m >= 0):
             raise ValueError(f"world margin must be >= 0 m, got {m}")
         object.__setattr__(self, "margin", m)
-        names = [o.name for o in self.obstacles]
-        dup = sorted({n for n in names if names.count(n) > 1})
+        seen: set = set()
+        dup = sorted({o.name for o in self.obstacles if o.name in seen or seen.add(o.name)})
         if dup:
             raise ValueError(f"world obstacle names must be unique, repeated: {', '.join(dup)}")
 
@@ -151,8 +151,21 @@ class World:
 
     @classmethod
     def from_toml(cls, path: Union[str, Path]) -> "World":
+        """A world file (TOML, UTF-8); errors name the file."""
         path = Path(path)
-        return cls.from_toml_string(path.read_text("utf-8"), default_name=path.stem)
+        if path.is_dir():
+            raise ValueError(f"world file {str(path)!r} is a directory, not a TOML file")
+        try:
+            text = path.read_text("utf-8")
+        except UnicodeDecodeError as exc:
+            raise ValueError(f"world file {str(path)!r} is not UTF-8 text (byte 0x{exc.object[exc.start]:02x} "
+                             f"at position {exc.start}): save it as UTF-8") from None
+        except OSError as exc:
+            raise ValueError(f"world file {str(path)!r}: {exc.strerror or exc}") from None
+        try:
+            return cls.from_toml_string(text, default_name=path.stem)
+        except (ValueError, TypeError) as exc:
+            raise type(exc)(f"{path}: {exc}") from None
 
     @classmethod
     def from_toml_string(cls, text: str, default_name: str = "world") -> "World":
