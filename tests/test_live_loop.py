@@ -185,3 +185,18 @@ def test_a_first_position_read_just_beyond_its_end_starts_at_the_end(crane):
     s = ekf.update(cp.Measurement(t=0.01, inputs=levers(), lift_stroke=0.2, tilt_stroke=0.3,
                                   slew=0.0, extension=-7e-4))
     assert s.extension >= crane.geometry.extension_min
+
+
+def test_a_pause_of_the_levers_faults_without_restarting_the_estimator(crane, world):
+    sim = _sim(crane)
+    twin = cp.LiveTwin(crane, world, horizon=1.0)
+    for _ in range(15):
+        v = twin.cycle(sim.measurement())
+        sim.step(allowed=not v.stops)
+    assert v.signal == "GO"
+    pause = twin.no_levers(sim.plant.t, "no lever frame for 0.06 s")
+    assert pause.signal == "FAULT" and pause.fault == "levers stale"
+    assert twin.cycle(sim.measurement()).signal == "GO"          # fresh data: judged at once
+    # levers again 40 ms later, but no sensor sample since: stale
+    late = twin.cycle(cp.Measurement(t=sim.plant.t + 0.04, inputs=levers()))
+    assert late.signal == "FAULT" and late.fault == "stale"

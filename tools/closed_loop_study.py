@@ -6,8 +6,8 @@ interlock obeyed and ignored. Prints the table of docs/live.md ("Closed loop").
 An episode: an example world, a start pose clear of every obstacle's margin at rest, and a lever
 combination whose future (on the twin's crane file) comes within the margin between 1.5 and 4 s;
 the plant's load, friction and supply pressure drawn off the crane file (x0.7-1.3, x0.8-1.25,
-x0.95-1.03). Each runs until 2 s after that, once obeying the verdict and once ignoring it. A needless STOP: the obeyed
-run's first STOP comes while the ignored run does not touch within the horizon (2 s) after it.
+x0.95-1.03). Each runs until 2 s after that, once obeying the verdict and once ignoring it. A needless STOP: the obeyed run
+STOPs, while the ignored run never comes within the world's margin of an obstacle.
 """
 
 from __future__ import annotations
@@ -71,18 +71,19 @@ def main() -> None:
         t_hit = None
         if ign.collided:
             t_hit = float(ign.contact.rsplit("t = ", 1)[1].split(" s")[0])
-        needless = obe.first_stop is not None and (t_hit is None or t_hit > obe.first_stop + 2.0)
+        needless = obe.first_stop is not None and ign.min_clearance > world.margin
         faults = {}
         for v in obe.verdicts:
             if v.signal == "FAULT" and v.fault != "settling":
                 faults[v.fault] = faults.get(v.fault, 0) + 1
-        rows.append({"episode": k, "world": world.name, "levers": script.steps[1][1],
+        rows.append({"episode": k, "world": world.name, "margin": world.margin, "levers": script.steps[1][1],
                      "ignored_collided": ign.collided, "ignored_contact": ign.contact,
-                     "obeyed_collided": obe.collided, "obeyed_contact": obe.contact,
+                     "ignored_min_clearance": ign.min_clearance,
+                     "obeyed_min_clearance": obe.min_clearance, "obeyed_collided": obe.collided, "obeyed_contact": obe.contact,
                      "first_stop": obe.first_stop, "needless_stop": needless, "faults": faults,
                      "stop_cycles": obe.counts.get("STOP", 0)})
         print(f"{k:3d} {world.name:13s} levers {script.steps[1][1]} ignored: "
-              f"{ign.contact or 'no contact'}; obeyed: {obe.contact or 'no contact'}; first STOP "
+              f"{ign.contact or 'no contact'} (min {ign.min_clearance:.2f} m); obeyed: {obe.contact or 'no contact'} (min {obe.min_clearance:.2f} m); first STOP "
               f"{obe.first_stop}; faults {faults}", flush=True)
     n = len(rows)
     print(f"\n{n} episodes ({time.time() - t0:.0f} s)")
@@ -90,6 +91,8 @@ def main() -> None:
     print(f"collisions, interlock obeyed:  {sum(r['obeyed_collided'] for r in rows)}")
     print(f"prevented:                     {sum(r['ignored_collided'] and not r['obeyed_collided'] for r in rows)}")
     print(f"needless STOPs:                {sum(r['needless_stop'] for r in rows)}")
+    print(f"obeyed runs within the margin: {sum(r['obeyed_min_clearance'] <= r['margin'] for r in rows)} "
+          f"(smallest clearance {min(r['obeyed_min_clearance'] for r in rows):.3f} m)")
     print(f"episodes with a FAULT (not settling): {sum(bool(r['faults']) for r in rows)}; by kind: "
           f"{ {k: sum(r['faults'].get(k, 0) for r in rows) for k in sorted({k for r in rows for k in r['faults']})} }")
     if a.json:

@@ -19,7 +19,8 @@ __all__ = ["Episode", "run_episode", "demo_setup"]
 @dataclass
 class Episode:
     """What happened: the verdicts in order, whether the true crane touched an obstacle (and
-    where), when the first STOP or FAULT came and the counts of each signal."""
+    where), its smallest clearance (m), when the first STOP or FAULT came and the counts of each
+    signal."""
 
     verdicts: List[LiveVerdict] = field(default_factory=list)
     collided: bool = False
@@ -28,6 +29,7 @@ class Episode:
     first_fault: Optional[float] = None
     counts: Dict[str, int] = field(default_factory=dict)
     vacuum_clips: int = 0
+    min_clearance: float = float("inf")
 
 
 def run_episode(crane: Crane, world: World, start: State, script: LeverScript, seconds: float, *,
@@ -69,6 +71,7 @@ def run_episode(crane: Crane, world: World, start: State, script: LeverScript, s
                 break
     ep.counts = dict(twin.counts)
     ep.vacuum_clips = plant.vacuum_clips
+    ep.min_clearance = plant.min_clearance
     return ep
 
 

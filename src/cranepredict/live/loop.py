@@ -154,6 +154,12 @@ class LiveTwin:
         self.counts["FAULT"] += 1
         return LiveVerdict(t=t, signal="FAULT", reason=reason, fault=kind, state=state, wall=wall)
 
+    def no_levers(self, t: float, reason: str) -> LiveVerdict:
+        """A FAULT ("levers stale") while no lever frame arrives, between cycles. The estimator
+        is kept: when measurements resume, their own times decide whether the data is stale."""
+        self.counts["FAULT"] += 1
+        return LiveVerdict(t=t, signal="FAULT", reason=reason, fault="levers stale")
+
     def cycle(self, measurement: Measurement, faults: Sequence[str] = ()) -> LiveVerdict:
         """One control cycle. ``faults``: what the bus found wrong since the last cycle (a sensor
         error flag, lost or frozen lever frames; MeasurementAssembler's list)."""

@@ -52,7 +52,7 @@ def run_twin(bus: Any, twin: LiveTwin, *, stop: Optional[threading.Event] = None
         got = asm.feed(msg) if msg is not None else None
         if got is None:
             if now - last > age:
-                v = twin.fault(now, "levers stale", f"no lever frame for {now - last:.3f} s")
+                v = twin.no_levers(now, f"no lever frame for {now - last:.3f} s")
                 bus.send(verdict_message(out, v, twin.crane, twin.world, now))
                 last = now
                 if on_verdict:

@@ -65,7 +65,8 @@ def perturbed_crane(crane: Crane, *, load: float = 1.3, friction: float = 1.2,
 class Plant:
     """The true crane: its state, advanced one control period at a time under the valves'
     commands. With a ``world``, each step also says whether the crane touched an obstacle
-    (clearance <= 0 anywhere along the step, found by the guard with a zero margin)."""
+    (clearance <= 0 anywhere along the step, found by the guard with a zero margin) and keeps
+    the smallest clearance of any part at the guard's samples (``min_clearance``, m)."""
 
     crane: Crane
     state: State
@@ -75,12 +76,14 @@ class Plant:
     collided: bool = False
     contact: Optional[str] = None
     vacuum_clips: int = 0
+    min_clearance: float = math.inf
 
     def step(self, valve: Sequence[float], period: float) -> State:
         inputs = levers(*valve)
         if self.world is not None:
             v = guard(self.crane, self.world, self.state, inputs, period, dt=self.dt, margin=0.0)
             traj = v.trajectory
+            self.min_clearance = min(self.min_clearance, min(v.clearance.values(), default=math.inf))
             if v.contact is not None and not self.collided:
                 self.collided = True
                 self.contact = (f"{v.contact.part} touched {v.contact.obstacle} at "
