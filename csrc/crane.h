@@ -60,6 +60,7 @@ typedef enum {
                                  * spool of the state out of range */
     CRANE_E_ACTUATOR = 28,      /* a slew or extension drive (not a hold) on a crane without a
                                  * slew drive / extension cylinder */
+    CRANE_E_PARAMS = 29,        /* crane_predict_many: n_params neither 1 nor n_futures */
     /* the collision guard (docs/guard.md) */
     CRANE_E_SOLID = 40,         /* a solid (obstacle) is not valid, or a pair of two planes */
     CRANE_E_PART = 41,          /* a crane part is not valid */
@@ -509,8 +510,11 @@ crane_status crane_predict_model(const crane_model *model, const crane_state *st
 crane_status crane_sample_count_every(crane_real horizon, crane_real dt, size_t sample_every,
                                       size_t *count);
 
-/* Many futures of one crane in one call: future k starts from states[k] under inputs[k]; all share
- * horizon, dt and sample_every (1 = every step, as crane_predict). Its samples go to
+/* Many futures in one call: future k starts from states[k] under inputs[k] with the crane
+ * params[0] (n_params = 1: one crane for all) or params[k] (n_params = n_futures: a crane per
+ * future, e.g. the load, friction or pressures of a parameter sweep; each is checked with its
+ * future); any other n_params is CRANE_E_PARAMS. All share horizon, dt and sample_every (1 = every
+ * step, as crane_predict). Its samples go to
  * out[k * stride .. k * stride + count), count = crane_sample_count_every(horizon, dt,
  * sample_every), which must be <= stride. Every future is validated before anything is written;
  * on an error *failed is the index of the first bad future (n_futures for an error in the shared
@@ -519,7 +523,7 @@ crane_status crane_sample_count_every(crane_real horizon, crane_real dt, size_t 
  * No heap, no threads: to use several cores, call it on disjoint slices of the batch from several
  * threads (it touches nothing but its arguments).
  * The samples of each future are identical to crane_predict's (at the kept steps). */
-crane_status crane_predict_many(const crane_params *params, size_t n_futures,
+crane_status crane_predict_many(const crane_params *params, size_t n_params, size_t n_futures,
                                 const crane_state *states, const crane_inputs *inputs,
                                 crane_real horizon, crane_real dt, size_t sample_every,
                                 crane_sample *out, size_t stride, size_t *failed);

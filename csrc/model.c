@@ -499,6 +499,7 @@ const char *crane_status_message(crane_status status)
     case CRANE_E_HYDRAULICS: return "a hydraulic parameter is out of range (docs/model.md, Hydraulics)";
     case CRANE_E_VALVE: return "a valve drive is invalid: lever outside [-1, 1], no hydraulics, or a state's chamber pressure/spool out of range";
     case CRANE_E_ACTUATOR: return "a slew or extension drive on a crane without that actuator (its joint can only be held)";
+    case CRANE_E_PARAMS: return "n_params must be 1 or n_futures";
     case CRANE_E_SOLID:
     case CRANE_E_PART:
     case CRANE_E_GUARD: return crane__guard_status_message(status);

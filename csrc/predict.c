@@ -374,10 +374,12 @@ crane_status crane_sample_count_every(crane_real horizon, crane_real dt, size_t 
 /* The checks of crane_predict_many's futures, every one before the first is integrated, with
  * *model as scratch (out of line, so that the checks' locals are not in the entry point's frame
  * during the integration: the stack budget of docs/embedding.md). The model depends on the
- * extension only through the lumped outer boom, so it is derived again only when the extension
- * changes. On an error *failed is the future at fault. */
+ * extension only through the lumped outer boom, so with one crane for all futures it is derived
+ * again only when the extension changes; with a crane per future (each = 1) for every future,
+ * which checks that crane too. On an error *failed is the future at fault. */
 static CRANE__NOINLINE crane_status check_futures(crane_model *model, const crane_params *params,
-                                                  size_t n_futures, const crane_state *states,
+                                                  size_t each, size_t n_futures,
+                                                  const crane_state *states,
                                                   const crane_inputs *inputs, crane_real horizon,
                                                   crane_real dt, long n_steps, size_t *failed)
 {
@@ -388,10 +390,10 @@ static CRANE__NOINLINE crane_status check_futures(crane_model *model, const cran
 
     for (k = 0; k < n_futures; ++k) {
         const crane_state *s = &states[k];
-        if (k == 0 || !(s->extension == states[k - 1].extension)) {
+        if (k == 0 || each || !(s->extension == states[k - 1].extension)) {
             /* straight into the caller's model: crane_model_init's own copy would add its size
              * to the entry point's stack */
-            st = crane__model_derive(model, params, s->extension, &field);
+            st = crane__model_derive(model, params + k * each, s->extension, &field);
             if (st != CRANE_OK) {
                 *failed = k;
                 return st;
@@ -410,7 +412,7 @@ static CRANE__NOINLINE crane_status check_futures(crane_model *model, const cran
     return CRANE_OK;
 }
 
-crane_status crane_predict_many(const crane_params *params, size_t n_futures,
+crane_status crane_predict_many(const crane_params *params, size_t n_params, size_t n_futures,
                                 const crane_state *states, const crane_inputs *inputs,
                                 crane_real horizon, crane_real dt, size_t sample_every,
                                 crane_sample *out, size_t stride, size_t *failed)
@@ -420,13 +422,18 @@ crane_status crane_predict_many(const crane_params *params, size_t n_futures,
     crane_status st;
     size_t k, count;
     long n_steps;
+    /* 1: params[k] is future k's crane; 0: params[0] is every future's */
+    const size_t each = n_params != 1;
 
     if (!failed)
         return CRANE_E_NULL;
     *failed = n_futures;
     if (!params || (n_futures > 0 && (!states || !inputs || !out)))
         return CRANE_E_NULL;
-    st = crane__check_params(params, &field);
+    if (each && n_params != n_futures)
+        return CRANE_E_PARAMS;
+    /* one crane for all: checked as a shared argument; a crane per future: with its future */
+    st = each ? CRANE_OK : crane__check_params(params, &field);
     if (st != CRANE_OK)
         return st;
     st = crane_sample_count_every(horizon, dt, sample_every, &count);
@@ -442,12 +449,13 @@ crane_status crane_predict_many(const crane_params *params, size_t n_futures,
         return CRANE_E_CAPACITY;
 
     /* Validate every future before the first write. */
-    st = check_futures(&model, params, n_futures, states, inputs, horizon, dt, n_steps, failed);
+    st = check_futures(&model, params, each, n_futures, states, inputs, horizon, dt, n_steps,
+                       failed);
     if (st != CRANE_OK)
         return st;
     for (k = 0; k < n_futures; ++k) {
-        if (k == 0 || !(states[k].extension == states[k - 1].extension))
-            (void)crane__model_derive(&model, params, states[k].extension, &field);
+        if (k == 0 || each || !(states[k].extension == states[k - 1].extension))
+            (void)crane__model_derive(&model, params + k * each, states[k].extension, &field);
         st = integrate(&model, &states[k], &inputs[k], horizon, dt, n_steps, (long)sample_every,
                        out + k * stride, &count);
         if (st != CRANE_OK) {

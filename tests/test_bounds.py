@@ -100,7 +100,7 @@ def test_predict_many_stops_between_chunks_on_ctrl_c(crane, monkeypatch):
     real = _core._run_chunk
 
     def chunk_then_ctrl_c(*args):
-        calls.append(args[1])
+        calls.append(args[2])
         status = real(*args)
         if len(calls) == 1:
             _thread.interrupt_main()
@@ -205,7 +205,7 @@ def test_ctrl_c_while_waiting_for_the_other_threads_stops_them(crane, monkeypatc
         if threading.current_thread() is main:
             return real(*args)
         running.append(1)
-        worker_chunks.append(args[1])
+        worker_chunks.append(args[2])
         if len(worker_chunks) == 1:
             time.sleep(0.2)  # let this thread finish its slice and wait
             signal.pthread_kill(main.ident, signal.SIGINT)  # a real signal: it wakes a blocked wait

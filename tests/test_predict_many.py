@@ -124,3 +124,62 @@ def test_inputs_not_modified(crane):
     before = (list(initials), list(inputs))
     cp.predict_many(crane, initials, inputs, HORIZON, dt=DT)
     assert (initials, inputs) == before
+
+
+# -- a crane per future (vary) ---------------------------------------------------------------------
+
+def _replaced(crane: cp.Crane, dotted: str, value: float) -> cp.Crane:
+    """The crane with one nested field replaced, built the ordinary way (a Crane, checked)."""
+    import dataclasses
+
+    head, _, rest = dotted.partition(".")
+    if not rest:
+        return dataclasses.replace(crane, **{head: value})
+    return dataclasses.replace(crane, **{head: _replaced(getattr(crane, head), rest, value)})
+
+
+@pytest.mark.parametrize("threads", [1, 2])
+def test_vary_equals_predict_with_each_crane(crane, threads):
+    """Each future of a varied batch is predict() with a Crane built with its values, exactly: the
+    load (pressure drives) and the lift valve's supply and friction (valve drives)."""
+    rng = np.random.default_rng(11)
+    n = 20
+    valve = cp.scenarios.get("valve-lift-step")
+    initials = [valve.initial] * n
+    inputs = [valve.inputs] * n
+    vary = {"load_mass": rng.uniform(100, 300, n),
+            "lift_cylinder.hydraulics.supply_pressure":
+                valve.crane.lift_cylinder.hydraulics.supply_pressure * rng.uniform(0.9, 1.1, n),
+            "lift_cylinder.friction.factor": rng.uniform(2, 6, n)}
+    before = {k: v.copy() for k, v in vary.items()}
+    batch = cp.predict_many(valve.crane, initials, inputs, HORIZON, dt=DT, threads=threads, vary=vary)
+    for k in (0, 7, 19):
+        c = valve.crane
+        for name, values in vary.items():
+            c = _replaced(c, name, float(values[k]))
+        one = cp.predict(c, initials[k], inputs[k], HORIZON, dt=DT)
+        for field in FIELDS:
+            assert np.array_equal(getattr(batch[k], field), getattr(one, field)), (k, field)
+    assert all(np.array_equal(before[k], vary[k]) for k in vary)   # the caller's arrays untouched
+    # and the values matter: a heavier load under the same lever ends lower
+    heavy, light = int(np.argmax(vary["load_mass"])), int(np.argmin(vary["load_mass"]))
+    assert batch[heavy].tip[-1, 2] != batch[light].tip[-1, 2]
+
+
+def test_vary_bad_input_names_field_and_range(crane):
+    initials, inputs = _futures(crane, 3)
+    cases = [({"geometry.tip_distance": [1, 2, 3]}, ValueError, "not a field predict_many can vary"),
+             ({"load_mass": [1, 2]}, ValueError, r"one value per future \(3\)"),
+             ({"load_mass": [1, float("nan"), 2]}, ValueError, r"future 1 .*load_mass must be finite"),
+             ({"load_mass": [1, -5, 2]}, ValueError, r"future 1 \(vary\): load_mass must be >= 0, got -5"),
+             ({"lift_cylinder.friction.static": [1e9, 1e9, 1.0]}, ValueError,
+              r"future 2 \(vary\): lift_cylinder.friction.static must be >= "
+              r"lift_cylinder.friction.coulomb"),
+             (["load_mass"], TypeError, "vary must be a mapping")]
+    for vary, kind, text in cases:
+        with pytest.raises(kind, match=text):
+            cp.predict_many(crane, initials, inputs, HORIZON, dt=DT, vary=vary)
+    no_slew = _replaced(crane, "slew_drive", None)
+    with pytest.raises(ValueError, match="has no slew_drive.friction table"):
+        cp.predict_many(no_slew, initials, inputs, HORIZON, dt=DT,
+                        vary={"slew_drive.friction.factor": [1, 1, 1]})

@@ -68,7 +68,7 @@ int main(void)
     crane_field field;
     int s = 0;
     s += (int)crane_predict(&params, &state, &inputs, v, v, out, 4, &n);
-    s += (int)crane_predict_many(&params, 1, &state, &inputs, v, v, (size_t)v, out, 4, &failed);
+    s += (int)crane_predict_many(&params, 1, 1, &state, &inputs, v, v, (size_t)v, out, 4, &failed);
     s += (int)crane_sample_count_every(v, v, (size_t)v, &n);
     s += (int)crane_predict_model(&model, &state, &inputs, v, v, out, 4, &n);
     s += (int)crane_model_init(&model, &params, v);

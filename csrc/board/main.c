@@ -294,7 +294,7 @@ static void run_entry_points(const board_scenario *sc)
     states[1].stroke[CRANE_LIFT] = (crane_real)0.2;
     inputs[0] = inputs[1] = sc->inputs;
     MEASURED("crane_predict_many",
-             st = crane_predict_many(&crane, 2, states, inputs, sc->horizon, sc->dt, 10, out2,
+             st = crane_predict_many(&crane, 1, 2, states, inputs, sc->horizon, sc->dt, 10, out2,
                                      count, &failed));
     expect(st, CRANE_OK, "crane_predict_many");
     MEASURED("crane_joint_angle",

@@ -333,7 +333,7 @@ static void run_many(const universe *u, const crane_params *params, const crane_
         abort();
     memset(out, 0x5a, total * sizeof *out);
     memcpy(ref, out, total * sizeof *out);
-    st = crane_predict_many(params, F, states, ins, u->horizon, u->dt, u->sample_every, out, stride,
+    st = crane_predict_many(params, 1, F, states, ins, u->horizon, u->dt, u->sample_every, out, stride,
                             &failed);
     check_status(st, "crane_predict_many status");
     if (failed > F)

@@ -68,7 +68,7 @@ static void test_limits(void)
                  CRANE_E_STEPS, "horizon 1e9, sample_every 10^12: steps");
     check_status(crane_predict(&params, &s, &in[0], (crane_real)1e9, dt, out, 2, &n),
                  CRANE_E_STEPS, "crane_predict horizon 1e9");
-    check_status(crane_predict_many(&params, 1, &s, in, (crane_real)1e9, dt, 1000000, out, 2,
+    check_status(crane_predict_many(&params, 1, 1, &s, in, (crane_real)1e9, dt, 1000000, out, 2,
                                     &failed),
                  CRANE_E_STEPS, "crane_predict_many horizon 1e9");
     check(failed == 1, "crane_predict_many horizon 1e9: a shared argument");
@@ -85,10 +85,10 @@ static void test_limits(void)
     check_status(crane_sample_count((crane_real)(CRANE_MAX_STEPS + 2) * dt, dt, &n),
                  CRANE_E_STEPS, "CRANE_MAX_STEPS + 2 steps are not");
     /* one call's samples: 9 futures of 1,000,001 samples */
-    check_status(crane_predict_many(&params, 9, &s, in, (crane_real)1000, dt, 1, out, 2, &failed),
+    check_status(crane_predict_many(&params, 1, 9, &s, in, (crane_real)1000, dt, 1, out, 2, &failed),
                  CRANE_E_SAMPLE_COUNT, "9 x 1,000,001 samples: over CRANE_MAX_SAMPLES");
     /* one call's work: 34 futures of 1,000,000 steps, 11 samples each */
-    check_status(crane_predict_many(&params, 34, &s, in, (crane_real)1000, dt, 100000, out, 2,
+    check_status(crane_predict_many(&params, 1, 34, &s, in, (crane_real)1000, dt, 100000, out, 2,
                                     &failed),
                  CRANE_E_BATCH, "34 x 1,000,000 steps: over CRANE_MAX_BATCH_STEPS");
 }
@@ -121,7 +121,7 @@ static void test_time_is_k_dt(void)
     (void)worst_k;
 
     held(&in[0]);
-    check_status(crane_predict_many(&params, 1, &s, in, (crane_real)65.536, dt, 4096, out, 20,
+    check_status(crane_predict_many(&params, 1, 1, &s, in, (crane_real)65.536, dt, 4096, out, 20,
                                     &failed),
                  CRANE_OK, "65,536 held steps, every 4096th kept");
     for (k = 0; k <= 16; ++k)

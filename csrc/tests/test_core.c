@@ -787,11 +787,56 @@ static void test_diverged(void)
               crane_predict_model(&m, &s0, &in, R(0.2), R(1e-3), out, 201, &k) == CRANE_E_DIVERGED &&
               k == n,
           "diverged: crane_predict_model the same");
-    check_status(crane_predict_many(&p, 1, &s0, &in, R(0.2), R(1e-3), 1, out, 201, &failed),
+    check_status(crane_predict_many(&p, 1, 1, &s0, &in, R(0.2), R(1e-3), 1, out, 201, &failed),
                  CRANE_E_DIVERGED, "diverged: crane_predict_many");
     check(failed == 0, "diverged: crane_predict_many names the future");
     check(strlen(crane_status_message(CRANE_E_DIVERGED)) > 0, "diverged: a message");
     printf("  diverged after %lu samples\n", (unsigned long)n);
+}
+
+/* A crane per future (n_params = n_futures): each future equals crane_predict with its own
+ * crane; a count that is neither 1 nor n_futures, or a bad crane of one future, is refused
+ * before anything is written, naming that future. */
+static void test_params_per_future(void)
+{
+    crane_params p[3];
+    crane_state s[3];
+    crane_inputs in[3];
+    static crane_sample out[3 * 101], ref[101], blank[3 * 101];
+    size_t n, failed, k;
+    int same = 1;
+
+    for (k = 0; k < 3; ++k) {
+        p[k] = patu();
+        p[k].load_mass = R(100.0 + 150.0 * (double)k);
+        s[k] = state(0.116, 0.20, 0, 0, 0, 0);
+        in[k] = constant_inputs(175e5, 0, CRANE_DRIVE_HOLD, 0, 0);
+    }
+    p[1].cylinder[CRANE_LIFT].friction.factor = R(2.0);
+    check_status(crane_predict_many(p, 3, 3, s, in, R(0.1), R(1e-3), 1, out, 101, &failed),
+                 CRANE_OK, "a crane per future");
+    for (k = 0; k < 3; ++k) {
+        check_status(crane_predict(&p[k], &s[k], &in[k], R(0.1), R(1e-3), ref, 101, &n), CRANE_OK,
+                     "a crane per future: crane_predict");
+        same = same && n == 101 && memcmp(out + k * 101, ref, sizeof ref) == 0;
+    }
+    check(same, "a crane per future: each future is crane_predict's with its crane");
+    check(D(out[100].tip[2]) > D(out[2 * 101 + 100].tip[2]),
+          "a crane per future: the lighter load rises higher");
+
+    memset(out, 0x5a, sizeof out);
+    memcpy(blank, out, sizeof out);
+    check_status(crane_predict_many(p, 2, 3, s, in, R(0.1), R(1e-3), 1, out, 101, &failed),
+                 CRANE_E_PARAMS, "n_params neither 1 nor n_futures");
+    check(failed == 3, "n_params: a shared argument");
+    check_status(crane_predict_many(p, 0, 3, s, in, R(0.1), R(1e-3), 1, out, 101, &failed),
+                 CRANE_E_PARAMS, "n_params 0");
+    p[2].load_mass = R(-1.0);
+    check_status(crane_predict_many(p, 3, 3, s, in, R(0.1), R(1e-3), 1, out, 101, &failed),
+                 CRANE_E_BODY, "a bad crane of future 2");
+    check(failed == 2, "a bad crane: its future is named");
+    check(memcmp(out, blank, sizeof out) == 0, "a bad crane: nothing written");
+    check(strlen(crane_status_message(CRANE_E_PARAMS)) > 0, "n_params: a message");
 }
 
 /* CRANE_TEST_BENCH_REPS sets the repetitions (default 2000; 0 skips it: emulators, valgrind). */
@@ -1022,6 +1067,7 @@ int main(void)
     test_tilt_flag();
     test_samples_equal_constant();
     test_diverged();
+    test_params_per_future();
     benchmark();
     printf("%d passed, %d failed\n", n_pass, n_fail);
     return n_fail ? 1 : 0;

@@ -330,14 +330,62 @@ def sample_count_every(horizon: float, dt: float, sample_every: int) -> int:
 CHUNK_STEPS = 250_000
 
 
+# -- a crane per future (predict_many's vary) ------------------------------------------------------
+
+_ACTUATORS = {"lift_cylinder": ("cylinder", 0), "tilt_cylinder": ("cylinder", 1),
+              "slew_drive": ("slew_drive",), "extension_cylinder": ("extension_cylinder",)}
+_FRICTION_FIELDS = ("coulomb", "static", "viscous", "stribeck_velocity", "factor")
+
+
+def _vary_paths() -> dict:
+    """Crane-file dotted name -> its path in crane_params, for every field predict_many may vary
+    per future: the load, gravity, and each actuator's friction and hydraulic numbers (neither
+    changes the geometry the Python checks and the guard read from the crane)."""
+    paths: dict = {"load_mass": ("load_mass",), "gravity": ("gravity",)}
+    for actuator, path in _ACTUATORS.items():
+        for name in _FRICTION_FIELDS:
+            paths[f"{actuator}.friction.{name}"] = path + ("friction", "static_" if name == "static" else name)
+        for name in _HYDRAULIC_FIELDS:
+            paths[f"{actuator}.hydraulics.{name}"] = path + ("hydraulics", name)
+    return paths
+
+
+VARY_PATHS = _vary_paths()
+
+
+def params_per_future(crane: "Crane", vary: "dict[str, np.ndarray]", n: int) -> Any:
+    """A crane_params[n]: the crane's parameters with vary's fields (dotted name -> n values) set
+    per future. Unchecked (crane_params_check does that, per future)."""
+    base = params(crane)
+    size = ffi.sizeof("crane_params")
+    arr = ffi.new("crane_params[]", max(n, 1))
+    raw = np.frombuffer(ffi.buffer(arr), dtype=np.uint8).reshape(-1, size)
+    raw[:] = np.frombuffer(ffi.buffer(base), dtype=np.uint8)
+    for name, values in vary.items():
+        offset = ffi.offsetof("crane_params", *VARY_PATHS[name])
+        column = np.ndarray((n,), dtype=np.float64, buffer=ffi.buffer(arr), offset=offset,
+                            strides=(size,))
+        column[:] = values
+    return arr
+
+
+def check_params(arr: Any, k: int) -> Tuple[int, int]:
+    """crane_params_check of arr[k]: (status, crane_field code)."""
+    field = ffi.new("crane_field *")
+    status = lib.crane_params_check(arr + k, field)
+    return int(status), int(field[0])
+
+
 def _run_chunk(*args: Any) -> int:
     """One crane_predict_many call (a seam for the tests, which interrupt between chunks)."""
     return lib.crane_predict_many(*args)
 
 
 def predict_many(crane: "Crane", states: Sequence["State"], inputs: Sequence["Inputs"],
-                 horizon: float, dt: float, sample_every: int, threads: int) -> np.ndarray:
+                 horizon: float, dt: float, sample_every: int, threads: int,
+                 per_future: Any = None) -> np.ndarray:
     """Runs crane_predict_many; returns the samples as a (F, N) structured array (SAMPLE_DTYPE).
+    ``per_future``: a crane_params[F] (params_per_future), one crane per future; None: the crane's.
 
     The batch is cut into chunks of about CHUNK_STEPS steps, one crane_predict_many call each, so
     that Ctrl-C stops it between chunks. With threads > 1 the batch is first cut into that many
@@ -372,8 +420,12 @@ def predict_many(crane: "Crane", states: Sequence["State"], inputs: Sequence["In
                 if stop.is_set():
                     return
                 hi = min(bounds[i + 1], lo + size)
-                status = _run_chunk(prm, hi - lo, st + lo, inp + lo, horizon, dt, sample_every,
-                                    base + lo * n, n, failed)
+                if per_future is None:
+                    cranes, n_cranes = prm, 1
+                else:
+                    cranes, n_cranes = per_future + lo, hi - lo
+                status = _run_chunk(cranes, n_cranes, hi - lo, st + lo, inp + lo, horizon, dt,
+                                    sample_every, base + lo * n, n, failed)
                 if status == lib.CRANE_E_BATCH and hi - lo > 1:
                     size = max(1, (hi - lo) // 2)   # refused before it ran: nothing written
                     continue

@@ -5,7 +5,7 @@ from __future__ import annotations
 
 import os
 import warnings
-from typing import Any, Optional, Sequence
+from typing import Any, Dict, Mapping, Optional, Sequence
 
 import numpy as np
 
@@ -17,7 +17,7 @@ from .types import (ARRAYS, POINT_NAMES, Hold, Inputs, Pressure, PressureSeries,
                     TrajectoryBatch, Valve, ValveSeries)
 
 __all__ = ["predict", "predict_many", "state_at_rest", "DEFAULT_DT", "BACKENDS", "MAX_STEPS",
-           "MAX_SAMPLES"]
+           "MAX_SAMPLES", "VARY_FIELDS"]
 
 # The C core (the compiled extension) is imported on the first call that needs it, so that the
 # package, its types and the twin import without it (tests/test_package.py).
@@ -342,9 +342,86 @@ def _sequence(value: Any, name: str, kind: type) -> list:
     return list(value)
 
 
+#: The crane-file fields :func:`predict_many` can vary per future (``vary``): the load, gravity,
+#: and every number of each actuator's friction and hydraulics (``lift_cylinder``,
+#: ``tilt_cylinder``, ``slew_drive``, ``extension_cylinder``; e.g.
+#: ``"lift_cylinder.hydraulics.supply_pressure"``). The geometry and the bodies stay the crane's.
+VARY_FIELDS = ("load_mass", "gravity") + tuple(
+    f"{actuator}.{table}.{name}"
+    for actuator in ("lift_cylinder", "tilt_cylinder", "slew_drive", "extension_cylinder")
+    for table, names in (("friction", ("coulomb", "static", "viscous", "stribeck_velocity",
+                                       "factor")),
+                         ("hydraulics", ("supply_pressure", "tank_pressure", "relief_pressure",
+                                         "nominal_flow", "nominal_pressure_drop", "dead_band",
+                                         "meter_out_flow", "meter_out_pressure_drop",
+                                         "spool_time_constant", "laminar_pressure_drop",
+                                         "cavitation_pressure", "hose_volume_a", "hose_volume_b",
+                                         "oil_bulk_modulus", "hose_bulk_modulus",
+                                         "cylinder_bulk_modulus", "leakage")))
+    for name in names)
+
+
+def _check_vary(crane: Crane, vary: Any, f: int) -> Dict[str, np.ndarray]:
+    """predict_many's ``vary``: names from VARY_FIELDS whose table the crane has, each with f
+    finite numbers; returns name -> float64 array (copies: the caller's arrays are not kept)."""
+    if not isinstance(vary, Mapping):
+        raise TypeError(f"vary must be a mapping of crane-file field names to per-future values, "
+                        f"got {type(vary).__name__}")
+    out = {}
+    for name, values in vary.items():
+        if name not in VARY_FIELDS:
+            raise ValueError(f"vary: {name!r} is not a field predict_many can vary per future; "
+                             f"allowed: load_mass, gravity, <actuator>.friction.<field>, "
+                             f"<actuator>.hydraulics.<number> (cranepredict.api.VARY_FIELDS)")
+        node: Any = crane
+        for part in name.split(".")[:-1]:
+            node = getattr(node, part)
+            if node is None:
+                table = name.rpartition(".")[0]
+                raise ValueError(f"vary: {name!r}: crane {crane.name!r} has no {table} table")
+        try:
+            a = np.array(values, dtype=np.float64)
+        except (TypeError, ValueError):
+            raise TypeError(f"vary[{name!r}] must be a sequence of {f} numbers") from None
+        if a.shape != (f,):
+            raise ValueError(f"vary[{name!r}] must have one value per future ({f}), got shape "
+                             f"{a.shape}")
+        bad = np.flatnonzero(~np.isfinite(a))
+        if bad.size:
+            raise ValueError(f"future {bad[0]} (vary[{name!r}][{bad[0]}]): {name} must be finite, "
+                             f"got {a[bad[0]]}")
+        out[name] = a
+    return out
+
+
+def _cranes_per_future(crane: Crane, vary: Dict[str, np.ndarray], f: int) -> Any:
+    """The crane_params of every future, each checked by the C core's crane_params_check (the one
+    validator of a crane); an error names the future, the field, its rule and value."""
+    from .crane import rule_error
+
+    _core = _core_module()
+    arr = _core.params_per_future(crane, vary, f)
+    for k in range(f):
+        status, code = _core.check_params(arr, k)
+        if status:
+            def value_of(name: str, k: int = k) -> Any:
+                return vary[name][k] if name in vary else _value(crane, name)
+            raise _core.CoreError(status, f"future {k} (vary): "
+                                  f"{rule_error(status, code, value_of, crane.name)}")
+    return arr
+
+
+def _value(crane: Crane, dotted: str) -> Any:
+    node: Any = crane
+    for part in dotted.split("."):
+        node = getattr(node, part)
+    return node
+
+
 def predict_many(crane: Crane, initials: Sequence[State], inputs_list: Sequence[Inputs],
                  horizon: float, *, dt: Optional[float] = None, sample_every: int = 1,
-                 threads: Optional[int] = None) -> TrajectoryBatch:
+                 threads: Optional[int] = None,
+                 vary: Optional[Mapping[str, Sequence[float]]] = None) -> TrajectoryBatch:
     """Predicts many futures of one crane in one C call: future k from ``initials[k]`` under
     ``inputs_list[k]``, all over the same ``horizon`` with the same ``dt``.
 
@@ -358,6 +435,13 @@ def predict_many(crane: Crane, initials: Sequence[State], inputs_list: Sequence[
     2 on a machine with 2 or more cores, for batches of at least 2 x MIN_FUTURES_PER_THREAD
     futures) splits the batch into contiguous slices run in parallel; the C core itself stays
     single-threaded. Validation is predict()'s, per future; an error names the future's index.
+
+    ``vary`` gives some of the crane's parameters per future without building a Crane per future:
+    crane-file dotted names from VARY_FIELDS (the load, gravity, each actuator's friction and
+    hydraulic numbers) mapped to one value per future, e.g. ``vary={"load_mass": masses}``; future
+    k then runs the crane with those fields replaced by their k-th values, exactly as
+    ``predict(crane_k, ...)`` with that crane would. Each future's crane is checked by the crane
+    file's rules (an error names the future, the field and its range).
     """
     dt = DEFAULT_DT if dt is None else dt
     n_steps = _check_shared(crane, horizon, dt, "c")
@@ -379,6 +463,9 @@ def predict_many(crane: Crane, initials: Sequence[State], inputs_list: Sequence[
             _check_future(crane, initial, inputs, horizon)
         except (TypeError, ValueError) as e:
             raise type(e)(f"future {k} (initials[{k}], inputs_list[{k}]): {e}") from None
+    per_future = None
+    if vary is not None:
+        per_future = _cranes_per_future(crane, _check_vary(crane, vary, f), f)
     if threads is None:
         threads = min(2, os.cpu_count() or 1) if f >= 2 * MIN_FUTURES_PER_THREAD else 1
     cores = os.cpu_count() or 1
@@ -388,7 +475,8 @@ def predict_many(crane: Crane, initials: Sequence[State], inputs_list: Sequence[
                          f"than cores only add memory and delay Ctrl-C), got {threads!r}")
     _core = _core_module()
     arrays = _sample_arrays(_core.predict_many(crane, initials, inputs_list, float(horizon),
-                                               float(dt), int(sample_every), min(int(threads), max(f, 1))))
+                                               float(dt), int(sample_every), min(int(threads), max(f, 1)),
+                                               per_future))
     arrays["t"] = arrays["t"][0] if f else _sample_times(n_steps, float(horizon), float(dt),
                                                           int(sample_every))
     for a in arrays.values():

@@ -462,27 +462,35 @@ def _check_crane(c: Crane) -> None:
     status = lib.crane_params_check(_core.params(c), field)
     if status == lib.CRANE_OK:
         return
+    raise _core.CoreError(status, rule_error(status, int(field[0]), lambda n: _value(c, n), c.name))
+
+
+def rule_error(status: int, code: int, value_of: Any, crane_name: str) -> str:
+    """The message of a crane rule the C core's crane_params_check found broken: the field's dotted
+    name, its rule and value (``value_of(dotted name)``), a sibling field a rule names with its
+    value."""
+    from . import _core
+    from ._cranepredict import ffi, lib
+
     what = ffi.string(lib.crane_status_message(status)).decode()
-    name = field_name(int(field[0]))
-    value = _value(c, name)
+    name = field_name(code)
+    value = value_of(name)
     if status in (lib.CRANE_E_GEOMETRY, lib.CRANE_E_FOURBAR):
         context = _core._CONTEXT.get(status)
-        msg = (f"crane {c.name!r}: {what}; it fails at {name} = {value}"
-               + (f" ({context})" if context else ""))
-    elif status == lib.CRANE_E_NONFINITE:
-        msg = f"{name} must be finite, got {value}"
-    else:
-        rule = ffi.string(lib.crane_field_rule(field[0])).decode()
-        # a rule that names a sibling field ("> rod") gets its dotted name and value
-        prefix = name.rpartition(".")[0]
-        words = []
-        for word in rule.split(" "):
-            sibling = f"{prefix}.{word}" if prefix else word
-            if word.isidentifier() and sibling != name and sibling in _FIELD_NAMES.values():
-                word = f"{sibling} ({_value(c, sibling)})"
-            words.append(word)
-        msg = f"{name} must be {' '.join(words)}, got {value} ({what})"
-    raise _core.CoreError(status, msg)
+        return (f"crane {crane_name!r}: {what}; it fails at {name} = {value}"
+                + (f" ({context})" if context else ""))
+    if status == lib.CRANE_E_NONFINITE:
+        return f"{name} must be finite, got {value}"
+    rule = ffi.string(lib.crane_field_rule(code)).decode()
+    # a rule that names a sibling field ("> rod") gets its dotted name and value
+    prefix = name.rpartition(".")[0]
+    words = []
+    for word in rule.split(" "):
+        sibling = f"{prefix}.{word}" if prefix else word
+        if word.isidentifier() and sibling != name and sibling in _FIELD_NAMES.values():
+            word = f"{sibling} ({value_of(sibling)})"
+        words.append(word)
+    return f"{name} must be {' '.join(words)}, got {value} ({what})"
 
 
 # -- writing ----------------------------------------------------------------------------------
