@@ -15,6 +15,8 @@ from .guard import Contact, StopAnalysis, Verdict, guard, stop_inputs
 from .shape import Part, Shape
 from .world import Obstacle, World
 from . import worlds
+from .uncertainty import Study, SweepResult, sweep
+from . import studies
 from .live import EKF, Estimator, LiveTwin, LiveVerdict, Measurement, Sensor, Sensors
 
 __all__ = ["predict", "predict_many", "TrajectoryBatch", "DEFAULT_DT", "BACKENDS", "MAX_STEPS",
@@ -22,6 +24,7 @@ __all__ = ["predict", "predict_many", "TrajectoryBatch", "DEFAULT_DT", "BACKENDS
            "Hydraulics", "Valve", "ValveSeries", "state_at_rest",
            "State", "Pressure", "PressureSeries", "Hold", "Inputs", "Trajectory", "POINT_NAMES",
            "scenarios", "holding_pressure", "guard", "Verdict", "Contact", "StopAnalysis",
-           "stop_inputs", "Shape", "Part", "World", "Obstacle", "worlds",
+           "stop_inputs", "Shape", "Part", "World", "Obstacle", "worlds", "sweep", "Study", "SweepResult",
+           "studies",
            "Measurement", "Sensor", "Sensors", "LiveTwin", "LiveVerdict", "Estimator", "EKF"]
 __version__ = "0.1.0"

@@ -214,6 +214,46 @@ def _guard_plot(v, sc, out_dir: str, g) -> str:
     return plot.guard_plot(v, sc, out_dir, g)
 
 
+# -- sweep: an uncertainty study (docs/sweep.md) ---------------------------------------------------
+
+def _sweep(args: argparse.Namespace) -> int:
+    import json
+    import os
+
+    from . import uncertainty
+
+    if args.plot:
+        _check_plot_dir(os.path.dirname(os.path.abspath(args.plot)))
+    study = uncertainty.load_study(args.spec).with_run(args.samples, args.seed)
+    out = args.out if args.out is not None else f"sweep-{study.name}"
+    scheduler = "in-process" if args.in_process else args.scheduler
+    if scheduler is None and not uncertainty.has_dask():
+        print("cranepredict: Dask is not installed (the [sweep] extra): running in this process",
+              file=sys.stderr)
+        scheduler = "in-process"
+    result = uncertainty.sweep(study, out=out, scheduler=scheduler, workers=args.workers,
+                               progress=not args.json and sys.stderr.isatty())
+    if args.plot:
+        result.plot(args.plot)
+    if args.json:
+        d = result.summary.to_dict()
+        d.update(study=study.name, out=str(result.out), seconds=result.seconds,
+                 computed_chunks=result.computed_chunks, where=result.where)
+        print(json.dumps(d, indent=2))
+        return 0
+    reused = study.n_chunks - result.computed_chunks
+    print(f"study      {study.name}: {study.description}")
+    print(f"samples    {study.samples:,} (seed {study.seed}, {study.n_chunks} chunks of "
+          f"{study.chunk}); uncertain: {', '.join(study.parameters) or 'none'}")
+    print(result.summary.text())
+    print(f"ran        {result.computed_chunks} chunks on {result.where} in {result.seconds:.1f} s"
+          + (f"; {reused} chunks were already in {out}" if reused else ""))
+    print(f"table      {out}/chunk-*.npz, summary {out}/summary.json")
+    if args.plot:
+        print(f"plot       {args.plot}")
+    return 0
+
+
 def _view(args: argparse.Namespace) -> int:
     from .view import app
 
@@ -281,6 +321,28 @@ def main(argv: Optional[List[str]] = None) -> int:
     from .live.cli import add_parsers as _live_parsers
 
     _live_parsers(sub)
+    sw = sub.add_parser("sweep", help="an uncertainty study: how often the guard's verdict for the "
+                                      "nominal crane misses a contact the real crane makes, over "
+                                      "sampled loads, friction, pressures and sensor offsets "
+                                      "(Dask: the [sweep] extra)")
+    sw.add_argument("spec", metavar="SPEC",
+                    help="study file (TOML), or an example study's name (power-line-load)")
+    sw.add_argument("--samples", type=int, default=None, help="samples (default: the file's)")
+    sw.add_argument("--seed", type=int, default=None, help="seed (default: the file's)")
+    sw.add_argument("--out", metavar="DIR", default=None,
+                    help="folder of the chunks and the summary (default: sweep-NAME); run again "
+                         "with the same folder to resume")
+    where = sw.add_mutually_exclusive_group()
+    where.add_argument("--scheduler", metavar="ADDR", default=None,
+                       help="a Dask scheduler's address, e.g. tcp://host:8786 (default: a "
+                            "LocalCluster on this machine)")
+    where.add_argument("--in-process", action="store_true", help="run in this process, no Dask")
+    sw.add_argument("--workers", type=int, default=None,
+                    help="the LocalCluster's worker processes (default: the cores)")
+    sw.add_argument("--plot", metavar="PNG", default=None,
+                    help="write the summary's figure (needs the [plot] extra)")
+    sw.add_argument("--json", action="store_true", help="print the summary as JSON")
+    sw.set_defaults(func=_sweep)
     lst = sub.add_parser("scenarios", help="list the named scenarios")
     lst.set_defaults(func=_scenarios)
     args = parser.parse_args(argv)

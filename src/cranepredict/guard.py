@@ -11,7 +11,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, field
-from typing import Any, Dict, Optional, Tuple
+from typing import Any, Dict, Mapping, Optional, Tuple
 
 import numpy as np
 
@@ -23,7 +23,7 @@ from .types import Hold, Inputs, Pressure, PressureSeries, State, Trajectory, Va
 from .world import World
 
 __all__ = ["guard", "Verdict", "Contact", "StopAnalysis", "stop_inputs", "stop_state", "part_solids",
-           "DEFAULT_REACTION", "DEFAULT_CYCLE", "SIGNALS"]
+           "obstacle_clearances", "stop_settled", "DEFAULT_REACTION", "DEFAULT_CYCLE", "SIGNALS"]
 
 #: Delay from the stop decision to the stop taking effect, s (operator or controller + valve).
 DEFAULT_REACTION = 0.2
@@ -438,6 +438,66 @@ def _judge(crane: Crane, world: World, samples: np.ndarray, shape: Shape,
     return res, clearance
 
 
+def obstacle_clearances(crane: Crane, world: World, samples: Mapping[str, np.ndarray], *,
+                        margin: Optional[float] = None, shape: Optional[Shape] = None,
+                        time_tolerance: float = DEFAULT_TIME_TOLERANCE,
+                        clearance_tolerance: float = DEFAULT_CLEARANCE_TOLERANCE
+                        ) -> Tuple[np.ndarray, np.ndarray]:
+    """The guard's measure of a motion against each obstacle on its own: per obstacle of the world,
+    the first time any part comes within ``margin`` of it (s, found between samples too; inf:
+    never) and the smallest clearance of any part to it over the samples (m, at most
+    ``clearance_tolerance`` too large). ``samples`` maps SAMPLE_FIELDS (t, theta, omega, slew,
+    extension and their rates) to arrays of one motion (a Trajectory's, or pieces joined)."""
+    from . import _core
+
+    shape = _shape(crane, shape)
+    ffi, lib = _c()
+    margin = world.margin if margin is None else margin
+    values = {"margin": margin, "reaction": DEFAULT_REACTION, "cycle": DEFAULT_CYCLE,
+              "time_tolerance": time_tolerance, "clearance_tolerance": clearance_tolerance}
+    t = np.asarray(samples["t"])
+    c_samples = np.zeros(len(t), dtype=_core.SAMPLE_DTYPE)
+    for name in SAMPLE_FIELDS:
+        c_samples[name] = samples[name]
+    model = _core.model(crane, crane.geometry.extension_min)
+    parts = _cached("parts", (crane, shape), lambda: _parts(crane, shape))
+    solids = _cached("solids", (world,), lambda: _solids(world))
+    n_parts, n_obs = len(shape.parts), len(world.obstacles)
+    _check_layout(parts, n_parts, solids, world, shape)
+    cfg = ffi.new("crane_guard_config *", values)
+    res = ffi.new("crane_guard_result *")
+    per_part = np.empty(n_parts)
+    work = np.empty(n_parts * (1 + lib.CRANE_GUARD_PART_WORK))
+    pointers = (ffi.cast("crane_sample *", ffi.from_buffer(c_samples)),
+                ffi.cast("crane_real *", ffi.from_buffer(per_part)),
+                ffi.cast("crane_real *", ffi.from_buffer(work)))
+    first, clearance = np.full(n_obs, math.inf), np.empty(n_obs)
+    for i in range(n_obs):
+        _core.ensure(lib.crane_guard(model, parts, n_parts, solids + i, 1, pointers[0], len(t), cfg,
+                                     pointers[1], pointers[2], work.size, res), "guard")
+        if res.contact:
+            first[i] = res.t
+        clearance[i] = per_part.min() if n_parts else math.inf
+    return first, clearance
+
+
+def stop_settled(piece: Trajectory, stop_horizon: float = DEFAULT_STOP_HORIZON) -> bool:
+    """Whether a predicted stop (from its start over ``piece.t[-1]`` s) needs no longer look: the
+    crane is at rest at its end, or (once followed for at least twice ``stop_horizon``) its second
+    half stays within the joint ranges of its first: an oscillation on the closed valves' oil,
+    which no energy feeds."""
+    if _at_rest(piece):
+        return True
+    horizon = float(piece.t[-1] - piece.t[0])
+    half = int(np.searchsorted(piece.t, piece.t[0] + 0.5 * horizon))
+    if half < 2 or horizon < 2 * stop_horizon - 1e-12:
+        return False
+    q = np.column_stack([piece.theta, np.broadcast_to(piece.slew, piece.t.shape),
+                         np.broadcast_to(piece.extension, piece.t.shape)])
+    first, second = _joint_ranges(q[:half]), _joint_ranges(q[half:])
+    return bool(np.all(second[:, 0] >= first[:, 0]) and np.all(second[:, 1] <= first[:, 1]))
+
+
 def stop_state(traj: Trajectory, k: int, inputs: Inputs) -> State:
     """The state from which the stop starts at sample k of a prediction under ``inputs``: the
     sample's state (Trajectory.state), with the spool of each pressure-driven actuator fully open
@@ -481,15 +541,8 @@ def _stop_is_safe(crane: Crane, world: World, start: State, stop: Inputs, shape:
         res, _ = _judge(crane, world, _samples(piece), shape, values)
         if res.contact:
             return False, ""
-        if _at_rest(piece):
+        if stop_settled(piece, values["stop_horizon"]):
             return True, ""
-        half = int(np.searchsorted(piece.t, 0.5 * horizon))
-        q = np.column_stack([piece.theta, np.broadcast_to(piece.slew, piece.t.shape),
-                             np.broadcast_to(piece.extension, piece.t.shape)])
-        if half >= 2 and horizon >= 2 * values["stop_horizon"] - 1e-12:
-            first, second = _joint_ranges(q[:half]), _joint_ranges(q[half:])
-            if np.all(second[:, 0] >= first[:, 0]) and np.all(second[:, 1] <= first[:, 1]):
-                return True, ""
         if horizon >= STOP_FOLLOW_MAX - 1e-9:
             return False, (f"a stop was still moving to new poses {STOP_FOLLOW_MAX:g} s after it "
                            "took effect: that stop time counts as unsafe")

@@ -2,7 +2,7 @@
 
 ``demo_plot``: side and top views of a scenario's motion; ``guard_plot``: the guard's verdict in
 side and top views with the obstacles near the crane; ``validate_plots``: the fast model's tip
-path against the reference's and the error. Each view is framed on what it shows (at least
+path against the reference's and the error; ``sweep_plot``: an uncertainty study's summary. Each view is framed on what it shows (at least
 ``MIN_SPAN`` across, so that a view without motion is not magnified to rounding noise) and each
 obstacle is drawn only in the views where it is near the crane's path.
 """
@@ -15,7 +15,8 @@ from typing import Any, Dict, Iterable, List, Sequence, Tuple
 
 import numpy as np
 
-__all__ = ["demo_plot", "guard_plot", "demo_figure", "guard_figure", "validate_plots", "fit",
+__all__ = ["demo_plot", "guard_plot", "demo_figure", "guard_figure", "validate_plots", "sweep_plot",
+           "sweep_figure", "fit",
            "near_in_depth", "tip_view",
            "MIN_SPAN", "NEAR"]
 
@@ -357,3 +358,80 @@ def validate_plots(rows: Sequence[dict], out_dir: str) -> List[str]:
         plt.close(fig)
         written.append(path)
     return written
+
+
+# -- an uncertainty study (docs/sweep.md) --------------------------------------------------------
+
+def sweep_plot(result: Any, path: Any) -> Any:
+    """Writes :func:`sweep_figure` as a PNG file; returns its path."""
+    import pathlib
+
+    path = pathlib.Path(path)
+    if path.parent and not path.parent.exists():
+        path.parent.mkdir(parents=True, exist_ok=True)
+    fig = sweep_figure(result)
+    fig.savefig(path, dpi=110)
+    _plt().close(fig)
+    return path
+
+
+def _closest_obstacles(result: Any, n: int = 3) -> List[int]:
+    """The obstacles the real cranes came closest to (by the 1 % clearance under the decision)."""
+    q = [o.clearance_quantiles[0] for o in result.summary.obstacles]
+    return [int(i) for i in np.argsort(q)[:n]]
+
+
+def sweep_figure(result: Any) -> Any:
+    """Three panels: each sample's smallest clearance under the twin's decision against the first
+    uncertain parameter (missed contacts marked); the distribution of that clearance for the
+    closest obstacles; and the miss rate the first-order estimate gives for a larger guard margin,
+    with the study's target."""
+    plt = _plt()
+    study, summary, table = result.study, result.summary, result.table
+    fig, axes = plt.subplots(1, 3, figsize=(15, 4.6))
+    margin = summary.world_margin
+    closest = _closest_obstacles(result)
+    names = [o.name for o in summary.obstacles]
+    clear = table["policy_clearance"]
+    missed = table["missed"].any(axis=1)
+    ax = axes[0]
+    if study.parameters:
+        name = study.parameters[0]
+        x = result.values(name)
+        y = clear.min(axis=1)
+        ax.scatter(x[~missed], y[~missed], s=6, color="tab:green", label="kept the margin")
+        ax.scatter(x[missed], y[missed], s=6, color="tab:red", label="missed: within the margin")
+        ax.set_xlabel(f"{name} (sampled)")
+    ax.axhline(margin, color="k", lw=1, ls="--", label=f"world margin {margin:g} m")
+    ax.set_ylabel("smallest clearance under the twin's decision, m")
+    ax.set_title("each real crane", fontsize=10)
+    ax.legend(fontsize=8, loc="best")
+    ax = axes[1]
+    for i, colour in zip(closest, _OBSTACLE_COLOURS):
+        ax.hist(clear[:, i], bins=40, histtype="step", color=colour, label=names[i])
+    ax.axvline(margin, color="k", lw=1, ls="--", label="world margin")
+    ax.set_xlabel("clearance under the twin's decision, m")
+    ax.set_ylabel("samples")
+    ax.set_title("clearance per obstacle", fontsize=10)
+    ax.legend(fontsize=8)
+    ax = axes[2]
+    case = table["case"]
+    short = np.where(table["missed"],
+                     np.maximum(result.nominal.policy_clearance[case] - clear, 0.0), 0.0).max(axis=1)
+    top = max(float(short.max()), 0.1) * 1.1
+    extra = np.linspace(0.0, top, 200)
+    rate = [(short > e).mean() * 100.0 for e in extra]
+    ax.plot(summary.guard_margin + extra, rate, color="tab:blue", label="missed (estimate)")
+    ax.axhline(summary.target * 100.0, color="tab:red", lw=1, ls=":",
+               label=f"target {summary.target * 100:g} %")
+    ax.axvline(summary.margin_for_target, color="tab:red", lw=1,
+               label=f"margin {summary.margin_for_target:.2f} m")
+    ax.set_xlabel("guard margin, m")
+    ax.set_ylabel("contacts missed, % of samples")
+    ax.set_title("a larger guard margin", fontsize=10)
+    ax.legend(fontsize=8)
+    fig.suptitle(_wrap(f"{study.name}: {summary.samples:,} samples; {summary.miss_rate * 100:.1f} % "
+                       f"missed at the guard margin {summary.guard_margin:g} m, "
+                       f"{summary.needless_stop_rate * 100:.1f} % needless stops"), fontsize=11)
+    fig.tight_layout()
+    return fig

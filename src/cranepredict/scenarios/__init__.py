@@ -40,7 +40,8 @@ from .._checks import number, tomllib
 from ..crane import Crane
 from ..types import Drive, Hold, Inputs, Pressure, PressureSeries, State, Valve, ValveSeries
 
-__all__ = ["Scenario", "get", "names", "all_scenarios", "from_dict", "random_case", "random_drive"]
+__all__ = ["Scenario", "get", "names", "all_scenarios", "from_dict", "start_and_command",
+           "random_case", "random_drive"]
 
 
 @dataclass(frozen=True)
@@ -121,20 +122,31 @@ def from_dict(data: Mapping[str, Any], where: str = "scenario") -> Scenario:
     crane = _crane(data.get("crane", "patu655"), where)
     if "load_mass" in data:
         crane = crane.with_load(data["load_mass"])
-    inputs = data.get("inputs", {})
-    if not {"lift", "tilt"} <= set(inputs) <= {"lift", "tilt", "slew", "extension"}:
-        raise ValueError(f"{where}.inputs must have the tables lift and tilt, and optionally slew "
-                         f"and extension; got {sorted(inputs)}")
-    drives = {name: _drive(d, f"{where}.inputs.{name}") for name, d in inputs.items()}
+    initial, inputs = start_and_command(crane, data["initial"], data.get("inputs", {}), where)
     return Scenario(
         name=data["name"],
         description=data.get("description", ""),
         crane=crane,
-        initial=_initial(crane, data["initial"], f"{where}.initial"),
-        inputs=Inputs(**drives),
+        initial=initial,
+        inputs=inputs,
         horizon=number(data["horizon"], f"{where}.horizon"),
         tags=tuple(data.get("tags", ())),
     )
+
+
+def start_and_command(crane: Crane, initial: Any, inputs: Any, where: str) -> Tuple[State, Inputs]:
+    """A scenario file's ``[initial]`` and ``[inputs]`` tables (the format above) as a State and
+    Inputs of the crane; errors name ``where``'s field."""
+    if not isinstance(inputs, Mapping):
+        raise TypeError(f"{where}.inputs must be a table of drives, got {type(inputs).__name__}")
+    if not {"lift", "tilt"} <= set(inputs) <= {"lift", "tilt", "slew", "extension"}:
+        raise ValueError(f"{where}.inputs must have the tables lift and tilt, and optionally slew "
+                         f"and extension; got {sorted(inputs)}")
+    for name, d in inputs.items():
+        if not isinstance(d, Mapping):
+            raise TypeError(f"{where}.inputs.{name} must be a table, got {type(d).__name__}")
+    drives = {name: _drive(d, f"{where}.inputs.{name}") for name, d in inputs.items()}
+    return _initial(crane, initial, f"{where}.initial"), Inputs(**drives)
 
 
 def _load_all() -> Dict[str, Scenario]:
