@@ -441,13 +441,14 @@ def _judge(crane: Crane, world: World, samples: np.ndarray, shape: Shape,
 def obstacle_clearances(crane: Crane, world: World, samples: Mapping[str, np.ndarray], *,
                         margin: Optional[float] = None, shape: Optional[Shape] = None,
                         time_tolerance: float = DEFAULT_TIME_TOLERANCE,
-                        clearance_tolerance: float = DEFAULT_CLEARANCE_TOLERANCE
-                        ) -> Tuple[np.ndarray, np.ndarray]:
+                        clearance_tolerance: float = DEFAULT_CLEARANCE_TOLERANCE,
+                        per_obstacle: bool = True) -> Tuple[np.ndarray, np.ndarray]:
     """The guard's measure of a motion against each obstacle on its own: per obstacle of the world,
     the first time any part comes within ``margin`` of it (s, found between samples too; inf:
     never) and the smallest clearance of any part to it over the samples (m, at most
     ``clearance_tolerance`` too large). ``samples`` maps SAMPLE_FIELDS (t, theta, omega, slew,
-    extension and their rates) to arrays of one motion (a Trajectory's, or pieces joined)."""
+    extension and their rates) to arrays of one motion (a Trajectory's, or pieces joined).
+    ``per_obstacle=False``: the same over all obstacles at once (arrays of one entry; one C call)."""
     from . import _core
 
     shape = _shape(crane, shape)
@@ -467,14 +468,16 @@ def obstacle_clearances(crane: Crane, world: World, samples: Mapping[str, np.nda
     cfg = ffi.new("crane_guard_config *", values)
     res = ffi.new("crane_guard_result *")
     per_part = np.empty(n_parts)
-    work = np.empty(n_parts * (1 + lib.CRANE_GUARD_PART_WORK))
+    groups = [(i, 1) for i in range(n_obs)] if per_obstacle else [(0, n_obs)]
+    work = np.empty(n_parts * (groups[0][1] + lib.CRANE_GUARD_PART_WORK))
     pointers = (ffi.cast("crane_sample *", ffi.from_buffer(c_samples)),
                 ffi.cast("crane_real *", ffi.from_buffer(per_part)),
                 ffi.cast("crane_real *", ffi.from_buffer(work)))
-    first, clearance = np.full(n_obs, math.inf), np.empty(n_obs)
-    for i in range(n_obs):
-        _core.ensure(lib.crane_guard(model, parts, n_parts, solids + i, 1, pointers[0], len(t), cfg,
-                                     pointers[1], pointers[2], work.size, res), "guard")
+    first, clearance = np.full(len(groups), math.inf), np.empty(len(groups))
+    for i, (start, count) in enumerate(groups):
+        _core.ensure(lib.crane_guard(model, parts, n_parts, solids + start, count, pointers[0],
+                                     len(t), cfg, pointers[1], pointers[2], work.size, res),
+                     "guard")
         if res.contact:
             first[i] = res.t
         clearance[i] = per_part.min() if n_parts else math.inf

@@ -384,8 +384,8 @@ def _closest_obstacles(result: Any, n: int = 3) -> List[int]:
 def sweep_figure(result: Any) -> Any:
     """Three panels: each sample's smallest clearance under the twin's decision against the first
     uncertain parameter (missed contacts marked); the distribution of that clearance for the
-    closest obstacles; and the miss rate the first-order estimate gives for a larger guard margin,
-    with the study's target."""
+    closest obstacles; and the miss rate of the twin's decisions with a larger guard margin, with
+    the study's target."""
     plt = _plt()
     study, summary, table = result.study, result.summary, result.table
     fig, axes = plt.subplots(1, 3, figsize=(15, 4.6))
@@ -415,17 +415,13 @@ def sweep_figure(result: Any) -> Any:
     ax.set_title("clearance per obstacle", fontsize=10)
     ax.legend(fontsize=8)
     ax = axes[2]
-    case = table["case"]
-    short = np.where(table["missed"],
-                     np.maximum(result.nominal.policy_clearance[case] - clear, 0.0), 0.0).max(axis=1)
-    top = max(float(short.max()), 0.1) * 1.1
-    extra = np.linspace(0.0, top, 200)
-    rate = [(short > e).mean() * 100.0 for e in extra]
-    ax.plot(summary.guard_margin + extra, rate, color="tab:blue", label="missed (estimate)")
+    curve = np.array(summary.margin_curve)
+    ax.plot(curve[:, 0], curve[:, 1] * 100.0, "o-", ms=3, color="tab:blue", label="missed")
     ax.axhline(summary.target * 100.0, color="tab:red", lw=1, ls=":",
                label=f"target {summary.target * 100:g} %")
-    ax.axvline(summary.margin_for_target, color="tab:red", lw=1,
-               label=f"margin {summary.margin_for_target:.2f} m")
+    if np.isfinite(summary.margin_for_target):
+        ax.axvline(summary.margin_for_target, color="tab:red", lw=1,
+                   label=f"margin {summary.margin_for_target:.2f} m")
     ax.set_xlabel("guard margin, m")
     ax.set_ylabel("contacts missed, % of samples")
     ax.set_title("a larger guard margin", fontsize=10)

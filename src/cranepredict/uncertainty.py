@@ -259,7 +259,7 @@ class Study:
         try:
             return cls.from_toml_string(text, base=path.parent, default_name=path.stem)
         except (ValueError, TypeError) as exc:
-            raise type(exc)(f"{path}: {exc}") from None
+            raise _same_kind(exc)(f"{path}: {exc}") from None
 
     @classmethod
     def from_toml_string(cls, text: str, base: Union[str, Path] = ".",
@@ -404,8 +404,13 @@ def _check_ends(study: Study) -> None:
                                                                     for u in crane_unc])]
             ends += [f"{u.name} offset {v:g}" for u, v in zip(state_unc, o)]
             where = f" (case {case.name!r}{', ' if ends else ''}{', '.join(ends)})"
-        raise type(exc)(f"uncertain: the distributions' ends give an invalid future{where}: "
-                        f"{exc}") from None
+        raise _same_kind(exc)(f"uncertain: the distributions' ends give an invalid "
+                              f"future{where}: {exc}") from None
+
+
+def _same_kind(exc: Exception) -> type:
+    """ValueError or TypeError, as ``exc`` is (its own class may take other arguments)."""
+    return ValueError if isinstance(exc, ValueError) else TypeError
 
 
 def _future_index(text: str) -> Optional[int]:
@@ -445,8 +450,9 @@ def load_study(spec: Union[str, Path, Study]) -> Study:
 @dataclass(frozen=True)
 class Nominal:
     """What the twin with the nominal parameters said for each case: the signal (index into
-    SIGNALS), when its decision stops the crane (s; nan: never, GO), the obstacle of its first
-    contact (-1: none), and that decision's clearance per obstacle (m) for the nominal crane."""
+    SIGNALS), when its decision stops the crane (s: WARN its latest stop time, STOP 0; nan: GO,
+    never), the obstacle of its first contact (-1: none), and that decision's clearance per
+    obstacle (m) for the nominal crane."""
 
     signal: np.ndarray
     stop_time: np.ndarray
@@ -455,26 +461,34 @@ class Nominal:
     reasons: Tuple[str, ...]
 
 
-def _nominal(study: Study) -> Nominal:
-    signal, stop_time, obstacle, reasons = [], [], [], []
-    names = study.world.names
+def _decisions(study: Study, margin: float) -> Tuple[List[Any], np.ndarray]:
+    """The twin's verdict per case with the guard margin ``margin`` and the time its decision
+    stops the crane (nan: GO)."""
+    verdicts, stop_time = [], []
     for case in study.cases:
         v = guard(study.crane, study.world, case.initial, case.inputs, study.horizon, dt=study.dt,
-                  reaction=study.reaction, cycle=study.cycle, margin=study.guard_margin)
-        signal.append(SIGNALS.index(v.signal))
+                  reaction=study.reaction, cycle=study.cycle, margin=margin)
+        verdicts.append(v)
         stop_time.append(math.nan if v.signal == "GO" else
                          0.0 if v.signal == "STOP" else float(v.stop.latest))
-        obstacle.append(names.index(v.contact.obstacle) if v.contact is not None else -1)
-        reasons.append(v.reason)
+    return verdicts, np.array(stop_time)
+
+
+def _nominal(study: Study) -> Nominal:
+    verdicts, stop_time = _decisions(study, study.guard_margin)
+    names = study.world.names
     n = len(study.cases)
     draws = np.zeros((n, len(study.uncertain)))
     for j, u in enumerate(study.uncertain):   # the nominal value: draw 0, or nominal absolute
         if not u.is_state and not u.relative:
             draws[:, j] = study.nominal(u)
-    rows = _evaluate(study, np.arange(n), draws, np.array(stop_time), threads=1)
-    return Nominal(signal=np.array(signal, dtype=np.int8), stop_time=np.array(stop_time),
-                   obstacle=np.array(obstacle, dtype=np.int32),
-                   policy_clearance=rows["policy_clearance"], reasons=tuple(reasons))
+    rows = _evaluate(study, np.arange(n), draws, stop_time, threads=1, latest=False)
+    return Nominal(signal=np.array([SIGNALS.index(v.signal) for v in verdicts], dtype=np.int8),
+                   stop_time=stop_time,
+                   obstacle=np.array([names.index(v.contact.obstacle) if v.contact is not None
+                                      else -1 for v in verdicts], dtype=np.int32),
+                   policy_clearance=rows["policy_clearance"],
+                   reasons=tuple(v.reason for v in verdicts))
 
 
 # -- one chunk ----------------------------------------------------------------------------------------
@@ -491,10 +505,10 @@ def _fields(traj: Any) -> Dict[str, np.ndarray]:
 
 
 def _evaluate(study: Study, cases: np.ndarray, draws: np.ndarray, stop_time: np.ndarray,
-              threads: Optional[int]) -> Dict[str, np.ndarray]:
-    """The real cranes of these rows (case index, draws of study.uncertain) under their command
-    and under the decision that stops them at stop_time (nan: not at all): per obstacle the first
-    contact and the smallest clearance of each."""
+              threads: Optional[int], latest: bool = True) -> Dict[str, np.ndarray]:
+    """The real cranes of these rows (case index, draws of study.uncertain): under their command,
+    per obstacle the first contact and the smallest clearance; under the decision that stops them
+    at stop_time (nan: not at all) the same; and (``latest``) each one's own latest stop time."""
     n, names = len(cases), study.world.names
     crane_unc = [(j, u) for j, u in enumerate(study.uncertain) if not u.is_state]
     state_unc = [(j, u) for j, u in enumerate(study.uncertain) if u.is_state]
@@ -521,50 +535,106 @@ def _evaluate(study: Study, cases: np.ndarray, draws: np.ndarray, stop_time: np.
     effect = {k: int(np.searchsorted(t, stop_time[k] + study.reaction - 1e-12)) for k in range(n)
               if math.isfinite(stop_time[k])}
     stops = {k: m for k, m in effect.items() if m < len(t)}
-    pieces = _follow_stops(study, stops, commands, inputs, vary, every)
+    pieces = _follow_stops(study, stops, commands, inputs, vary, every, threads)
     for k in range(n):
         if k not in pieces:
             policy_t[k], policy_clearance[k] = t_contact[k], clearance[k]
+            settled[k] = k not in stops   # a stop that could not be predicted: not settled
             continue
-        piece, settled[k] = pieces[k]
+        piece, settled[k], _ = pieces[k]
         m = stops[k]
         head, tail = _fields(commands[k]), _fields(piece)
         joined = {f: np.concatenate([head[f][:m + 1], tail[f][1:] + (t[m] if f == "t" else 0.0)])
                   for f in SAMPLE_FIELDS}
         policy_t[k], policy_clearance[k] = obstacle_clearances(study.crane, study.world, joined,
                                                                margin=margin)
-    return {"t_contact": t_contact, "clearance": clearance, "policy_t": policy_t,
-            "policy_clearance": policy_clearance, "stop_settled": settled}
+    out = {"t_contact": t_contact, "clearance": clearance, "policy_t": policy_t,
+           "policy_clearance": policy_clearance, "stop_settled": settled}
+    if latest:
+        out["latest"] = _latest_stops(study, commands, inputs, vary, every, t_contact.min(axis=1),
+                                      threads)
+    return out
 
 
 def _follow_stops(study: Study, stops: Dict[int, int], commands: List[Any], inputs: List[Inputs],
-                  vary: Dict[str, np.ndarray], every: int) -> Dict[int, Tuple[Any, bool]]:
-    """Row -> (the stop's prediction from sample m of its command, settled): pieces of
-    DEFAULT_STOP_HORIZON s, twice as long for those not settled, at most STOP_FOLLOW_MAX s (the
-    guard's rule, guard.stop_settled)."""
-    out: Dict[int, Tuple[Any, bool]] = {}
-    rows = sorted(stops)
+                  vary: Dict[str, np.ndarray], every: int,
+                  threads: Optional[int]) -> Dict[int, Tuple[Any, bool, bool]]:
+    """Row -> (the stop's prediction from sample m = stops[row] of its command, settled, contact
+    within the world's margin): pieces of DEFAULT_STOP_HORIZON s, twice as long for those neither
+    settled nor in contact, at most STOP_FOLLOW_MAX s (the guard's rule: guard.stop_settled). A
+    start the core refuses has no entry (the guard counts that stop as unsafe)."""
+    out: Dict[int, Tuple[Any, bool, bool]] = {}
     starts = {}
-    for k in list(rows):
+    for k in sorted(stops):
         try:
             starts[k] = stop_state(commands[k], stops[k], inputs[k])
-        except ValueError:   # a state the core refuses: no stop from it (the guard: unsafe)
-            rows.remove(k)
+        except ValueError:
+            pass
+    rows = sorted(starts)
     horizon = DEFAULT_STOP_HORIZON
     while rows:
         sub = {name: values[rows] for name, values in vary.items()}
         pb = api.predict_many(study.crane, [starts[k] for k in rows],
                               [stop_inputs(inputs[k]) for k in rows], horizon, dt=study.dt,
-                              sample_every=every, threads=1, vary=sub or None)
+                              sample_every=every, threads=threads, vary=sub or None)
         pending = []
         for j, k in enumerate(rows):
             piece = pb[j]
+            first, _ = obstacle_clearances(study.crane, study.world, _fields(piece),
+                                           margin=study.world.margin, per_obstacle=False)
+            contact = bool(np.isfinite(first[0]))
             done = stop_settled(piece, DEFAULT_STOP_HORIZON)
-            out[k] = (piece, done)
-            if not done and horizon < STOP_FOLLOW_MAX - 1e-9:
+            out[k] = (piece, done, contact)
+            if not (done or contact) and horizon < STOP_FOLLOW_MAX - 1e-9:
                 pending.append(k)
         rows, horizon = pending, min(2 * horizon, STOP_FOLLOW_MAX)
     return out
+
+
+def _latest_stops(study: Study, commands: List[Any], inputs: List[Inputs],
+                  vary: Dict[str, np.ndarray], every: int, first: np.ndarray,
+                  threads: Optional[int]) -> np.ndarray:
+    """Each real crane's own latest stop time (s; the guard's, judged against the world's margin:
+    the last judged sample from which the valves to neutral, taking effect ``reaction`` later, keep
+    the margin; -inf: not even stopping now does; nan: no contact to stop for), by the guard's
+    bisection over the samples, run in step over the rows so that each round is one batch."""
+    n = len(commands)
+    latest = np.full(n, math.nan)
+    rows = [k for k in range(n) if math.isfinite(first[k])]
+    if not rows:
+        return latest
+    t = commands[0].t
+    latest[rows] = -math.inf
+
+    def safe(at: Dict[int, int]) -> Dict[int, bool]:
+        stops, ok = {}, {}
+        for row, k in at.items():
+            m = int(np.searchsorted(t, t[k] + study.reaction - 1e-12))
+            if m >= len(t) or t[m] >= first[row]:
+                ok[row] = False
+            else:
+                stops[row] = m
+        pieces = _follow_stops(study, stops, commands, inputs, vary, every, threads)
+        for row in stops:
+            piece = pieces.get(row)
+            ok[row] = piece is not None and piece[1] and not piece[2]
+        return ok
+
+    top = {k: int(np.searchsorted(t, first[k] - study.reaction, side="right")) for k in rows}
+    lo = {k: 0 for k, ok in safe({k: 0 for k in rows if top[k] > 0}).items() if ok}
+    hi = {k: top[k] for k in lo}
+    while True:
+        mid = {k: (lo[k] + hi[k]) // 2 for k in lo if hi[k] - lo[k] > 1}
+        if not mid:
+            break
+        for k, ok in safe(mid).items():
+            if ok:
+                lo[k] = mid[k]
+            else:
+                hi[k] = mid[k]
+    for k, i in lo.items():
+        latest[k] = t[i]
+    return latest
 
 
 def _chunk_rows(study: Study, index: int) -> Tuple[np.ndarray, np.ndarray, np.ndarray]:
@@ -584,7 +654,10 @@ def run_chunk(study: Study, nominal: Nominal, index: int,
     samples, cases, draws = _chunk_rows(study, index)
     rows = _evaluate(study, cases, draws, nominal.stop_time[cases], threads)
     contact = np.isfinite(rows["t_contact"]).any(axis=1)
+    latest = rows["latest"]
+    signal = np.where(~contact, 0, np.where(latest < study.cycle, 2, 1)).astype(np.int8)
     return {"sample": samples, "case": cases, "draws": draws,
+            "signal": signal, "latest": latest,
             "t_contact": rows["t_contact"], "clearance": rows["clearance"],
             "policy_clearance": rows["policy_clearance"],
             "missed": np.isfinite(rows["policy_t"]),
@@ -597,25 +670,24 @@ def run_chunk(study: Study, nominal: Nominal, index: int,
 
 @dataclass(frozen=True)
 class ObstacleSummary:
-    """One obstacle over the samples: the rate of real cranes that come within the world's margin
-    under the command (contact_rate) and under the twin's decision (miss_rate: contacts the
-    nominal verdict missed), of needless stops the nominal verdict made for this obstacle (it
-    predicted a contact with it; the real crane under the command touched nothing), the
-    clearance under the decision at the 1 %, 5 % and 50 % quantiles (m), and the guard margin
-    that would have kept the miss rate at or below the study's target (m; an estimate, see
-    docs/sweep.md)."""
+    """One obstacle over the samples: the fraction of real cranes that come within the world's
+    margin of it under the command (contact_rate) and under the twin's decision (miss_rate: the
+    contacts the nominal verdict missed); of needless stops the twin made for it (it predicted
+    its first contact with this obstacle; the real crane under the command touched nothing); and
+    the clearance under the decision at the 1 %, 5 % and 50 % quantiles (m)."""
 
     name: str
     contact_rate: float
     miss_rate: float
     needless_stop_rate: float
     clearance_quantiles: Tuple[float, float, float]
-    margin_for_target: float
 
 
 @dataclass(frozen=True)
 class Summary:
-    """The study's answer: per obstacle (ObstacleSummary) and over all obstacles."""
+    """The study's answer: per obstacle (ObstacleSummary) and over all obstacles, with the guard
+    margin that keeps the miss rate at or below ``target`` (m; inf: none up to MARGIN_SEARCH m
+    more does) and the miss rate against the guard margin (``margin_curve``: (margin, rate))."""
 
     samples: int
     target: float
@@ -624,11 +696,15 @@ class Summary:
     miss_rate: float
     needless_stop_rate: float
     margin_for_target: float
+    margin_curve: Tuple[Tuple[float, float], ...]
     obstacles: Tuple[ObstacleSummary, ...]
     nominal: Tuple[Tuple[str, str, str], ...]   # (case, signal, reason)
 
     def to_dict(self) -> dict:
-        return json.loads(json.dumps(dataclasses.asdict(self), default=float))
+        d = dataclasses.asdict(self)
+        d["margin_for_target"] = self.margin_for_target if math.isfinite(self.margin_for_target) \
+            else None
+        return json.loads(json.dumps(d, default=float))
 
     def text(self) -> str:
         pct = 100.0
@@ -638,24 +714,78 @@ class Summary:
         lines.append(f"{self.samples:,} real cranes (sampled parameters) under the twin's decision, "
                      f"judged against the world's margin {self.world_margin:g} m:")
         lines.append(f"  {'obstacle':16s} {'contact':>8s} {'missed':>8s} {'needless':>9s}   "
-                     f"clearance 1% / 5% / 50% (m)   margin for <= {self.target * pct:g} % missed")
+                     f"clearance 1% / 5% / 50% (m)")
         for o in self.obstacles:
             q = " / ".join(f"{v:.3f}" for v in o.clearance_quantiles)
             lines.append(f"  {o.name:16s} {o.contact_rate * pct:7.2f}% {o.miss_rate * pct:7.2f}% "
-                         f"{o.needless_stop_rate * pct:8.2f}%   {q:27s}   {o.margin_for_target:.3f} m")
+                         f"{o.needless_stop_rate * pct:8.2f}%   {q}")
+        margin = (f"a guard margin of {self.margin_for_target:.2f} m" if
+                  math.isfinite(self.margin_for_target) else
+                  f"no guard margin up to {self.guard_margin + MARGIN_SEARCH:g} m")
         lines.append(f"all obstacles: {self.miss_rate * pct:.2f} % missed, "
-                     f"{self.needless_stop_rate * pct:.2f} % needless stops; a guard margin of "
-                     f"{self.margin_for_target:.3f} m (estimate) keeps the misses at or below "
-                     f"{self.target * pct:g} %")
+                     f"{self.needless_stop_rate * pct:.2f} % needless stops; {margin} keeps the "
+                     f"misses at or below {self.target * pct:g} %")
         return "\n".join(lines)
 
 
-def _extra_margin(shortfall: np.ndarray, target: float) -> float:
-    """The smallest extra margin d such that the fraction of samples with shortfall > d is at
-    most target (shortfall 0 where nothing was missed)."""
-    s = np.sort(shortfall)[::-1]
-    allowed = int(math.floor(target * len(s) + 1e-9))   # samples that may still be missed
-    return float(s[allowed]) if allowed < len(s) and s[allowed] > 0 else 0.0
+#: How far above the study's guard margin the summary looks for one that meets the target, m, and
+#: how closely it locates it.
+MARGIN_SEARCH = 5.0
+MARGIN_RESOLUTION = 0.01
+
+
+def _miss_rate(study: Study, table: Mapping[str, np.ndarray], margin: float,
+               cache: Dict[float, float]) -> float:
+    """The fraction of samples whose contact the twin's decision with this guard margin misses:
+    the real crane touches (under the command) and the decision is GO, or stops it later than its
+    own latest stop time (a later stop is never safer: the guard's rule)."""
+    if margin not in cache:
+        _, stop_time = _decisions(study, margin)
+        t = stop_time[table["case"]]
+        contact = np.isfinite(table["t_contact"]).any(axis=1)
+        with np.errstate(invalid="ignore"):
+            late = np.isnan(t) | (t > table["latest"])
+        cache[margin] = float((contact & late).mean())
+    return cache[margin]
+
+
+def _margin_search(study: Study, table: Mapping[str, np.ndarray]
+                   ) -> Tuple[float, Tuple[Tuple[float, float], ...]]:
+    """The smallest guard margin (to MARGIN_RESOLUTION) whose decisions miss at most the target
+    fraction of contacts, and the miss rate on a grid of margins up to it (for the figure)."""
+    cache: Dict[float, float] = {}
+    lo = study.guard_margin
+
+    def rate(m: float) -> float:
+        return _miss_rate(study, table, round(m, 6), cache)
+
+    found = math.inf
+    if rate(lo) <= study.target:
+        found = lo
+    else:
+        step, hi = 0.25, None
+        m = lo
+        while m < lo + MARGIN_SEARCH - 1e-9:
+            m = min(m + step, lo + MARGIN_SEARCH)
+            if rate(m) <= study.target:
+                hi = m
+                break
+            step *= 2
+        if hi is not None:
+            a = max(lo, hi - step)
+            while hi - a > MARGIN_RESOLUTION:
+                mid = 0.5 * (a + hi)
+                if rate(mid) <= study.target:
+                    hi = mid
+                else:
+                    a = mid
+            found = math.ceil(hi / MARGIN_RESOLUTION - 1e-9) * MARGIN_RESOLUTION
+    top = found if math.isfinite(found) else lo + MARGIN_SEARCH
+    grid = np.linspace(lo, max(top * 1.25 - 0.25 * lo, lo + 0.2), 12)
+    for m in grid:
+        rate(float(m))
+    curve = tuple(sorted((m, r) for m, r in cache.items()))
+    return found, curve
 
 
 def summarize(study: Study, nominal: Nominal, table: Mapping[str, np.ndarray]) -> Summary:
@@ -663,23 +793,18 @@ def summarize(study: Study, nominal: Nominal, table: Mapping[str, np.ndarray]) -
     names = study.world.names
     case = table["case"]
     missed, clear = table["missed"], table["policy_clearance"]
-    # the clearance the real crane lost against the twin along the same decision, where it was
-    # missed: a guard margin larger by this would have stopped it in time (first order)
-    shortfall = np.where(missed, np.maximum(nominal.policy_clearance[case] - clear, 0.0), 0.0)
     per = []
     for i, name in enumerate(names):
         per.append(ObstacleSummary(
             name=name, contact_rate=float(np.isfinite(table["t_contact"][:, i]).mean()),
             miss_rate=float(missed[:, i].mean()),
             needless_stop_rate=float((table["needless_stop"] & (nominal.obstacle[case] == i)).mean()),
-            clearance_quantiles=tuple(float(q) for q in np.quantile(clear[:, i], (0.01, 0.05, 0.5))),
-            margin_for_target=study.guard_margin + _extra_margin(shortfall[:, i], study.target)))
+            clearance_quantiles=tuple(float(q) for q in np.quantile(clear[:, i], (0.01, 0.05, 0.5)))))
+    found, curve = _margin_search(study, table)
     return Summary(samples=len(case), target=study.target, guard_margin=study.guard_margin,
                    world_margin=study.world.margin, miss_rate=float(missed.any(axis=1).mean()),
                    needless_stop_rate=float(table["needless_stop"].mean()),
-                   margin_for_target=study.guard_margin + _extra_margin(shortfall.max(axis=1),
-                                                                        study.target),
-                   obstacles=tuple(per),
+                   margin_for_target=found, margin_curve=curve, obstacles=tuple(per),
                    nominal=tuple((c.name, SIGNALS[int(s)], r) for c, s, r in
                                  zip(study.cases, nominal.signal, nominal.reasons)))
 
@@ -691,11 +816,12 @@ class SweepResult:
 
     Table columns: ``sample``; ``case`` (index into study.cases); ``draws`` (samples x parameters,
     study.parameters' order: the draw, i.e. the value, the relative change or the offset);
-    ``t_contact`` (s, first time within the world's margin under the command; inf: none),
-    ``clearance`` (m, smallest under the command), ``policy_clearance`` (m, smallest under the
-    twin's decision), ``missed`` (within the margin under the decision), ``needless_stop``,
-    ``nominal_signal`` (index into SIGNALS), ``stop_settled`` (the decision's stop came to rest
-    within STOP_FOLLOW_MAX s)."""
+    ``signal`` (the real crane's own verdict, index into SIGNALS) and ``latest`` (its latest stop
+    time, s; -inf: too late at t = 0; nan: no contact); ``t_contact`` (s, first time within the
+    world's margin under the command; inf: none) and ``clearance`` (m, smallest) per obstacle;
+    ``policy_clearance`` (m, smallest under the twin's decision) and ``missed`` (within the margin
+    under it) per obstacle; ``needless_stop``; ``nominal_signal`` (the twin's verdict);
+    ``stop_settled`` (the decision's stop came to rest within STOP_FOLLOW_MAX s)."""
 
     study: Study
     nominal: Nominal
@@ -714,7 +840,7 @@ class SweepResult:
         return u.value(self.study.nominal(u), self.table["draws"][:, j])
 
     def plot(self, path: Union[str, Path]) -> Path:
-        """The summary's figure (needs matplotlib, the [plot] extra): see plot.sweep_plot."""
+        """The summary's figure (needs matplotlib, the [plot] extra): plot.sweep_figure."""
         from . import plot
 
         return plot.sweep_plot(self, Path(path))
@@ -722,8 +848,8 @@ class SweepResult:
 
 # -- running --------------------------------------------------------------------------------------------
 
-COLUMNS = ("sample", "case", "draws", "t_contact", "clearance", "policy_clearance", "missed",
-           "needless_stop", "nominal_signal", "stop_settled")
+COLUMNS = ("sample", "case", "draws", "signal", "latest", "t_contact", "clearance",
+           "policy_clearance", "missed", "needless_stop", "nominal_signal", "stop_settled")
 
 
 class _Store:
