@@ -536,6 +536,13 @@ def _evaluate(study: Study, cases: np.ndarray, draws: np.ndarray, stop_time: np.
               if math.isfinite(stop_time[k])}
     stops = {k: m for k, m in effect.items() if m < len(t)}
     pieces = _follow_stops(study, stops, commands, inputs, vary, every, threads)
+    first = t_contact.min(axis=1)
+    hint = {}   # row -> (the decision's stop sample, whether that stop kept the margin)
+    for k, m in effect.items():
+        i = int(np.searchsorted(t, stop_time[k] - 1e-12))
+        piece = pieces.get(k)
+        hint[k] = (i, m < len(t) and t[m] < first[k] and piece is not None and piece[1]
+                   and not piece[2])
     for k in range(n):
         if k not in pieces:
             policy_t[k], policy_clearance[k] = t_contact[k], clearance[k]
@@ -551,8 +558,7 @@ def _evaluate(study: Study, cases: np.ndarray, draws: np.ndarray, stop_time: np.
     out = {"t_contact": t_contact, "clearance": clearance, "policy_t": policy_t,
            "policy_clearance": policy_clearance, "stop_settled": settled}
     if latest:
-        out["latest"] = _latest_stops(study, commands, inputs, vary, every, t_contact.min(axis=1),
-                                      threads)
+        out["latest"] = _latest_stops(study, commands, inputs, vary, every, first, threads, hint)
     return out
 
 
@@ -593,18 +599,19 @@ def _follow_stops(study: Study, stops: Dict[int, int], commands: List[Any], inpu
 
 def _latest_stops(study: Study, commands: List[Any], inputs: List[Inputs],
                   vary: Dict[str, np.ndarray], every: int, first: np.ndarray,
-                  threads: Optional[int]) -> np.ndarray:
+                  threads: Optional[int], hint: Dict[int, Tuple[int, bool]]) -> np.ndarray:
     """Each real crane's own latest stop time (s; the guard's, judged against the world's margin:
     the last judged sample from which the valves to neutral, taking effect ``reaction`` later, keep
-    the margin; -inf: not even stopping now does; nan: no contact to stop for), by the guard's
-    bisection over the samples, run in step over the rows so that each round is one batch."""
+    the margin; -inf: not even stopping now does; nan: no contact to stop for). The boundary the
+    guard's bisection finds (a later stop is never safer), searched in step over the rows so that
+    each round is one batch: from ``hint`` (row -> a sample whose stop is known safe or not: the
+    twin's decision) outwards in doubling steps, then by bisection; without one, by bisection."""
     n = len(commands)
     latest = np.full(n, math.nan)
     rows = [k for k in range(n) if math.isfinite(first[k])]
     if not rows:
         return latest
     t = commands[0].t
-    latest[rows] = -math.inf
 
     def safe(at: Dict[int, int]) -> Dict[int, bool]:
         stops, ok = {}, {}
@@ -620,20 +627,37 @@ def _latest_stops(study: Study, commands: List[Any], inputs: List[Inputs],
             ok[row] = piece is not None and piece[1] and not piece[2]
         return ok
 
-    top = {k: int(np.searchsorted(t, first[k] - study.reaction, side="right")) for k in rows}
-    lo = {k: 0 for k, ok in safe({k: 0 for k in rows if top[k] > 0}).items() if ok}
-    hi = {k: top[k] for k in lo}
+    # per row: [lo: safe (-1: none known), hi: unsafe (or past the contact), step, direction]
+    state = {}
+    for k in rows:
+        top = int(np.searchsorted(t, first[k] - study.reaction, side="right"))
+        if k in hint and hint[k][0] < top:
+            i, ok = hint[k]
+            state[k] = [i, top, 1, 1] if ok else [-1, i, 1, -1]
+        else:
+            state[k] = [-1, top, 1, 0]
     while True:
-        mid = {k: (lo[k] + hi[k]) // 2 for k in lo if hi[k] - lo[k] > 1}
-        if not mid:
+        probe = {}
+        for k, (lo, hi, step, way) in state.items():
+            if hi - lo <= 1:
+                continue
+            p = lo + step if way > 0 else hi - step if way < 0 else -1
+            if not lo < p < hi:
+                state[k][3] = way = 0
+                p = (lo + hi) // 2 if lo >= 0 else 0   # the guard tries stopping now first
+            probe[k] = p
+        if not probe:
             break
-        for k, ok in safe(mid).items():
+        for k, ok in safe(probe).items():
+            st, p = state[k], probe[k]
             if ok:
-                lo[k] = mid[k]
+                st[0] = p
+                st[2], st[3] = (st[2] * 2, 1) if st[3] > 0 else (st[2], 0)
             else:
-                hi[k] = mid[k]
-    for k, i in lo.items():
-        latest[k] = t[i]
+                st[1] = p
+                st[2], st[3] = (st[2] * 2, -1) if st[3] < 0 else (st[2], 0)
+    for k, (lo, _, _, _) in state.items():
+        latest[k] = t[lo] if lo >= 0 else -math.inf
     return latest
 
 
@@ -821,7 +845,10 @@ class SweepResult:
     world's margin under the command; inf: none) and ``clearance`` (m, smallest) per obstacle;
     ``policy_clearance`` (m, smallest under the twin's decision) and ``missed`` (within the margin
     under it) per obstacle; ``needless_stop``; ``nominal_signal`` (the twin's verdict);
-    ``stop_settled`` (the decision's stop came to rest within STOP_FOLLOW_MAX s)."""
+    ``stop_settled`` (the decision's stop came to rest within STOP_FOLLOW_MAX s).
+
+    ``seconds``: the whole run; ``chunk_seconds``: from the first chunk's start to the last one's
+    end (the computed chunks only: their futures / chunk_seconds is the study's rate)."""
 
     study: Study
     nominal: Nominal
@@ -831,6 +858,7 @@ class SweepResult:
     seconds: float
     computed_chunks: int
     where: str
+    chunk_seconds: float = 0.0
 
     def values(self, name: str) -> np.ndarray:
         """The sampled values of an uncertain parameter (crane fields: the value; state: the
@@ -988,30 +1016,35 @@ def sweep(study: Union[Study, str, Path], *, samples: Optional[int] = None,
         bar.update(1, sum(len(r["sample"]) for r in results.values()))
 
     local = scheduler == "in-process" or (scheduler is None and not has_dask())
+    chunk_start = time.perf_counter()
     try:
         if local:
             where = "this process"
             for i in pending:
                 keep(i, run_chunk(study, nominal, i, threads=None))
         else:
-            where = _run_dask(study, nominal, pending, scheduler, workers, keep)
+            where, chunk_start = _run_dask(study, nominal, pending, scheduler, workers, keep)
     finally:
         bar.close()
+    chunk_seconds = time.perf_counter() - chunk_start
     table = {k: np.concatenate([results[i][k] for i in range(study.n_chunks)]) for k in COLUMNS}
     summary = summarize(study, nominal, table)
     if store is not None:
         (store.out / "summary.json").write_text(json.dumps(summary.to_dict(), indent=1), "utf-8")
     return SweepResult(study=study, nominal=nominal, table=table, summary=summary,
                        out=store.out if store is not None else None,
-                       seconds=time.perf_counter() - start, computed_chunks=computed, where=where)
+                       seconds=time.perf_counter() - start, computed_chunks=computed, where=where,
+                       chunk_seconds=chunk_seconds)
 
 
 def _run_dask(study: Study, nominal: Nominal, pending: List[int], scheduler: Any,
-              workers: Optional[int], keep: Any) -> str:
+              workers: Optional[int], keep: Any) -> Tuple[str, float]:
+    """Runs the pending chunks on Dask; (where, when the first was submitted)."""
     from dask.distributed import as_completed
 
     client, to_close, where = _dask_client(scheduler, workers)
     futures: List[Any] = []
+    start = time.perf_counter()
     try:
         if pending:
             [s, n] = client.scatter([study, nominal], broadcast=True)
@@ -1028,4 +1061,4 @@ def _run_dask(study: Study, nominal: Nominal, pending: List[int], scheduler: Any
         del futures
         for thing in to_close:
             thing.close()
-    return where
+    return where, start
