@@ -19,7 +19,7 @@ def _blocks(name: str) -> list:
     return re.findall(r"```python\n(.*?)```", (DOCS / name).read_text("utf-8"), flags=re.S)
 
 
-@pytest.mark.parametrize("page", ["getting-started.md", "tutorial.md", "howto.md"])
+@pytest.mark.parametrize("page", ["getting-started.md", "tutorial.md", "howto.md", "sweep.md"])
 def test_guide_python_blocks_run_in_order(page, tmp_path, monkeypatch, capsys):
     monkeypatch.chdir(tmp_path)
     blocks = _blocks(page)

@@ -44,7 +44,7 @@ def test_local_cluster_and_in_process_give_the_same_table():
             distributed.Client(cluster) as client:
         there = cp.sweep(study, scheduler=client)
         assert len(client.scheduler_info()["workers"]) == 2
-    assert "Dask" in there.where and here.where == "this process"
+    assert "Dask" in there.where and here.where == "in this process"
     assert same_tables(here.table, there.table)
     assert here.summary == there.summary
 
@@ -146,7 +146,7 @@ def test_cli(tmp_path, capsys):
     assert main(["sweep", "power-line-load", "--samples", "4", "--in-process", "--out", str(out),
                  "--json"]) == 0
     d = json.loads(capsys.readouterr().out)
-    assert d["samples"] == 4 and d["computed_chunks"] == 1 and d["where"] == "this process"
+    assert d["samples"] == 4 and d["computed_chunks"] == 1 and d["where"] == "in this process"
     assert [o["name"] for o in d["obstacles"]] == list(STUDY.world.names)
     assert main(["sweep", "power-line-load", "--samples", "4", "--in-process", "--out",
                  str(out)]) == 0
@@ -219,4 +219,4 @@ def test_without_dask_the_default_runs_in_process(monkeypatch):
     monkeypatch.setitem(sys.modules, "dask.distributed", None)   # import fails as if absent
     assert not uncertainty.has_dask()
     result = cp.sweep(small(4, 4))
-    assert result.where == "this process"
+    assert result.where == "in this process"

@@ -246,7 +246,10 @@ def _sweep(args: argparse.Namespace) -> int:
     print(f"samples    {study.samples:,} (seed {study.seed}, {study.n_chunks} chunks of "
           f"{study.chunk}); uncertain: {', '.join(study.parameters) or 'none'}")
     print(result.summary.text())
-    print(f"ran        {result.computed_chunks} chunks on {result.where} in {result.seconds:.1f} s"
+    computed = result.computed_futures
+    rate = f", {computed / result.chunk_seconds:,.0f} futures/s" if computed else ""
+    print(f"ran        {result.computed_chunks} chunks {result.where}: {result.chunk_seconds:.1f} s "
+          f"of chunks{rate}, {result.seconds:.1f} s in all"
           + (f"; {reused} chunks were already in {out}" if reused else ""))
     print(f"table      {out}/chunk-*.npz, summary {out}/summary.json")
     if args.plot:

@@ -416,7 +416,8 @@ def sweep_figure(result: Any) -> Any:
     ax.legend(fontsize=8)
     ax = axes[2]
     curve = np.array(summary.margin_curve)
-    ax.plot(curve[:, 0], curve[:, 1] * 100.0, "o-", ms=3, color="tab:blue", label="missed")
+    ax.plot(curve[:, 0], curve[:, 1] * 100.0, "o-", ms=3, color="tab:blue", drawstyle="steps-post",
+            label="missed")
     ax.axhline(summary.target * 100.0, color="tab:red", lw=1, ls=":",
                label=f"target {summary.target * 100:g} %")
     if np.isfinite(summary.margin_for_target):

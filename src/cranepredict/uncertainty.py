@@ -848,7 +848,8 @@ class SweepResult:
     ``stop_settled`` (the decision's stop came to rest within STOP_FOLLOW_MAX s).
 
     ``seconds``: the whole run; ``chunk_seconds``: from the first chunk's start to the last one's
-    end (the computed chunks only: their futures / chunk_seconds is the study's rate)."""
+    end, for the ``computed_chunks`` with ``computed_futures`` (the others were read from ``out``):
+    computed_futures / chunk_seconds is the study's rate."""
 
     study: Study
     nominal: Nominal
@@ -859,6 +860,7 @@ class SweepResult:
     computed_chunks: int
     where: str
     chunk_seconds: float = 0.0
+    computed_futures: int = 0
 
     def values(self, name: str) -> np.ndarray:
         """The sampled values of an uncertain parameter (crane fields: the value; state: the
@@ -952,10 +954,10 @@ def _dask_client(scheduler: Any, workers: Optional[int]) -> Tuple[Any, List[Any]
         raise ValueError("running a study on Dask needs the [sweep] extra: pip install "
                          "'cranepredict[sweep]' (or run it in this process: --in-process)") from None
     if isinstance(scheduler, Client):
-        return scheduler, [], f"Dask scheduler {scheduler.scheduler.address}"
+        return scheduler, [], f"on the Dask scheduler {scheduler.scheduler.address}"
     if isinstance(scheduler, str):
         client = Client(scheduler)
-        return client, [client], f"Dask scheduler {scheduler}"
+        return client, [client], f"on the Dask scheduler {scheduler}"
     if scheduler is not None:
         raise TypeError(f"scheduler must be None, 'in-process', an address or a "
                         f"distributed.Client, got {type(scheduler).__name__}")
@@ -963,7 +965,7 @@ def _dask_client(scheduler: Any, workers: Optional[int]) -> Tuple[Any, List[Any]
     cluster = LocalCluster(n_workers=n, threads_per_worker=1, processes=True,
                            dashboard_address=None)
     client = Client(cluster)
-    return client, [client, cluster], f"a Dask LocalCluster of {n} worker processes"
+    return client, [client, cluster], f"on a Dask LocalCluster of {n} worker processes"
 
 
 def has_dask() -> bool:
@@ -1005,21 +1007,22 @@ def sweep(study: Union[Study, str, Path], *, samples: Optional[int] = None,
     pending = [i for i in range(study.n_chunks) if i not in results]
     bar = _Progress(study.n_chunks, study.samples, progress)
     bar.update(len(results), 0)
-    computed = 0
+    computed, futures = 0, 0
 
     def keep(i: int, rows: Dict[str, np.ndarray]) -> None:
-        nonlocal computed
+        nonlocal computed, futures
         if store is not None:
             store.write(i, rows)
         results[i] = rows
         computed += 1
+        futures += len(rows["sample"])
         bar.update(1, sum(len(r["sample"]) for r in results.values()))
 
     local = scheduler == "in-process" or (scheduler is None and not has_dask())
     chunk_start = time.perf_counter()
     try:
         if local:
-            where = "this process"
+            where = "in this process"
             for i in pending:
                 keep(i, run_chunk(study, nominal, i, threads=None))
         else:
@@ -1034,7 +1037,7 @@ def sweep(study: Union[Study, str, Path], *, samples: Optional[int] = None,
     return SweepResult(study=study, nominal=nominal, table=table, summary=summary,
                        out=store.out if store is not None else None,
                        seconds=time.perf_counter() - start, computed_chunks=computed, where=where,
-                       chunk_seconds=chunk_seconds)
+                       chunk_seconds=chunk_seconds, computed_futures=futures)
 
 
 def _run_dask(study: Study, nominal: Nominal, pending: List[int], scheduler: Any,
