@@ -220,3 +220,9 @@ def test_without_dask_the_default_runs_in_process(monkeypatch):
     assert not uncertainty.has_dask()
     result = cp.sweep(small(4, 4))
     assert result.where == "in this process"
+
+
+def test_progress_bar(capsys):
+    cp.sweep(small(8, 4), scheduler="in-process", progress=True)
+    err = capsys.readouterr().err
+    assert "2/2 chunks" in err and "futures/s" in err

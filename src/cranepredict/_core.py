@@ -10,7 +10,7 @@ from __future__ import annotations
 import dataclasses
 import math
 import threading
-from typing import TYPE_CHECKING, Any, Sequence, Tuple
+from typing import TYPE_CHECKING, Any, Mapping, Sequence, Tuple
 
 import numpy as np
 
@@ -353,7 +353,7 @@ def _vary_paths() -> dict:
 VARY_PATHS = _vary_paths()
 
 
-def params_per_future(crane: "Crane", vary: "dict[str, np.ndarray]", n: int) -> Any:
+def params_per_future(crane: "Crane", vary: Mapping[str, np.ndarray], n: int) -> Any:
     """A crane_params[n]: the crane's parameters with vary's fields (dotted name -> n values) set
     per future. Unchecked (crane_params_check does that, per future)."""
     base = params(crane)

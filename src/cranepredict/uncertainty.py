@@ -170,6 +170,9 @@ class Study:
             raise TypeError(f"crane must be a cranepredict.Crane, got {type(self.crane).__name__}")
         if not isinstance(self.world, World):
             raise TypeError(f"world must be a cranepredict.World, got {type(self.world).__name__}")
+        if not self.world.obstacles:
+            raise ValueError(f"world {self.world.name!r} has no obstacles: a study measures the "
+                             "crane against them")
         for name, low, high in (("samples", 1, MAX_SAMPLES), ("seed", 0, 2 ** 63 - 1),
                                 ("chunk", 1, MAX_CHUNK)):
             value = getattr(self, name)
