@@ -33,9 +33,9 @@ import sys
 import tempfile
 
 BUDGET = {"data+bss": 1024, "stack": 1024, "text": 32 * 1024, "guard text": 10 * 1024}
-# The collision guard (issue 10) is an optional module: a controller that only predicts does not
-# link it (--gc-sections). Its code has its own budget. The prediction's was 24 kB from issue 9
-# and is 32 kB since issue 11 (four joints: the slew and the telescope, valves on all four).
+# The collision guard is an optional module: a controller that only predicts does not
+# link it (--gc-sections). Its code has its own budget. The prediction's is 32 kB (four joints:
+# the slew and the telescope, valves on all four).
 GUARD_OBJECTS = {"geometry.o", "guard.o"}
 
 
