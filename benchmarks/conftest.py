@@ -65,7 +65,7 @@ def paper_fig4() -> Case:
 
 
 def lever_open() -> Case:
-    """The operator's version of the paper's experiment (issue 9): the lift lever fully open from
+    """The operator's version of the paper's experiment: the lift lever fully open from
     rest (the crane holding itself on closed valves), the tilt valve closed, 2 s."""
     crane = cp.scenarios.get("paper-fig4").crane
     initial = cp.state_at_rest(crane, 0.116, 0.20)
@@ -82,7 +82,7 @@ def named(name: str) -> Callable[[], Case]:
 
 CASES: Dict[str, Callable[[], Case]] = {"paper-fig4": paper_fig4, "both-cylinders": both_cylinders,
                                         "open-chain": open_chain, "lever-open": lever_open}
-#: Four joints (issue 11): all four actuators valve-driven from rest (valve-all-four; slew-while-
+#: Four joints: all four actuators valve-driven from rest (valve-all-four; slew-while-
 #: lifting: the slew and lift levers open, tilt and telescope valves closed) and the slew
 #: pressure-driven with the booms and telescope held (slew-folded). 2 s each.
 FOUR_JOINT_VALVE = ("valve-all-four", "slew-while-lifting")
@@ -96,7 +96,7 @@ def _pressure_driven(name: str) -> bool:
     return not any(isinstance(d, (cp.Valve, cp.ValveSeries)) for d in drives)
 
 
-#: Every named scenario without a valve drive (issue 9's ">= 20,000x at the default settings").
+#: Every named scenario without a valve drive (the target ">= 20,000x at the default settings").
 NAMED_PRESSURE = tuple(n for n in cp.scenarios.names() if _pressure_driven(n))
 CASES.update({n: named(n) for n in NAMED_PRESSURE if n not in CASES})
 

@@ -4,7 +4,7 @@ faster-than-real-time ratio, and the wall time of the full verdict with the stop
     pytest benchmarks/test_bench_guard.py --benchmark-only     the figures of docs/guard.md
     pytest benchmarks --benchmark-disable                      each once, as a test (CI)
 
-Targets (issue 10): ratio >= 5,000; verdict <= 5 ms (half a 10 ms control cycle). They are
+Targets: ratio >= 5,000; verdict <= 5 ms (half a 10 ms control cycle). They are
 printed, not asserted: timings on a shared machine are noisy (see the team's rules).
 """
 

@@ -26,9 +26,9 @@ from conftest import (DT_REF, FOUR_JOINT_PRESSURE, FOUR_JOINT_VALVE, NAMED_PRESS
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 CSRC = os.path.join(ROOT, "csrc")
 PRESSURE_SCENARIOS = ("paper-fig4", "both-cylinders", "open-chain")
-SCENARIOS = PRESSURE_SCENARIOS + ("lever-open",)   # lever-open: valve-driven (issue 9)
-FOUR_JOINT = FOUR_JOINT_VALVE + FOUR_JOINT_PRESSURE  # issue 11: the slew and the telescope move
-#: Issue 11's target for a four-joint valve-driven 2-s future (printed, not asserted: missed today).
+SCENARIOS = PRESSURE_SCENARIOS + ("lever-open",)   # lever-open: valve-driven
+FOUR_JOINT = FOUR_JOINT_VALVE + FOUR_JOINT_PRESSURE  # the slew and the telescope move
+#: The target for a four-joint valve-driven 2-s future (printed, not asserted: missed today).
 TARGET_RATIO, TARGET_TIP = 5000.0, 1e-3
 
 
@@ -60,7 +60,7 @@ def test_predict(benchmark, ratio, name, which, backend):
         assert err <= TOL
 
 
-#: Issue 9's target for every pressure-driven named scenario at the default settings (printed;
+#: The target for every pressure-driven named scenario at the default settings (printed;
 #: the accuracy half is asserted, the speed half is missed today on most of them).
 PRESSURE_TARGET_RATIO = 20000.0
 
@@ -75,10 +75,10 @@ def test_predict_named_pressure_scenarios_at_default(benchmark, ratio, name):
     info = benchmark.extra_info
     info["tip_error_mm"] = round(err * 1e3, 6)
     met = info["ratio"] >= PRESSURE_TARGET_RATIO and err <= TOL
-    info["issue9_target_met"] = met
+    info["pressure_target_met"] = met
     print(f"\n[pressure, default] {name}: {info['ratio']:,.0f}x real time (median; best "
           f"{info['ratio_best']:,.0f}x), worst tip error {err * 1e3:.3g} mm at dt "
-          f"{cp.DEFAULT_DT * 1e3:g} ms; issue 9 target >= {PRESSURE_TARGET_RATIO:,.0f}x at <= "
+          f"{cp.DEFAULT_DT * 1e3:g} ms; target >= {PRESSURE_TARGET_RATIO:,.0f}x at <= "
           f"{TOL * 1e3:g} mm: " + ("met" if met else "MISSED"))
     assert err <= TOL
 
@@ -90,19 +90,19 @@ def test_reference_is_converged():
         assert np.max(np.linalg.norm(ref.tip - half.tip[::2], axis=1)) < 1e-6
 
 
-# -- four joints (issue 11): predict(), C core ------------------------------------------------
+# -- four joints: predict(), C core ------------------------------------------------
 
 def _print_four_joint(benchmark, name: str, dt: float, which: str, err: float, who: str,
                       stat: str = "median") -> None:
-    """One line per run (pytest -s shows it): the ratio and the worst tip error, and issue 11's
+    """One line per run (pytest -s shows it): the ratio and the worst tip error, and the
     target for the valve-driven ones (not asserted)."""
     info = benchmark.extra_info
     target = ""
     if name in FOUR_JOINT_VALVE:
         met = info["ratio"] >= TARGET_RATIO and err <= TARGET_TIP
-        target = (f"; issue 11 target >= {TARGET_RATIO:,.0f}x at <= {TARGET_TIP * 1e3:g} mm: "
+        target = (f"; target >= {TARGET_RATIO:,.0f}x at <= {TARGET_TIP * 1e3:g} mm: "
                   + ("met" if met else "MISSED"))
-        info["issue11_target_met"] = met
+        info["four_joint_target_met"] = met
     print(f"\n[four joints] {name}, {who}, dt {dt * 1e3:g} ms ({which}): {info['ratio']:,.0f}x real "
           f"time ({stat}; best {info['ratio_best']:,.0f}x), worst tip error {err * 1e3:.2g} mm vs the "
           f"converged run (C, dt {DT_REF * 1e6:g} us){target}")
@@ -112,7 +112,7 @@ def _print_four_joint(benchmark, name: str, dt: float, which: str, err: float, w
 @pytest.mark.parametrize("name", FOUR_JOINT)
 def test_predict_four_joints(benchmark, ratio, name, which):
     """A four-joint 2-s future through predict() (backend "c"): valve-driven (all four actuators
-    valve-driven; issue 11's target >= 5,000x at <= 1 mm, printed, not asserted) and
+    valve-driven; target >= 5,000x at <= 1 mm, printed, not asserted) and
     pressure-driven (the slew alone)."""
     c = case(name)
     dt = _dt(name, which)
@@ -229,7 +229,7 @@ def test_predict_many(benchmark, ratio, request, which, every, threads):
 
 def _valve_futures(n: int):
     """n candidate lever commands (lift and tilt levers in [-1, 1]) from the crane at rest: the
-    valve-driven batch of issue 9 (1,000 futures of 2 s in < 100 ms)."""
+    valve-driven batch (1,000 futures of 2 s in < 100 ms)."""
     c = case("lever-open")
     rng = np.random.default_rng(9)
     inputs = [cp.Inputs(lift=cp.Valve(float(rng.uniform(-1, 1))), tilt=cp.Valve(float(rng.uniform(-1, 1))))

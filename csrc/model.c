@@ -502,7 +502,9 @@ const char *crane_status_message(crane_status status)
     case CRANE_E_PARAMS: return "n_params must be 1 or n_futures";
     case CRANE_E_SOLID:
     case CRANE_E_PART:
-    case CRANE_E_GUARD: return crane__guard_status_message(status);
+    case CRANE_E_GUARD:
+    case CRANE_E_ESTIMATOR: /* the optional modules' messages: the guard's, then the estimator's */
+        return crane__guard_status_message(status);
     }
     return crane__guard_status_message(status);
 }

@@ -1,4 +1,4 @@
-"""The four-joint API (issue 11): State, Inputs and Trajectory carry the slew and the extension,
+"""The four-joint API: State, Inputs and Trajectory carry the slew and the extension,
 bad input is named, lift-and-tilt code keeps its meaning, the trajectory's 3D points follow each
 sample's slew and extension, the slew drive's and the telescope's valves obey their hand
 calculations, and the named spatial scenarios do what they say."""
@@ -284,16 +284,16 @@ def test_telescope_valve_extends_at_the_orifice_rate(crane):
 
 # -- the named spatial scenarios ------------------------------------------------------------------------
 
-ISSUE_SCENARIOS = ("slew-while-lifting", "extend-while-slewing", "slew-stop-load-out", "slew-folded",
+SPATIAL_SCENARIOS = ("slew-while-lifting", "extend-while-slewing", "slew-stop-load-out", "slew-folded",
                    "slew-stretched", "telescope-end-stop")
 
 
 def test_spatial_scenarios_are_tagged_and_move_what_they_say():
     names = cp.scenarios.names()
-    assert set(ISSUE_SCENARIOS) <= set(names)
+    assert set(SPATIAL_SCENARIOS) <= set(names)
     for sc in cp.scenarios.all_scenarios():
         assert sc.spatial == ("spatial" in sc.tags), sc.name
-    for name in ISSUE_SCENARIOS:
+    for name in SPATIAL_SCENARIOS:
         assert cp.scenarios.get(name).spatial
 
 

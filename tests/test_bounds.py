@@ -1,5 +1,5 @@
 """Bounded work and memory (MAX_STEPS, MAX_SAMPLES, checked before anything runs), a batch that
-Ctrl-C stops, and a cache that cannot change a result (issue 8, findings 3 and 4)."""
+Ctrl-C stops, and a cache that cannot change a result."""
 
 from __future__ import annotations
 
@@ -142,7 +142,7 @@ def test_chunked_batch_names_the_failed_future(crane, monkeypatch):
         cp.predict_many(crane, initials, [INPUTS] * 10, 0.5, threads=2)
 
 
-# -- the cache (issue 8, finding 4) ------------------------------------------------------------
+# -- the cache ------------------------------------------------------------
 
 def _crane_with_rod_y(crane, y):
     d = copy.deepcopy(crane.to_dict())

@@ -49,7 +49,7 @@ def test_unknown_scenario_is_a_clear_error():
     assert r.returncode == 2 and "no scenario named 'nope'" in r.stderr
 
 
-# -- bad arguments: exit status 2, one line, before any slow work (issue 8, finding 6) ----------
+# -- bad arguments: exit status 2, one line, before any slow work ----------
 
 def _main(capsys, *args):
     from cranepredict import cli

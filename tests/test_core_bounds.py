@@ -1,4 +1,4 @@
-"""Bounded work and C entry points that answered OK to bad input (issue 8, findings 3 and 5).
+"""Bounded work and C entry points that answered OK to bad input.
 
 The limits are the C core's (crane.h: CRANE_MAX_STEPS, CRANE_MAX_SAMPLES, CRANE_MAX_BATCH_STEPS),
 checked before anything runs; csrc/tests/test_bounds.c checks the same in the C-only, float and

@@ -10,7 +10,7 @@ import pytest
 import cranepredict as cp
 from cranepredict.scenarios import random_case
 
-TOL = 1e-3          # m, issue 9's worst tip error at the default settings
+TOL = 1e-3          # m, the worst tip error allowed at the default settings
 DT_CONVERGED = 1e-4
 
 

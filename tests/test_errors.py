@@ -1,4 +1,4 @@
-"""Every error names the input at fault (issue 8, finding 6): huge ints, tables where pairs are
+"""Every error names the input at fault: huge ints, tables where pairs are
 expected, wrong types in crane dataclasses built directly, files that are not UTF-8, batches that
 are not sequences, absurd stroke rates."""
 

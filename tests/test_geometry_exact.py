@@ -1,5 +1,5 @@
 """Exact geometry validity over the whole stroke range, the same in the C core and the twin, and
-the twin's stop side from the sign of ds/dtheta (issue 8, finding 2)."""
+the twin's stop side from the sign of ds/dtheta."""
 
 from __future__ import annotations
 

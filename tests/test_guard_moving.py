@@ -1,4 +1,4 @@
-"""The collision guard on a moving slew and telescope (issue 11): futures in which only slewing, or
+"""The collision guard on a moving slew and telescope: futures in which only slewing, or
 only the telescope, brings the crane into contact, judged by the C core's crane_guard and checked
 against brute force (every sample of a dense prediction of the pure-Python twin, posed
 independently, coal's distances); and the guarantee of docs/guard.md "Nothing is missed" against

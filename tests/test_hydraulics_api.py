@@ -1,4 +1,4 @@
-"""The valve inputs, the hydraulic state and the crane file's hydraulics tables (issue 9)."""
+"""The valve inputs, the hydraulic state and the crane file's hydraulics tables."""
 
 from __future__ import annotations
 

@@ -1,4 +1,4 @@
-"""The hydraulics verified independently of the implementation (issue 9, docs/model.md
+"""The hydraulics verified independently of the implementation (docs/model.md
 "Hydraulics"): a power balance over a run, hand-derived steady states, the oil-spring frequency,
 and the dangerous corners of the numerics."""
 

@@ -1,4 +1,4 @@
-"""The package as a newcomer meets it (issue 8, finding 9): the twin imports without the compiled
+"""The package as a newcomer meets it: the twin imports without the compiled
 core, the trajectory's arrays are named once, the tools do not import the tests, types ship."""
 
 from __future__ import annotations
@@ -17,7 +17,7 @@ STATE = cp.State(lift_stroke=0.1, tilt_stroke=0.3)
 INPUTS = cp.Inputs(lift=cp.Pressure(100e5, 0), tilt=cp.Hold())
 
 
-# -- the twin without the compiled extension (issue 8, finding 9) ------------------------------
+# -- the twin without the compiled extension ------------------------------
 
 BLOCKED = """
 import sys

@@ -66,7 +66,7 @@ def test_valve_pressures_within_target(results, name):
 
 
 def test_suite_has_the_valve_scenarios():
-    """Issue 9: at least six valve-driven scenarios, covering the cases it lists."""
+    """At least six valve-driven scenarios, covering the cases it lists."""
     assert len(VALVE_NAMES) >= 6
     assert {"valve-lift-step", "valve-lift-reverse", "valve-both-levers", "valve-slow-ramp",
             "valve-closed-500", "valve-end-stop", "valve-lower-heavy"} <= set(VALVE_NAMES)

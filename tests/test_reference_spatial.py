@@ -1,10 +1,10 @@
-"""The four-joint fast model against the spatial Exudyn reference (issue 11's scenarios): 3D rigid
+"""The four-joint fast model against the spatial Exudyn reference (the spatial scenarios): 3D rigid
 bodies with full tensors, engine joints (slew revolute, prismatic extension, the four-bar closed by
 constraints), force elements for the actuators, event-driven end stops on all four, the oil of
 valve-driven actuators; generalized-alpha at 0.25 ms. Targets as for the planar scenarios: tip
 max <= 20 mm, RMS <= 10 mm at the fast model's default step (2 ms), chamber pressures RMS <= 2 bar.
 The fast model is the twin (its own scenarios below, pressure-driven, and random cases) and the C
-core at its default settings (backend "c", default dt) on every named spatial scenario (issue 11's
+core at its default settings (backend "c", default dt) on every named spatial scenario (the
 and valve-all-four, through reference.compare as `cranepredict validate` runs them).
 
 And the reference itself: with the slew and the extension held it is the planar reference
@@ -239,10 +239,10 @@ def test_spatial_reference_converges():
     assert abs(a.events[0][0] - b.events[0][0]) < 1e-5
 
 
-# -- the named spatial scenarios (issue 11) with the C core as the fast model ---------------------
+# -- the named spatial scenarios with the C core as the fast model ---------------------
 
-#: issue 11's scenarios and valve-all-four; every scenario tagged spatial is compared
-ISSUE_SCENARIOS = ("slew-while-lifting", "extend-while-slewing", "slew-stop-load-out", "slew-folded",
+#: the spatial scenarios and valve-all-four; every scenario tagged spatial is compared
+SPATIAL_SCENARIOS = ("slew-while-lifting", "extend-while-slewing", "slew-stop-load-out", "slew-folded",
                    "slew-stretched", "telescope-end-stop", "valve-all-four")
 SPATIAL_NAMES = [n for n in cp.scenarios.names() if cp.scenarios.get(n).spatial]
 PRESSURE_RMS_BAR = 2.0
@@ -260,7 +260,7 @@ def c_results():
 
 
 def test_spatial_scenarios_are_the_issues():
-    assert set(ISSUE_SCENARIOS) <= set(SPATIAL_NAMES)
+    assert set(SPATIAL_SCENARIOS) <= set(SPATIAL_NAMES)
     from cranepredict import reference
 
     assert (reference.TARGET_MAX_MM, reference.TARGET_RMS_MM, reference.TARGET_PRESSURE_RMS_BAR) == (

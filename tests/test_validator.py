@@ -1,4 +1,4 @@
-"""One validator of a crane: the C core's crane_params_check (issue 8, finding 1).
+"""One validator of a crane: the C core's crane_params_check.
 
 Python checks only types and shapes; every rule is the core's, which reports the field at fault,
 and the error names it by the crane file's dotted name. The header generator uses the same check.
@@ -155,7 +155,7 @@ def test_crane2header_uses_the_core_validator(crane, tmp_path):
 
 
 def test_crane_model_is_opaque_to_the_binding(crane):
-    # Issue 8, item 9: the binding depended on crane_model's layout; now it knows only its size
+    # The binding depended on crane_model's layout; now it knows only its size
     # (from the compiled header), and the fields are the core's (documented in crane.h).
     m = _core.model(crane, 0.0)
     assert ffi.sizeof("crane_model") > 0  # known from the compiled header
