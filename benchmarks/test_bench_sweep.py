@@ -52,7 +52,7 @@ def test_predict_many_per_future_cranes(benchmark, request, how):
         def fn():
             return [cp.predict(SC.crane.with_load(float(m)), SC.initial, SC.inputs, 2.0)
                     for m in loads]
-    rounds = 5 if benchmarks_enabled(request.config) else 1
+    rounds = 15 if benchmarks_enabled(request.config) else 1
     benchmark.pedantic(fn, rounds=rounds, iterations=1, warmup_rounds=0)
     seconds = benchmark.stats.stats.median if benchmarks_enabled(request.config) else None
     if seconds:
