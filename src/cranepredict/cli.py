@@ -242,7 +242,7 @@ def _sweep(args: argparse.Namespace) -> int:
         print(json.dumps(d, indent=2))
         return 0
     reused = study.n_chunks - result.computed_chunks
-    print(f"study      {study.name}: {study.description}")
+    print(f"study      {study.name}" + (f": {study.description}" if study.description else ""))
     print(f"samples    {study.samples:,} (seed {study.seed}, {study.n_chunks} chunks of "
           f"{study.chunk}); uncertain: {', '.join(study.parameters) or 'none'}")
     print(result.summary.text())
