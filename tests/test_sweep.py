@@ -44,8 +44,10 @@ def test_local_cluster_and_in_process_give_the_same_table():
             distributed.Client(cluster) as client:
         there = cp.sweep(study, scheduler=client)
         assert len(client.scheduler_info()["workers"]) == 2
+        by_address = cp.sweep(study, scheduler=cluster.scheduler_address)   # as --scheduler ADDR
     assert "Dask" in there.where and here.where == "in this process"
-    assert same_tables(here.table, there.table)
+    assert cluster.scheduler_address in by_address.where
+    assert same_tables(here.table, there.table) and same_tables(here.table, by_address.table)
     assert here.summary == there.summary
 
 
