@@ -133,11 +133,12 @@ def variables(crane: Crane, *, drive: str = "valve", levers: Optional[Sequence[s
                      f"the {j} cylinder's stroke"))
         out.append(V(f"{j}_stroke_rate", f"Q_{j.upper()}_STROKE_RATE", "Float64", "output",
                      "continuous", "m/s", f"the {j} cylinder's stroke rate"))
-    for j, what in (("lift", "the lift angle"), ("tilt", "the tilt angle (relative to the lift boom)")):
+    for j, what in (("lift", "the lift angle"), ("tilt", "the tilt angle"),):
+        rel = " (relative to the lift boom)" if j == "tilt" else ""
         out.append(V(f"{j}_angle", f"Q_{j.upper()}_ANGLE", "Float64", "output", "continuous", "rad",
-                     what))
+                     what + rel))
         out.append(V(f"{j}_angle_rate", f"Q_{j.upper()}_ANGLE_RATE", "Float64", "output",
-                     "continuous", "rad/s", what + "'s rate"))
+                     "continuous", "rad/s", f"the rate of {what}{rel}"))
     out += [V("slew", "Q_SLEW", "Float64", "output", "continuous", "rad", "the slew angle"),
             V("slew_rate", "Q_SLEW_RATE", "Float64", "output", "continuous", "rad/s",
               "the slew rate"),
