@@ -237,7 +237,8 @@ def _fmu(args: argparse.Namespace) -> int:
     levers = None if args.levers is None else [j for j in args.levers.split(",") if j]
     try:
         path = export_fmu(crane, args.output, fmi=args.fmi, drive=args.drive, levers=levers,
-                          start=start, step=args.step)
+                          start=start, step=args.step,
+                          crane_file=None if args.crane in (None, "patu655") else args.crane)
     except (RuntimeError, ImportError) as exc:
         print(f"cranepredict: error: {exc}", file=sys.stderr)
         return 2

@@ -379,6 +379,7 @@ def compiler(cc: Optional[str] = None) -> str:
 def export_fmu(crane: Crane, path: Union[str, os.PathLike], *, fmi: int = 3, drive: str = "valve",
                levers: Optional[Sequence[str]] = None,
                start: Optional[Mapping[str, float]] = None, step: float = 5e-3,
+               crane_file: Optional[Union[str, os.PathLike]] = None,
                cc: Optional[str] = None) -> Path:
     """Writes a co-simulation FMU of the crane to ``path`` (FMI ``fmi`` = 3 or 2).
 
@@ -391,6 +392,8 @@ def export_fmu(crane: Crane, path: Union[str, os.PathLike], *, fmi: int = 3, dri
     ``start``: default initial pose (``lift_stroke``, ``tilt_stroke``, ``slew``, ``extension``;
     default the middle of each stroke, slew 0, the shortest extension), parameters of the FMU.
     ``step``: the default of the FMU's ``step`` parameter, the core's RK4 step (s).
+    ``crane_file``: the crane file the crane was read from, copied to ``resources/crane.toml``
+    (default: the packaged file for the PATU 655; else a note that the parameters are compiled in).
     Needs a C compiler (``cc``, else $CC, cc, gcc or clang) and FMPy's FMI headers. Returns the
     path written."""
     if not isinstance(crane, Crane):
@@ -430,7 +433,7 @@ def export_fmu(crane: Crane, path: Union[str, os.PathLike], *, fmi: int = 3, dri
         (root / "modelDescription.xml").write_text(md, encoding="utf-8")
         res = root / "resources"
         res.mkdir()
-        (res / "crane.toml").write_text(_crane_text(crane), encoding="utf-8")
+        (res / "crane.toml").write_text(_crane_text(crane, crane_file), encoding="utf-8")
         binary = root / "binaries" / _platform(fmi) / f"{MODEL_IDENTIFIER}.so"
         binary.parent.mkdir(parents=True)
         cmd = [cc_path, "-shared", "-fPIC", "-O2", "-std=c99", "-fvisibility=hidden",
@@ -450,13 +453,11 @@ def export_fmu(crane: Crane, path: Union[str, os.PathLike], *, fmi: int = 3, dri
     return path
 
 
-def _crane_text(crane: Crane) -> str:
-    """The crane file the FMU was made from (its source TOML when known, else the packaged one of
-    the same name is not assumed: the parameters are in sources/crane_fmu_config.c)."""
-    source = getattr(crane, "source", None)
-    if source and Path(source).is_file():
-        return Path(source).read_text(encoding="utf-8")
-    if crane.name == "PATU 655":
+def _crane_text(crane: Crane, crane_file: Optional[Union[str, os.PathLike]]) -> str:
+    """The crane file the FMU was made from."""
+    if crane_file is not None:
+        return Path(crane_file).read_text(encoding="utf-8")
+    if crane == Crane.patu655():
         return (Path(__file__).resolve().parents[1] / "cranes" / "patu655.toml").read_text(
             encoding="utf-8")
     return (f"# crane {crane.name!r}: its parameters are compiled into the FMU "
