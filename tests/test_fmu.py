@@ -2,6 +2,7 @@
 checked through FMPy (an importer that is not ours) against cranepredict.predict."""
 
 import dataclasses
+import importlib
 import random
 import shutil
 import subprocess
@@ -28,6 +29,17 @@ POSE = {"lift_stroke": 0.116, "tilt_stroke": 0.20}   # the paper's and lever-ope
 OUT = ["tip_x", "tip_y", "tip_z", "lift_stroke", "tilt_stroke", "lift_p_a", "lift_p_b",
        "tilt_p_a", "tilt_p_b", "slew", "extension"]
 STOPS = ["lift_stop", "tilt_stop", "slew_stop", "extension_stop"]
+# a beam above lever-open's tip: the guard warns of the contact coming closer as the boom rises
+BEAM = cp.World.from_toml_string("""
+name = "beam"
+margin = 0.30
+[[obstacle]]
+name = "beam"
+kind = "box"
+centre = [4.6, 0.0, 2.2]
+size = [2.0, 10.0, 0.3]
+yaw = 0.0
+""")
 
 
 @pytest.fixture(scope="module")
@@ -43,6 +55,8 @@ def fmus(tmp_path_factory):
         out["levers4", fmi] = export_fmu(crane, d / f"levers4-{fmi}.fmu", fmi=fmi, start=POSE)
         out["pressure", fmi] = export_fmu(crane, d / f"pressure-{fmi}.fmu", fmi=fmi,
                                           drive="pressure", start=POSE)
+        out["guard", fmi] = export_fmu(crane, d / f"guard-{fmi}.fmu", fmi=fmi,
+                                       levers=["lift", "tilt"], start=POSE, world=BEAM)
     return out
 
 
@@ -127,7 +141,7 @@ def _assert_outputs(got, stops, want, want_stops):
     np.testing.assert_array_equal(stops, want_stops)
 
 
-@pytest.mark.parametrize("kind", ["levers2", "levers4", "pressure"])
+@pytest.mark.parametrize("kind", ["levers2", "levers4", "pressure", "guard"])
 @pytest.mark.parametrize("fmi", [3, 2])
 def test_fmpy_validate_finds_no_problem(fmus, kind, fmi):
     assert validate_fmu(str(fmus[kind, fmi])) == []
@@ -279,6 +293,41 @@ def test_random_communication_steps(fmus, fmi):
         np.testing.assert_allclose(got[k, :3], ref.tip[-1], rtol=0, atol=1e-6)
 
 
+@pytest.mark.parametrize("fmi", [3, 2])
+def test_guard_outputs_equal_the_guard_on_a_prediction(fmus, fmi):
+    """With a world: at each communication point the verdict of crane_guard on the future from
+    the FMU's state under its inputs, as cranepredict's guard judges the same future (predicted
+    from Trajectory.final_state, every 10 ms): the signal, the contact and stop times and the
+    least clearance."""
+    g = importlib.import_module("cranepredict.guard")
+    sc = cp.scenarios.get("lever-open")
+    shape = g._shape(sc.crane, None)
+    values = {"margin": BEAM.margin, "reaction": g.DEFAULT_REACTION, "cycle": g.DEFAULT_CYCLE,
+              "time_tolerance": g.DEFAULT_TIME_TOLERANCE,
+              "clearance_tolerance": g.DEFAULT_CLEARANCE_TOLERANCE}
+    u = Unit(fmus["guard", fmi]).init(lift_lever=1.0, tilt_lever=0.0)
+    names = ["time_to_contact", "min_clearance", "stop_latest"]
+    signals = []
+    for k in range(101):
+        if k % 25 == 0:
+            got = u.get(names)
+            vr = [u.vr["guard_signal"]]
+            signal = (u.fmu.getInt32(vr) if fmi == 3 else u.fmu.getInteger(vr))[0]
+            state = sc.initial if k == 0 else \
+                cp.predict(sc.crane, sc.initial, sc.inputs, 0.01 * k, dt=0.005).final_state
+            future = cp.predict_many(sc.crane, [state], [sc.inputs], 2.0, dt=0.005,
+                                     sample_every=2)[0]
+            res, clearance = g._judge(sc.crane, BEAM, g._samples(future), shape, values)
+            assert res.contact
+            assert signal == res.signal
+            np.testing.assert_allclose(got, [res.t, clearance.min(), res.stop_latest], rtol=0,
+                                       atol=1e-9)
+            signals.append(signal)
+        u.step(0.01)
+    u.close()
+    assert signals == [1] * 5   # WARN: the contact comes closer, 1.8 s -> 0.8 s ahead
+
+
 def test_errors_go_through_the_logger_and_never_abort(fmus):
     messages = []
 
@@ -326,6 +375,12 @@ def test_cli_writes_an_fmu(tmp_path):
     r = subprocess.run([sys.executable, "-m", "cranepredict.cli", "fmu", "--levers", "boom",
                         "-o", str(tmp_path / "x.fmu")], capture_output=True, text=True)
     assert r.returncode == 2 and "'boom' is not a joint" in r.stderr
+    r = subprocess.run([sys.executable, "-m", "cranepredict.cli", "fmu", "--world", "wall",
+                        "-o", str(out)], capture_output=True, text=True)
+    assert r.returncode == 0, r.stderr
+    names = [v.name for v in read_model_description(str(out)).modelVariables]
+    assert {"guard_signal", "time_to_contact", "min_clearance", "stop_latest",
+            "guard_horizon"} <= set(names)
 
 
 def test_bad_arguments_are_named():
@@ -340,3 +395,7 @@ def test_bad_arguments_are_named():
         export_fmu(crane, "x.fmu", start={"boom": 1.0})
     with pytest.raises(TypeError, match="crane must be a cranepredict.Crane"):
         export_fmu("patu655", "x.fmu")
+    with pytest.raises(TypeError, match="world must be a cranepredict.World"):
+        export_fmu(crane, "x.fmu", world="wall")
+    with pytest.raises(ValueError, match="guard_horizon must be > 0"):
+        export_fmu(crane, "x.fmu", world=BEAM, guard_horizon=-1.0)

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import argparse
+import os
 import statistics
 import sys
 import time
@@ -235,10 +236,21 @@ def _fmu(args: argparse.Namespace) -> int:
         except ValueError:
             raise ValueError(f"--start {name}: {value!r} is not a number") from None
     levers = None if args.levers is None else [j for j in args.levers.split(",") if j]
+    world = None
+    if args.world is not None:
+        from . import world as world_mod
+        if os.path.exists(args.world):
+            world = world_mod.World.from_toml(args.world)
+        elif args.world in world_mod.names():
+            world = world_mod.get(args.world)
+        else:
+            raise ValueError(f"--world: no such file, and not an example world "
+                             f"({', '.join(world_mod.names())}): {args.world!r}")
     try:
         path = export_fmu(crane, args.output, fmi=args.fmi, drive=args.drive, levers=levers,
                           start=start, step=args.step,
-                          crane_file=None if args.crane in (None, "patu655") else args.crane)
+                          crane_file=None if args.crane in (None, "patu655") else args.crane,
+                          world=world, guard_horizon=args.guard_horizon)
     except (RuntimeError, ImportError) as exc:
         print(f"cranepredict: error: {exc}", file=sys.stderr)
         return 2
@@ -321,6 +333,12 @@ def main(argv: Optional[List[str]] = None) -> int:
                           "extension (m) (repeatable; the FMU's *_start parameters)")
     fmu.add_argument("--step", type=float, default=5e-3,
                      help="default of the FMU's step parameter, the core's RK4 step, s (default: 0.005)")
+    fmu.add_argument("--world", default=None,
+                     help="world file (TOML) or an example world's name: the FMU also outputs the "
+                          "collision guard's verdict (guard_signal, time_to_contact, "
+                          "min_clearance, stop_latest)")
+    fmu.add_argument("--guard-horizon", type=float, default=2.0,
+                     help="with --world: how far ahead the guard predicts, s (default: 2)")
     fmu.add_argument("-o", "--output", required=True, help="the .fmu file to write")
     fmu.set_defaults(func=_fmu)
     from .live.cli import add_parsers as _live_parsers

@@ -81,7 +81,8 @@ def _levered(crane: Crane, levers: Optional[Sequence[str]]) -> Tuple[str, ...]:
 
 
 def variables(crane: Crane, *, drive: str = "valve", levers: Optional[Sequence[str]] = None,
-              start: Optional[Mapping[str, float]] = None, step: float = 5e-3) -> List[Variable]:
+              start: Optional[Mapping[str, float]] = None, step: float = 5e-3,
+              guard: bool = False, guard_horizon: float = 2.0) -> List[Variable]:
     """The FMU's variables, in value-reference order (the value reference is the index)."""
     if drive not in DRIVES:
         raise ValueError(f"drive must be one of {', '.join(DRIVES)}, got {drive!r}")
@@ -125,6 +126,10 @@ def variables(crane: Crane, *, drive: str = "valve", levers: Optional[Sequence[s
             out.append(V(f"{j}_hold", f"Q_{j.upper()}_HOLD", "Boolean", "parameter", "fixed", "",
                          f"the {j} cylinder is held (its valve closed; pressure inputs ignored)",
                          0.0))
+    if guard:
+        out.append(V("guard_horizon", "Q_GUARD_HORIZON", "Float64", "parameter", "fixed", "s",
+                     "how far ahead the guard predicts (the inputs held)", float(guard_horizon),
+                     0.0))
     for ax in "xyz":
         out.append(V(f"tip_{ax}", f"Q_TIP_{ax.upper()}", "Float64", "output", "continuous", "m",
                      f"the tip's world {ax}"))
@@ -155,6 +160,18 @@ def variables(crane: Crane, *, drive: str = "valve", levers: Optional[Sequence[s
         out.append(V(f"{j}_stop", f"Q_{j.upper()}_STOP", "Int32", "output", "discrete", "",
                      f"the {j} actuator's end stop: -1 at the start of its range, +1 at its end, "
                      "0 otherwise"))
+    if guard:
+        out += [V("guard_signal", "Q_GUARD_SIGNAL", "Int32", "output", "discrete", "",
+                  "the collision guard's verdict on the future under the inputs: 0 GO, 1 WARN, "
+                  "2 STOP"),
+                V("time_to_contact", "Q_TIME_TO_CONTACT", "Float64", "output", "continuous", "s",
+                  "the first predicted contact, from now (guard_horizon if none)"),
+                V("min_clearance", "Q_MIN_CLEARANCE", "Float64", "output", "continuous", "m",
+                  "the least clearance between the crane's parts and the obstacles over the "
+                  "guard horizon"),
+                V("stop_latest", "Q_STOP_LATEST", "Float64", "output", "continuous", "s",
+                  "the latest time, from now, to begin a stop that keeps the margin (< 0: too "
+                  "late; guard_horizon if no contact)")]
     return out
 
 
@@ -179,8 +196,39 @@ def _c_value(value: Any, ctype: Any) -> str:
     return str(int(value))
 
 
+def _guard_c(crane: Crane, world: Any) -> str:
+    """The guard's parts, obstacles and settings (cranepredict.guard's translation and defaults);
+    without a world, none (the guard is off)."""
+    import importlib
+
+    from .._core import ffi
+    g = importlib.import_module("cranepredict.guard")   # the module (the package's guard is the function)
+
+    if world is None:
+        return ("const crane_part cfmu_parts[1] = {0};\nconst size_t cfmu_n_parts = 0;\n"
+                "const crane_solid cfmu_obstacles[1] = {0};\nconst size_t cfmu_n_obstacles = 0;\n"
+                "const crane_guard_config cfmu_guard_config = {0};\n")
+    shape = g._shape(crane, None)
+    parts, solids = g._parts(crane, shape), g._solids(world)
+    n_parts, n_obs = len(shape.parts), len(world.obstacles)
+    g._check_layout(parts, n_parts, solids, world, shape)
+    cfg = ffi.new("crane_guard_config *", {
+        "margin": world.margin, "reaction": g.DEFAULT_REACTION, "cycle": g.DEFAULT_CYCLE,
+        "time_tolerance": g.DEFAULT_TIME_TOLERANCE,
+        "clearance_tolerance": g.DEFAULT_CLEARANCE_TOLERANCE})
+    part_t, solid_t = ffi.typeof("crane_part"), ffi.typeof("crane_solid")
+    return (f"const crane_part cfmu_parts[] = {{\n    "
+            + ",\n    ".join(_c_value(parts[i], part_t) for i in range(n_parts))
+            + f"}};\nconst size_t cfmu_n_parts = {n_parts};\n"
+            f"const crane_solid cfmu_obstacles[] = {{\n    "
+            + ",\n    ".join(_c_value(solids[i], solid_t) for i in range(n_obs))
+            + f"}};\nconst size_t cfmu_n_obstacles = {n_obs};\n"
+            f"const crane_guard_config cfmu_guard_config = "
+            f"{_c_value(cfg[0], ffi.typeof('crane_guard_config'))};\n")
+
+
 def _config_c(crane: Crane, drive: str, variables_: List[Variable], levered: Sequence[str],
-              token: str) -> str:
+              token: str, world: Any = None) -> str:
     from .._core import ffi, params
 
     prm = params(crane)
@@ -205,6 +253,9 @@ const cfmu_variable cfmu_variables[] = {{
 {chr(10).join(rows)}
 }};
 const size_t cfmu_n_variables = sizeof cfmu_variables / sizeof cfmu_variables[0];
+
+/* the collision guard (with a world) */
+{_guard_c(crane, world)}
 
 void cfmu_defaults(crane_params *params, double value[Q_COUNT])
 {{
@@ -380,6 +431,7 @@ def export_fmu(crane: Crane, path: Union[str, os.PathLike], *, fmi: int = 3, dri
                levers: Optional[Sequence[str]] = None,
                start: Optional[Mapping[str, float]] = None, step: float = 5e-3,
                crane_file: Optional[Union[str, os.PathLike]] = None,
+               world: Any = None, guard_horizon: float = 2.0,
                cc: Optional[str] = None) -> Path:
     """Writes a co-simulation FMU of the crane to ``path`` (FMI ``fmi`` = 3 or 2).
 
@@ -394,6 +446,11 @@ def export_fmu(crane: Crane, path: Union[str, os.PathLike], *, fmi: int = 3, dri
     ``step``: the default of the FMU's ``step`` parameter, the core's RK4 step (s).
     ``crane_file``: the crane file the crane was read from, copied to ``resources/crane.toml``
     (default: the packaged file for the PATU 655; else a note that the parameters are compiled in).
+    ``world``: a :class:`cranepredict.World`; the FMU then also outputs the collision guard's
+    verdict on the future under the current inputs over ``guard_horizon`` s (``guard_signal``,
+    ``time_to_contact``, ``min_clearance``, ``stop_latest``: the C core's ``crane_guard``, whose
+    stop freezes the crane after the reaction time; the world's margin, the guard's default
+    reaction and cycle).
     Needs a C compiler (``cc``, else $CC, cc, gcc or clang) and FMPy's FMI headers. Returns the
     path written."""
     if not isinstance(crane, Crane):
@@ -402,7 +459,17 @@ def export_fmu(crane: Crane, path: Union[str, os.PathLike], *, fmi: int = 3, dri
         raise ValueError(f"fmi must be 3 or 2, got {fmi!r}")
     if isinstance(step, bool) or not isinstance(step, (int, float)) or not 0 < step < float("inf"):
         raise ValueError(f"step must be > 0 and finite (s), got {step!r}")
-    vs = variables(crane, drive=drive, levers=levers, start=start, step=step)
+    if world is not None:
+        from ..world import World
+        if not isinstance(world, World):
+            raise TypeError(f"world must be a cranepredict.World, got {type(world).__name__}")
+        if not world.obstacles:
+            raise ValueError(f"world {world.name!r} has no obstacles: nothing to guard against")
+    if isinstance(guard_horizon, bool) or not isinstance(guard_horizon, (int, float)) or \
+            not 0 < guard_horizon < float("inf"):
+        raise ValueError(f"guard_horizon must be > 0 and finite (s), got {guard_horizon!r}")
+    vs = variables(crane, drive=drive, levers=levers, start=start, step=step,
+                   guard=world is not None, guard_horizon=guard_horizon)
     levered = [v.name[:-len("_lever")] for v in vs if v.name.endswith("_lever")]
     headers = _fmi_headers()
     cc_path = compiler(cc)
@@ -411,9 +478,9 @@ def export_fmu(crane: Crane, path: Union[str, os.PathLike], *, fmi: int = 3, dri
     core = _core_dir()
     core_files = sorted(p.name for p in core.iterdir() if p.suffix in (".c", ".h"))
     api = f"fmi{fmi}_crane.c"
-    digest = hashlib.sha256(repr((crane, vs, fmi)).encode()).hexdigest()
+    digest = hashlib.sha256(repr((crane, vs, fmi, world)).encode()).hexdigest()
     token = "{" + str(uuid.UUID(digest[:32])) + "}"
-    config = _config_c(crane, drive, vs, levered, token)
+    config = _config_c(crane, drive, vs, levered, token, world)
     sources = core_files + list(_FMU_SOURCES) + ["crane_fmu_config.c", api]
     path = Path(path)
     with tempfile.TemporaryDirectory(prefix="cranepredict-fmu-") as tmp:

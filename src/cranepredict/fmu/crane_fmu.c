@@ -6,6 +6,7 @@
  */
 #include <math.h>
 #include <stdio.h>
+#include <stdlib.h>
 #include <string.h>
 #include "crane_fmu.h"
 
@@ -23,6 +24,16 @@ static int refuse(cfmu_instance *f, const char *msg)
     if (f->log)
         f->log(f->log_env, 1, msg);
     return 1;
+}
+
+void cfmu_free(cfmu_instance *f)
+{
+    free(f->future);
+    free(f->work);
+    free(f->part_clearance);
+    f->future = NULL;
+    f->work = f->part_clearance = NULL;
+    f->future_capacity = 0;
 }
 
 void cfmu_init(cfmu_instance *f, cfmu_logger log, void *env)
@@ -197,11 +208,69 @@ static int advance(cfmu_instance *f, double h, int at_start)
     return 0;
 }
 
+/* The guard's verdict on the future from the current state under the current inputs (held
+ * over the guard horizon): a prediction sampled about every 10 ms, judged by crane_guard
+ * (docs/guard.md) with its stop that freezes the crane after the reaction time. */
+static int judge(cfmu_instance *f)
+{
+    const double horizon = f->s.value[Q_GUARD_HORIZON], step = f->s.value[Q_STEP];
+    const double dt = step < horizon ? step : horizon;
+    const size_t every = dt < 0.01 ? (size_t)(0.01 / dt + 0.5) : 1;
+    crane_inputs in;
+    crane_guard_result r;
+    crane_status st;
+    size_t count, failed, k;
+    double least;
+
+    if (cfmu_n_obstacles == 0)
+        return 0;
+    st = crane_sample_count_every(horizon, dt, every, &count);
+    if (st != CRANE_OK)
+        return fail(f, "guard_horizon and step", st);
+    if (count > f->future_capacity) {
+        crane_sample *grown = (crane_sample *)realloc(f->future, count * sizeof *grown);
+        if (!grown)
+            return refuse(f, "out of memory for the guard's prediction");
+        f->future = grown;
+        f->future_capacity = count;
+    }
+    if (!f->work) {
+        f->work = (crane_real *)malloc(cfmu_n_parts * (cfmu_n_obstacles + CRANE_GUARD_PART_WORK) *
+                                       sizeof(crane_real));
+        f->part_clearance = (crane_real *)malloc(cfmu_n_parts * sizeof(crane_real));
+        if (!f->work || !f->part_clearance)
+            return refuse(f, "out of memory for the guard");
+    }
+    drives(f, &in);
+    f->params.load_mass = f->s.value[Q_LOAD_MASS];
+    st = crane_predict_many(&f->params, 1, &f->s.state, &in, horizon, dt, every, f->future, count,
+                            &failed);
+    if (st != CRANE_OK)
+        return fail(f, "the guard's prediction", st);
+    if (ensure_model(f))
+        return 1;
+    st = crane_guard(&f->model, cfmu_parts, cfmu_n_parts, cfmu_obstacles, cfmu_n_obstacles,
+                     f->future, count, &cfmu_guard_config, f->part_clearance, f->work,
+                     cfmu_n_parts * (cfmu_n_obstacles + CRANE_GUARD_PART_WORK), &r);
+    if (st != CRANE_OK)
+        return fail(f, "the guard", st);
+    least = f->part_clearance[0];
+    for (k = 1; k < cfmu_n_parts; ++k)
+        least = f->part_clearance[k] < least ? f->part_clearance[k] : least;
+    f->s.signal = r.signal;
+    f->s.time_to_contact = r.contact ? r.t : horizon;
+    f->s.stop_latest = r.contact ? r.stop_latest : horizon;
+    f->s.min_clearance = least;
+    return 0;
+}
+
 int cfmu_exit_initialization(cfmu_instance *f)
 {
     if (state_at_rest(f))
         return 1;
     if (advance(f, f->s.value[Q_STEP], 1))
+        return 1;
+    if (judge(f))
         return 1;
     f->s.sample.t = 0;
     f->s.initialized = 1;
@@ -218,7 +287,17 @@ int cfmu_do_step(cfmu_instance *f, double h)
         snprintf(msg, sizeof msg, "the communication step must be > 0 and finite, got %g", h);
         return refuse(f, msg);
     }
-    return advance(f, h, 0);
+    {
+        /* the step and the verdict at its end, or nothing changed */
+        const cfmu_snapshot before = f->s;
+        if (advance(f, h, 0))
+            return 1;
+        if (judge(f)) {
+            f->s = before;
+            return 1;
+        }
+    }
+    return 0;
 }
 
 static double output(const cfmu_instance *f, cfmu_quantity q)
@@ -255,6 +334,10 @@ static double output(const cfmu_instance *f, cfmu_quantity q)
     case Q_SLEW_STOP: return o->stop[2];
     case Q_EXTENSION_STOP: return o->stop[3];
     case Q_TIME: return f->s.time;
+    case Q_GUARD_SIGNAL: return f->s.signal;
+    case Q_TIME_TO_CONTACT: return f->s.time_to_contact;
+    case Q_MIN_CLEARANCE: return f->s.min_clearance;
+    case Q_STOP_LATEST: return f->s.stop_latest;
     default: return f->s.value[q];
     }
 }
@@ -296,6 +379,10 @@ static int in_range(cfmu_quantity q, double x, const char **name, const char **r
     case Q_SLEW_LEVER: *name = "slew_lever"; break;
     case Q_EXTENSION_LEVER: *name = "extension_lever"; break;
     case Q_STEP: *name = "step"; *rule = "> 0 and finite"; return x > 0 && isfinite(x);
+    case Q_GUARD_HORIZON:
+        *name = "guard_horizon";
+        *rule = "> 0 and finite";
+        return x > 0 && isfinite(x);
     case Q_LOAD_MASS: *name = "load_mass"; *rule = ">= 0 and finite"; return x >= 0 && isfinite(x);
     default: *name = "the value"; *rule = "finite"; return isfinite(x);
     }

@@ -86,7 +86,12 @@ fmi2Component fmi2Instantiate(fmi2String instanceName, fmi2Type fmuType, fmi2Str
     return c;
 }
 
-void fmi2FreeInstance(fmi2Component inst) { free(inst); }
+void fmi2FreeInstance(fmi2Component inst)
+{
+    if (inst)
+        cfmu_free(&((instance *)inst)->f);
+    free(inst);
+}
 
 fmi2Status fmi2SetupExperiment(fmi2Component inst, fmi2Boolean toleranceDefined,
                                fmi2Real tolerance, fmi2Real startTime,
@@ -115,6 +120,7 @@ fmi2Status fmi2Reset(fmi2Component inst)
     instance *c = (instance *)inst;
     if (!c)
         return fmi2Error;
+    cfmu_free(&c->f);
     cfmu_init(&c->f, log_error, c);
     return fmi2OK;
 }

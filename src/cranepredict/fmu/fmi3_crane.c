@@ -121,7 +121,12 @@ fmi3Instance fmi3InstantiateScheduledExecution(
     return NULL;
 }
 
-void fmi3FreeInstance(fmi3Instance inst) { free(inst); }
+void fmi3FreeInstance(fmi3Instance inst)
+{
+    if (inst)
+        cfmu_free(&((instance *)inst)->f);
+    free(inst);
+}
 
 fmi3Status fmi3EnterInitializationMode(fmi3Instance inst, fmi3Boolean toleranceDefined,
                                        fmi3Float64 tolerance, fmi3Float64 startTime,
@@ -162,6 +167,7 @@ fmi3Status fmi3Reset(fmi3Instance inst)
     instance *c = (instance *)inst;
     if (!c)
         return fmi3Error;
+    cfmu_free(&c->f);
     cfmu_init(&c->f, log_error, c);
     c->phase = INSTANTIATED;
     return fmi3OK;
