@@ -1,7 +1,8 @@
 """Speed of the exported FMU's doStep at 10-ms communication steps (docs/fmu.md, "Speed"): 2 s of
 lever-open (lift and tilt levers; the core's 5-ms step: two RK4 steps with the valves' substeps
-per doStep) and of all four levers (the four-joint model), through FMPy's FMI 3 calls (ctypes:
-what a Python importer pays), and crane_step alone through cffi for comparison.
+per doStep) and of all four levers (the four-joint model), and with a world (each step also
+predicts the 2-s future and judges it with crane_guard), through FMPy's FMI 3 calls (ctypes: what
+a Python importer pays), and crane_step alone through cffi for comparison.
 
     pytest benchmarks/test_bench_fmu.py --benchmark-only -s     the figures of docs/fmu.md
     pytest benchmarks --benchmark-disable                       each once, as a test (CI)
@@ -32,11 +33,25 @@ POSE = {"lift_stroke": 0.116, "tilt_stroke": 0.20}
 STEPS = 200   # 2 s of 10-ms communication steps
 
 
-@pytest.fixture(scope="module", params=["lift-tilt", "four-levers"])
+BEAM = cp.World.from_toml_string("""
+name = "beam"
+margin = 0.30
+[[obstacle]]
+name = "beam"
+kind = "box"
+centre = [4.6, 0.0, 2.2]
+size = [2.0, 10.0, 0.3]
+yaw = 0.0
+""")
+LABEL = {"lift-tilt": "lift and tilt levers", "four-levers": "all four levers",
+         "guard": "lift and tilt levers, guard against a beam"}
+
+
+@pytest.fixture(scope="module", params=["lift-tilt", "four-levers", "guard"])
 def unit(request, tmp_path_factory):
-    levers = ["lift", "tilt"] if request.param == "lift-tilt" else None
+    levers = None if request.param == "four-levers" else ["lift", "tilt"]
     path = export_fmu(cp.Crane.patu655(), tmp_path_factory.mktemp("fmu") / "c.fmu", levers=levers,
-                      start=POSE)
+                      start=POSE, world=BEAM if request.param == "guard" else None)
     md = read_model_description(path)
     d = extract(path)
     fmu = FMU3Slave(guid=md.guid, unzipDirectory=d, modelIdentifier="crane")
@@ -69,8 +84,7 @@ def test_do_step_10ms(benchmark, unit):
     if benchmark.stats is not None:
         us = benchmark.stats.stats.median / STEPS * 1e6
         benchmark.extra_info["doStep_us"] = us
-        levers = "lift and tilt levers" if name == "lift-tilt" else "all four levers"
-        print(f"\nFMU doStep (10 ms, {levers}, FMI 3 through FMPy): {us:.1f} us per step, "
+        print(f"\nFMU doStep (10 ms, {LABEL[name]}, FMI 3 through FMPy): {us:.1f} us per step, "
               f"{0.01 / (us * 1e-6):,.0f}x faster than real time")
 
 
