@@ -192,6 +192,25 @@ def test_initialization_computes_the_state_at_rest(fmus, fmi):
 
 
 @pytest.mark.parametrize("fmi", [3, 2])
+def test_outputs_during_initialization(fmus, fmi):
+    """Outputs asked for in Initialization Mode are computed from what has been set so far."""
+    u = Unit(fmus["levers2", fmi])
+    if fmi == 3:
+        u.fmu.enterInitializationMode(startTime=0.0)
+    else:
+        u.fmu.setupExperiment(startTime=0.0)
+        u.fmu.enterInitializationMode()
+    u.set(lift_stroke_start=0.3)
+    during = u.get()
+    u.fmu.exitInitializationMode()
+    np.testing.assert_array_equal(u.get(), during)
+    rest = cp.state_at_rest(cp.Crane.patu655(), 0.3, POSE["tilt_stroke"])
+    assert during[3] == pytest.approx(0.3, abs=1e-12)
+    assert during[5] == pytest.approx(rest.lift_p_a, rel=1e-12)
+    u.close()
+
+
+@pytest.mark.parametrize("fmi", [3, 2])
 def test_all_four_levers_equal_predict(fmus, fmi):
     """Every actuator on its valve: lift lever open, slew lever half open, the others closed."""
     crane = cp.Crane.patu655()

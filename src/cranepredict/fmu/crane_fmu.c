@@ -264,7 +264,9 @@ static int judge(cfmu_instance *f)
     return 0;
 }
 
-int cfmu_exit_initialization(cfmu_instance *f)
+/* The state at rest, the outputs at the start and the verdict, from the parameters and inputs
+ * as set: at the end of the initialization, and for an output asked for during it. */
+static int prepare(cfmu_instance *f)
 {
     if (state_at_rest(f))
         return 1;
@@ -273,6 +275,13 @@ int cfmu_exit_initialization(cfmu_instance *f)
     if (judge(f))
         return 1;
     f->s.sample.t = 0;
+    return 0;
+}
+
+int cfmu_exit_initialization(cfmu_instance *f)
+{
+    if (prepare(f))
+        return 1;
     f->s.initialized = 1;
     return 0;
 }
@@ -364,9 +373,10 @@ int cfmu_get(cfmu_instance *f, unsigned vr, int type, double *value)
 
     if (lookup(f, vr, type, &v))
         return 1;
-    /* an output before the initialization has ended: its value at the start pose is not known yet */
-    *value = v->set == CFMU_OUTPUT && !f->s.initialized && v->quantity != Q_TIME
-                 ? 0 : output(f, v->quantity);
+    /* an output during the initialization: computed from what has been set so far */
+    if (v->set == CFMU_OUTPUT && !f->s.initialized && v->quantity != Q_TIME && prepare(f))
+        return 1;
+    *value = output(f, v->quantity);
     return 0;
 }
 
