@@ -63,7 +63,9 @@ typedef enum {
     /* the collision guard (docs/guard.md) */
     CRANE_E_SOLID = 40,         /* a solid (obstacle) is not valid, or a pair of two planes */
     CRANE_E_PART = 41,          /* a crane part is not valid */
-    CRANE_E_GUARD = 42          /* a guard setting (margin, reaction, cycle, tolerances) out of range */
+    CRANE_E_GUARD = 42,         /* a guard setting (margin, reaction, cycle, tolerances) out of range */
+    CRANE_E_ESTIMATOR = 50      /* an estimator setting, estimate or measurement variance out of
+                                 * range, or a covariance that cannot be kept positive definite */
 } crane_status;
 
 /* The joints (docs/model.md, "Four joints"): four-entry arrays are [lift, tilt, slew, extension],
@@ -681,6 +683,58 @@ crane_status crane_guard(const crane_model *model, const crane_part *parts, size
                          const crane_sample *samples, size_t n_samples,
                          const crane_guard_config *config, crane_real *part_clearance,
                          crane_real *work, size_t work_capacity, crane_guard_result *result);
+/* ---- State estimation (docs/live.md, "The estimator"): an extended Kalman filter ----
+ * The estimated fields, in this order: the positions (lift stroke, tilt stroke, slew, extension),
+ * their rates (CRANE_EST_RATES + joint), the chamber pressures (CRANE_EST_PRESSURES + 2 joint for
+ * the bore side p_a, + 1 for the rod side p_b). SI units: m, rad, m/s, rad/s, Pa. */
+enum { CRANE_EST_N = 16, CRANE_EST_LIFT_STROKE = 0, CRANE_EST_TILT_STROKE = 1, CRANE_EST_SLEW = 2,
+       CRANE_EST_EXTENSION = 3, CRANE_EST_RATES = 4, CRANE_EST_PRESSURES = 8 };
+
+typedef struct {
+    crane_real lo[CRANE_EST_N], hi[CRANE_EST_N]; /* each field's valid domain, lo < hi */
+    crane_real noise[CRANE_EST_N];   /* process noise density, (unit)^2 / s, >= 0 */
+    crane_real fd_step[CRANE_EST_N]; /* the Jacobian's finite-difference step, unit, > 0 */
+    crane_real scale[CRANE_EST_N];   /* the field's scale, > 0: the covariance's eigenvalues are
+                                        floored at 1e-12 in these units */
+    crane_real dt;                   /* the model's RK4 step, s, > 0 (the period if shorter) */
+} crane_estimator_config;
+
+/* The estimator and its scratch, caller-owned (no heap; sizeof: docs/embedding.md). After an
+ * error of crane_estimator_update other than a bad argument, initialise it again. */
+typedef struct {
+    crane_estimator_config config;
+    crane_real x[CRANE_EST_N];       /* the estimate */
+    crane_real covariance[CRANE_EST_N * CRANE_EST_N]; /* row-major */
+    crane_real spool[4];             /* the spools the model carries (not estimated) */
+    crane_real nis;                  /* the last update's normalised innovation squared */
+    crane_real field_nis[CRANE_EST_N]; /* per measured field, innovation^2 / S_ii (else 0) */
+    int n_measured;                  /* fields measured in the last update */
+    int projected;                   /* 1: the last estimate was projected into the domain */
+    /* scratch of an update */
+    crane_real step[CRANE_EST_N], y0[CRANE_EST_N];
+    int rows[CRANE_EST_N];
+    crane_state futures[CRANE_EST_N + 1];
+    crane_inputs inputs[CRANE_EST_N + 1];
+    crane_sample samples[2 * (CRANE_EST_N + 1)];
+    crane_real a[CRANE_EST_N * CRANE_EST_N], b[CRANE_EST_N * CRANE_EST_N],
+        k[CRANE_EST_N * CRANE_EST_N];
+} crane_estimator;
+
+/* Starts the estimator at x0 (inside the config's domain) with covariance0 (made symmetric
+ * positive definite as after every update) and the spools spool0 (in [-1, 1]). */
+crane_status crane_estimator_init(crane_estimator *est, const crane_estimator_config *config,
+                                  const crane_real x0[CRANE_EST_N],
+                                  const crane_real covariance0[CRANE_EST_N * CRANE_EST_N],
+                                  const crane_real spool0[4]);
+
+/* One cycle: the estimate predicted over period (s, > 0) under inputs (the levers of the period;
+ * a held joint's rate is 0 and its pressures are kept), its covariance by the model's Jacobian,
+ * then updated with the measured fields: z[i] with variance[i] > 0 (Pa^2, m^2, ...); variance 0 =
+ * not measured. model: the crane's (crane_model_init at any extension); its params predict. */
+crane_status crane_estimator_update(crane_estimator *est, const crane_model *model,
+                                    const crane_inputs *inputs, crane_real period,
+                                    const crane_real z[CRANE_EST_N],
+                                    const crane_real variance[CRANE_EST_N]);
 /* CRANE_CDEF_END */
 
 #endif /* CRANE_H */

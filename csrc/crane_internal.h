@@ -497,4 +497,8 @@ static inline size_t crane__decimated_count(long n_steps, long sample_every)
     return (size_t)(n_steps / sample_every) + (n_steps % sample_every != 0) + 1;
 }
 
+/* The estimator's status messages (estimator.c: its text stays in the estimator's module); "unknown
+ * status" for a status that is not the estimator's. */
+const char *crane__estimator_status_message(crane_status status);
+
 #endif /* CRANE_INTERNAL_H */

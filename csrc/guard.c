@@ -751,6 +751,6 @@ const char *crane__guard_status_message(crane_status status)
     case CRANE_E_SOLID: return "an obstacle (solid) is not valid, or a distance between two planes was asked";
     case CRANE_E_PART: return "a crane part (shape) is not valid";
     case CRANE_E_GUARD: return "a guard setting is out of range (margin >= 0, reaction >= 0, cycle > 0, time_tolerance > 0, clearance_tolerance >= 0)";
-    default: return "unknown status";
+    default: return crane__estimator_status_message(status); /* the next module's, or unknown */
     }
 }

@@ -501,7 +501,9 @@ const char *crane_status_message(crane_status status)
     case CRANE_E_ACTUATOR: return "a slew or extension drive on a crane without that actuator (its joint can only be held)";
     case CRANE_E_SOLID:
     case CRANE_E_PART:
-    case CRANE_E_GUARD: return crane__guard_status_message(status);
+    case CRANE_E_GUARD:
+    case CRANE_E_ESTIMATOR: /* the optional modules' messages: the guard's, then the estimator's */
+        return crane__guard_status_message(status);
     }
     return crane__guard_status_message(status);
 }

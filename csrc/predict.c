@@ -245,7 +245,7 @@ static long knot_count(const crane_inputs *in, crane_real horizon)
 /* Bounded work with valve-driven cylinders or a moving extension (docs/model.md, "Hydraulics",
  * "Four joints", "Bad input"): every step may be cut into substeps, at most as many as at the
  * stroke ends (where the chambers are smallest; the last step may be up to 1.25 dt long) or at
- * the extension friction's rate bound, and those count against CRANE_MAX_STEPS
+ * the extension friction's rate bound, one more for each knot, and those count against CRANE_MAX_STEPS
  * (CRANE_E_STEPS) and, with total (the batch's RK4 steps so far, updated), against
  * CRANE_MAX_BATCH_STEPS (CRANE_E_BATCH). Integer arithmetic without overflow on a 32-bit long. */
 static crane_status check_work(const crane_model *m, const crane_inputs *in, crane_real horizon,
@@ -253,7 +253,7 @@ static crane_status check_work(const crane_model *m, const crane_inputs *in, cra
 {
     const crane_real h = dt * (crane_real)1.25;
     const long knots = knot_count(in, horizon);
-    long n_max = 1, pieces;
+    long n_max = 1, work;
 #if CRANE_HYDRAULICS
     int valve[4], j, any = 0;
 
@@ -272,16 +272,20 @@ static crane_status check_work(const crane_model *m, const crane_inputs *in, cra
         if ((long)ne > n_max)
             n_max = (long)ne;
     }
-    /* every knot may cut a step into one more piece, with its own substeps */
-    if (knots > (long)CRANE_MAX_STEPS - n_steps)
+    /* Every knot cuts a step into one more piece, with its own substeps; a step's pieces sum to
+     * its length, so their counts ceil(h_i c) sum to at most the whole step's ceil(h c) plus one
+     * per knot (ceil(a) + ceil(b) <= ceil(a + b) + 1): a dense lever log costs a substep a knot,
+     * not a step's worth. */
+    if (n_max > (long)CRANE_MAX_STEPS / n_steps)
         return CRANE_E_STEPS;
-    pieces = n_steps + knots;
-    if (n_max > (long)CRANE_MAX_STEPS / pieces)
+    work = n_steps * n_max;
+    if (knots > (long)CRANE_MAX_STEPS - work)
         return CRANE_E_STEPS;
+    work += knots;
     if (total) {
-        if (pieces * n_max > (long)CRANE_MAX_BATCH_STEPS - *total)
+        if (work > (long)CRANE_MAX_BATCH_STEPS - *total)
             return CRANE_E_BATCH;
-        *total += pieces * n_max;
+        *total += work;
     }
     return CRANE_OK;
 }

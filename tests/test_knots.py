@@ -75,3 +75,24 @@ def test_every_knot_counts_against_the_step_limit(backend):
     if backend == "c":
         tr = cp.predict(crane, initial, _series(room), 2.0, dt=2e-3)
         assert tr.t[-1] == 2.0 and tr.t.size == 1001
+
+
+def test_a_60s_lever_log_at_1khz_runs_as_the_steps_on_its_knots():
+    """A recorded lever at 1 kHz over 60 s (60,000 knots): the default step is cut at every knot
+    and each cut costs one substep more, not a step's worth, so the call stays within MAX_STEPS and
+    runs. Cut at the knots, it integrates the same pieces as a 1-ms step that lands on every knot
+    (kept every 5th sample): the two agree to rounding."""
+    crane = cp.Crane.patu655().with_load(200.0)
+    initial = cp.state_at_rest(crane, lift_stroke=0.116, tilt_stroke=0.20)
+    t = np.arange(60_001) * 1e-3
+    lever = cp.ValveSeries(t=t, u=0.8 * np.sin(0.5 * t))
+    inputs = cp.Inputs(lift=lever, tilt=cp.Valve(0.0))
+    cut = cp.predict(crane, initial, inputs, 60.0)                  # the default step
+    on_knots = cp.predict(crane, initial, inputs, 60.0, dt=1e-3,
+                          sample_every=round(cp.DEFAULT_DT / 1e-3))
+    assert cut.t.size == on_knots.t.size == round(60.0 / cp.DEFAULT_DT) + 1
+    np.testing.assert_array_equal(cut.t, on_knots.t)
+    assert np.max(np.abs(cut.tip - on_knots.tip)) < 1e-9
+    assert np.max(np.abs(cut.p_a - on_knots.p_a)) < 1e-2              # Pa
+    # the lever swings the boom through its range onto the lower stop and back
+    assert cut.stop[:, 0].min() == -1 and np.ptp(cut.strokes[:, 0]) > 0.15

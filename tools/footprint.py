@@ -32,11 +32,18 @@ import subprocess
 import sys
 import tempfile
 
-BUDGET = {"data+bss": 1024, "stack": 1024, "text": 32 * 1024, "guard text": 10 * 1024}
+BUDGET = {"data+bss": 1024, "stack": 1024, "text": 32 * 1024, "guard text": 10 * 1024,
+          "estimator text": 6 * 1024, "estimator stack": 1024 + 128}
 # The collision guard is an optional module: a controller that only predicts does not
 # link it (--gc-sections). Its code has its own budget. The prediction's is 32 kB (four joints:
 # the slew and the telescope, valves on all four).
 GUARD_OBJECTS = {"geometry.o", "guard.o"}
+# The state estimator is optional in the same way (a controller that is handed its state does not
+# link it); its state and scratch live in the caller's crane_estimator, not on the stack.
+ESTIMATOR_OBJECTS = {"estimator.o"}
+# Its update runs a batch of predictions (crane_predict_many) under its own frame: its stack
+# budget is the predictor's plus 128 bytes.
+ESTIMATOR_ENTRY = "crane_estimator_"
 
 
 def entry_points(header):
@@ -62,6 +69,9 @@ static crane_solid solids[2];
 static crane_part parts[2];
 static crane_guard_config config;
 static crane_guard_result result;
+static crane_estimator est;
+static crane_estimator_config est_config;
+static crane_real est_z[CRANE_EST_N];
 int main(void)
 {
     size_t n, failed;
@@ -86,6 +96,8 @@ int main(void)
     s += (int)crane_guard_check(parts, 2, solids, 2, &n, &s);
     s += (int)crane_part_solids(&model, parts, 2, v, v, th, solids);
     s += (int)crane_guard(&model, parts, 2, solids, 2, out, 4, &config, th, buf, 12, &result);
+    s += (int)crane_estimator_init(&est, &est_config, est_z, est.covariance, est_z);
+    s += (int)crane_estimator_update(&est, &model, &inputs, v, est_z, est_z);
     return s + (int)crane_status_message((crane_status)s)[0];
 }
 """
@@ -228,8 +240,10 @@ def main(argv=None):
         print(f"  {r[0]:<16}{r[1]:>8}{r[2]:>8}{r[3]:>8}")
     print(f"  {'total':<16}{tot['text']:>8}{tot['data']:>8}{tot['bss']:>8}")
     guard_text = sum(r[1] for r in rows if r[0] in GUARD_OBJECTS)
-    print(f"  of which the prediction {tot['text'] - guard_text} and the collision guard "
-          f"{guard_text} (geometry.o, guard.o)")
+    estimator_text = sum(r[1] for r in rows if r[0] in ESTIMATOR_OBJECTS)
+    print(f"  of which the prediction {tot['text'] - guard_text - estimator_text}, the collision "
+          f"guard {guard_text} (geometry.o, guard.o) and the estimator {estimator_text} "
+          "(estimator.o)")
 
     # link the probe for the call graph
     with tempfile.TemporaryDirectory() as tmp:
@@ -293,7 +307,7 @@ def main(argv=None):
             reach(c, seen)
 
     print("\nworst-case stack depth (bytes) by entry point (the budget applies to each):")
-    stack, worst = None, None
+    stack, worst, est_stack = None, None, 0
     for e in entry_points(os.path.join(csrc, "crane.h")):
         if e not in funcs:
             print(f"  {e}: ERROR not in the probe (add a call to PROBE)")
@@ -306,6 +320,9 @@ def main(argv=None):
             ok = False
             continue
         print(f"  {e:<26}{d:>6}")
+        if e.startswith(ESTIMATOR_ENTRY):
+            est_stack = max(est_stack, d)
+            continue
         if stack is None or d > stack:
             stack, worst = d, (e, path)
     if worst is not None:
@@ -331,9 +348,11 @@ def main(argv=None):
           f"{len(libc)} functions ({', '.join(libc)})")
 
     print("\nbudget (Cortex-M4F float build):")
-    checks = [("text", tot["text"] - guard_text), ("guard text", guard_text),
+    checks = [("text", tot["text"] - guard_text - estimator_text), ("guard text", guard_text),
+              ("estimator text", estimator_text),
               ("data+bss", tot["data"] + tot["bss"]),
-              ("stack", stack if stack is not None else 10**9)]   # deepest entry point
+              ("stack", stack if stack is not None else 10**9),   # deepest entry point
+              ("estimator stack", est_stack)]
     for k, v in checks:
         good = v <= BUDGET[k]
         ok &= good

@@ -1046,6 +1046,78 @@ static void test_golden_vectors(void)
     check(flags_ok, "golden: stop flags are the twin's");
 }
 
+/* The estimator on a held crane: the model keeps the positions and the pressures and zeroes the
+ * rates, so a diagonal covariance stays diagonal and a measured field is the scalar Kalman filter
+ * worked by hand: P- = P + q T, g = P- / (P- + r), x+ = x + g (z - x), P+ = P- r / (P- + r). Then
+ * bad arguments leave it untouched. The estimator is large: static, not on the stack. */
+static void test_estimator(void)
+{
+    static crane_estimator est, before;
+    crane_estimator_config c;
+    crane_model m;
+    crane_inputs held;
+    const crane_params p = patu();
+    crane_real x0[CRANE_EST_N], cov[CRANE_EST_N * CRANE_EST_N], z[CRANE_EST_N], var[CRANE_EST_N];
+    const crane_real spool[4] = {0, 0, 0, 0};
+    const double p0 = 1e-6, q = 1e-8, r = 4e-8, period = 0.01, dz = 2e-4;
+    double pm, g;
+    int i;
+
+    memset(&c, 0, sizeof c);
+    memset(&held, 0, sizeof held);
+    memset(cov, 0, sizeof cov);
+    for (i = 0; i < CRANE_EST_N; ++i) {
+        c.lo[i] = R(-1e8);
+        c.hi[i] = R(1e8);
+        c.noise[i] = R(q);
+        c.fd_step[i] = i < CRANE_EST_PRESSURES ? R(1e-4) : R(1e3);
+        c.scale[i] = i < CRANE_EST_PRESSURES ? R(1e-3) : R(1e5);
+        x0[i] = 0;
+        z[i] = 0;
+        var[i] = 0;
+        cov[i * CRANE_EST_N + i] = i < CRANE_EST_PRESSURES ? R(p0) : R(1e10);
+    }
+    c.lo[0] = p.cylinder[CRANE_LIFT].stroke_min;
+    c.hi[0] = p.cylinder[CRANE_LIFT].stroke_max;
+    c.lo[1] = p.cylinder[CRANE_TILT].stroke_min;
+    c.hi[1] = p.cylinder[CRANE_TILT].stroke_max;
+    c.lo[3] = p.extension_min;
+    c.hi[3] = p.extension_max;
+    c.dt = R(0.005);
+    x0[0] = R(0.15);
+    x0[1] = R(0.3);
+    x0[3] = p.extension_min;
+    check_status(crane_model_init(&m, &p, x0[3]), CRANE_OK, "estimator: model");
+    check_status(crane_estimator_init(&est, &c, x0, cov, spool), CRANE_OK, "estimator: init");
+    z[0] = R(0.15 + dz);
+    var[0] = R(r);
+    check_status(crane_estimator_update(&est, &m, &held, R(period), z, var), CRANE_OK,
+                 "estimator: update");
+    pm = p0 + q * period;
+    g = pm / (pm + r);
+    check_close(D(est.x[0]), 0.15 + g * dz, tol(1e-12, 1e-6), "estimator: x+ = x + g (z - x)");
+    check_close(D(est.covariance[0]), pm * r / (pm + r), pm * tol(1e-9, 1e-4),
+                "estimator: P+ = P- r / (P- + r)");
+    check_close(D(est.covariance[1]), 0, pm * tol(1e-9, 1e-4), "estimator: P stays diagonal");
+    check_close(D(est.x[1]), 0.3, tol(1e-12, 1e-6), "estimator: an unmeasured position stays");
+    check_close(D(est.nis), dz * dz / (pm + r), dz * dz / (pm + r) * tol(1e-9, 1e-3),
+                "estimator: NIS");
+    before = est;
+    var[1] = R(-1);
+    check_status(crane_estimator_update(&est, &m, &held, R(period), z, var), CRANE_E_ESTIMATOR,
+                 "estimator: negative variance");
+    var[1] = 0;
+    check_status(crane_estimator_update(&est, &m, &held, 0, z, var), CRANE_E_HORIZON,
+                 "estimator: period 0");
+    check_status(crane_estimator_update(&est, NULL, &held, R(period), z, var), CRANE_E_NULL,
+                 "estimator: NULL model");
+    check(memcmp(&est, &before, sizeof est) == 0, "estimator: untouched by bad arguments");
+    c.dt = 0;
+    check_status(crane_estimator_init(&est, &c, x0, cov, spool), CRANE_E_ESTIMATOR,
+                 "estimator: dt 0");
+    check(memcmp(&est, &before, sizeof est) == 0, "estimator: untouched by a bad config");
+}
+
 int main(void)
 {
     printf("cranepredict core tests (%s)\n", is_float ? "float" : "double");
@@ -1066,6 +1138,7 @@ int main(void)
     test_tilt_flag();
     test_samples_equal_constant();
     test_diverged();
+    test_estimator();
     benchmark();
     printf("%d passed, %d failed\n", n_pass, n_fail);
     return n_fail ? 1 : 0;

@@ -1696,23 +1696,24 @@ def _run(crane: Any, state: Any, inputs: Any, horizon: float, dt: float
     x = pred.stop_at_start(x, strokes0, rates0)
 
     n = int(math.ceil(horizon / dt - 1e-9))
-    # bad input: the work counts against MAX_STEPS as in the C core: every knot of a sampled drive
-    # inside the horizon may cut a step once more ("Integration and samples"), and with valves
-    # every piece takes up to the worst-case substeps (docs/model.md "Hydraulics": at the stroke
-    # ends, where the chambers are smallest; the last step up to 1.25 dt)
+    # bad input: the work counts against MAX_STEPS as in the C core: with valves every step takes
+    # up to the worst-case substeps (docs/model.md "Hydraulics": at the stroke ends, where the
+    # chambers are smallest; the last step up to 1.25 dt), and every knot of a sampled drive
+    # inside the horizon cuts a step once more ("Integration and samples"), which costs at most one
+    # substep more: a step's pieces sum to its length, ceil(a) + ceil(b) <= ceil(a + b) + 1
     from ._checks import MAX_STEPS
 
-    pieces = n + sum(1 for drive in pred.drives for tk in (getattr(drive, "times", None) or ())
-                     if 0.0 < tk < horizon)
+    knots = sum(1 for drive in pred.drives for tk in (getattr(drive, "times", None) or ())
+                if 0.0 < tk < horizon)
     worst = 1
     if pred.hydraulic:
         lam = max(drive.stiffness(s) for drive, valve in zip(pred.drives, pred.valve) if valve
                   for s in (drive.stroke_min, drive.stroke_max))
         worst = max(1, int(math.ceil(1.25 * dt * lam / SUBSTEP_STABILITY)))
-    if pieces * worst > MAX_STEPS:
+    if n * worst + knots > MAX_STEPS:
         raise ValueError(f"horizon / dt asks for more than {MAX_STEPS} steps with the cuts at the "
-                         f"drives' samples and the valve-driven cylinders' substeps ({pieces} "
-                         f"steps and cuts x up to {worst} substeps): raise dt, shorten the "
+                         f"drives' samples and the valve-driven cylinders' substeps ({n} steps x "
+                         f"up to {worst} substeps + {knots} cuts): raise dt, shorten the "
                          "horizon or send fewer samples")
     t_out = np.empty(n + 1)
     strokes = np.empty((n + 1, 2))

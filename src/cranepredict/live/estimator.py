@@ -4,7 +4,10 @@ pressure) from what it measures.
 :class:`Estimator` is the interface the live twin uses: ``update(measurement) -> State`` and
 ``covariance``. :class:`EKF` is an extended Kalman filter over the model: its model step is the C
 core's prediction over the period between two measurements; its Jacobian is by finite differences
-(every perturbed state predicted in one ``predict_many`` call). The measurement model is linear
+(every perturbed state predicted in one ``predict_many`` call). The filter runs in the C core
+(``crane_estimator_update``, ``backend="c"``, the product: its cost is per control cycle on the
+controller) or in numpy (``backend="python"``, the same algorithm written independently, which
+validates it). The measurement model is linear
 (the sensors measure state fields). The estimate is kept in the valid state domain (projected
 after each update) and the covariance symmetric positive definite (Joseph form, symmetrised,
 eigenvalues floored). A normalised-innovation-squared (NIS) test over a window of cycles flags
@@ -114,7 +117,11 @@ class EKF(Estimator):
     """
 
     def __init__(self, crane: Crane, sensors: Optional[Sensors] = None, *, dt: Optional[float] = None,
-                 window: int = 25, p: float = 1 - 1e-7, p_field: float = 1 - 1e-12, noise: Optional[_Noise] = None) -> None:
+                 window: int = 25, p: float = 1 - 1e-7, p_field: float = 1 - 1e-12, noise: Optional[_Noise] = None,
+                 backend: str = "c") -> None:
+        if backend not in ("c", "python"):
+            raise ValueError(f"backend must be 'c' or 'python', got {backend!r}")
+        self.backend = backend
         if not isinstance(crane, Crane):
             raise TypeError(f"crane must be a cranepredict.Crane, got {type(crane).__name__}")
         self.crane = crane
@@ -140,6 +147,7 @@ class EKF(Estimator):
         self.reset()
 
     def reset(self) -> None:
+        self._c: Any = None
         self.x: Optional[np.ndarray] = None
         self.covariance = np.zeros((len(ESTIMATED), len(ESTIMATED)))
         self.spools = np.zeros(4)
@@ -196,8 +204,60 @@ class EKF(Estimator):
                                 for j, s in zip(JOINTS, SPOOLS)])
         self.t = m.t
         self.inputs = m.inputs
+        if self.backend == "c":
+            self._c_init()
         self.state = self._state(self.x, m.inputs, self.spools)
         return self.state
+
+    # -- the C core's filter -------------------------------------------------------------------
+
+    def _c_init(self) -> None:
+        """The C estimator (crane_estimator) at the current estimate, covariance and spools."""
+        from .. import _core
+
+        ffi, lib = _core.ffi, _core.lib
+        config = ffi.new("crane_estimator_config *")
+        config.lo, config.hi = list(self.lo), list(self.hi)
+        config.noise, config.fd_step, config.scale = list(self._q), list(self._h), list(self._scale)
+        config.dt = api.DEFAULT_DT if self.dt is None else float(self.dt)
+        est = ffi.new("crane_estimator *")
+        _core.ensure(lib.crane_estimator_init(est, config, list(self.x),
+                                              list(self.covariance.ravel()), list(self.spools)),
+                     "estimator")
+        self._c = est
+        self.x = np.array(list(est.x))
+        self.covariance = np.array(list(est.covariance)).reshape(len(ESTIMATED), len(ESTIMATED))
+
+    def _c_update(self, measurement: Measurement, period: float) -> Tuple[List[str], np.ndarray]:
+        """One cycle in the C core; returns the measured fields and their innovations' NIS."""
+        from .. import _core
+
+        ffi, lib = _core.ffi, _core.lib
+        values = measurement.values()
+        z, var = np.zeros(len(ESTIMATED)), np.zeros(len(ESTIMATED))
+        names = [n for n in ESTIMATED if n in values and n in self.sensors]
+        for n in names:
+            z[self._index[n]] = values[n]
+            var[self._index[n]] = self.sensors[n].std ** 2
+        inputs = ffi.new("crane_inputs *")
+        keep: list = []
+        _core._inputs(inputs, self.inputs, keep)
+        est = self._c
+        est.spool = list(self.spools)
+        _, model = _core._cached(self.crane, self.crane.geometry.extension_min)
+        status = lib.crane_estimator_update(est, model, inputs, float(period), list(z), list(var))
+        if status != lib.CRANE_OK:
+            self._c = None   # the filter must start again (crane.h)
+            _core.ensure(status, "estimator")
+        self.x = np.array(list(est.x))
+        self.covariance = np.array(list(est.covariance)).reshape(len(ESTIMATED), len(ESTIMATED))
+        self.spools = np.array(list(est.spool))
+        self.projections += int(est.projected)
+        field_nis = np.array(list(est.field_nis))[[self._index[n] for n in names]]
+        if names:
+            self.nis.append((float(est.nis), len(names)))
+            self.nis = self.nis[-self.window:]
+        return names, field_nis
 
     def _propagate(self, inputs: Inputs, period: float) -> Tuple[np.ndarray, np.ndarray, np.ndarray]:
         """(x', F, spools') over ``period`` under ``inputs``: the nominal future and one per
@@ -293,6 +353,15 @@ class EKF(Estimator):
         period = measurement.t - self.t
         if not period > 0:
             raise ValueError(f"Measurement.t must increase: {measurement.t} after {self.t}")
+        if self.backend == "c":
+            if self._c is None:
+                self._c_init()
+            names, field_nis = self._c_update(measurement, period)
+            for n, v in zip(names, field_nis):
+                self.field_nis.setdefault(n, []).append(float(v))
+                del self.field_nis[n][:-self.window]
+            self._finish(measurement)
+            return self.state
         # the valves' commands of the previous measurement, held over the period (zero-order hold)
         x, F, spools = self._propagate(self.inputs, period)
         P = F @ self.covariance @ F.T + np.diag(self._q * period)
@@ -321,11 +390,16 @@ class EKF(Estimator):
         inside = np.clip(x, self.lo, self.hi)
         if np.any(inside != x):
             self.projections += 1
-        self.x, self.covariance, self.spools, self.t = inside, P, spools, measurement.t
+        self.x, self.covariance, self.spools = inside, P, spools
+        self._finish(measurement)
+        return self.state
+
+    def _finish(self, measurement: Measurement) -> None:
+        """The measured spools over the model's, the State, the innovation test."""
+        self.t = measurement.t
         self.inputs = measurement.inputs
         for j, s in enumerate(SPOOLS):
             if getattr(measurement, s) is not None and s in self.sensors:
                 self.spools[j] = getattr(measurement, s)
         self.state = self._state(self.x, measurement.inputs, self.spools)
         self._innovation_test()
-        return self.state
