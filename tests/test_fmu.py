@@ -254,6 +254,25 @@ def test_get_and_set_state_reproduce_a_run_exactly(fmus, fmi):
     u.close()
 
 
+@pytest.mark.filterwarnings("ignore:Inputs.lift. holding the load")   # 450 kg: the boom sinks
+@pytest.mark.parametrize("fmi", [3, 2])
+def test_load_mass_is_tunable_while_stepping(fmus, fmi):
+    """load_mass changed after 0.5 s: from then on the motion is the prediction of the heavier
+    crane from the state at 0.5 s (the chambers as they were)."""
+    sc = cp.scenarios.get("lever-open")
+    u = Unit(fmus["levers2", fmi]).init(lift_lever=1.0, tilt_lever=0.0)
+    u.run([0.01] * 50)
+    u.set(load_mass=450.0)
+    got, stops = u.run([0.01] * 100)
+    u.close()
+    first = cp.predict(sc.crane, sc.initial, sc.inputs, 0.5, dt=0.005)
+    heavy = dataclasses.replace(sc.crane, load_mass=450.0)
+    want, want_stops = _predicted(cp.predict(heavy, first.final_state, sc.inputs, 1.0, dt=0.005), 2)
+    _assert_outputs(got, stops, want, want_stops)
+    light, _ = _predicted(cp.predict(sc.crane, sc.initial, sc.inputs, 1.5, dt=0.005), 2)
+    assert np.abs(got[-1, 2] - light[-1, 2]) > 1e-3   # the load made a difference
+
+
 @pytest.mark.parametrize("fmi", [3, 2])
 def test_two_instances_with_different_loads_do_not_interfere(fmus, fmi):
     def solo(load):
