@@ -506,6 +506,23 @@ crane_status crane_predict_model(const crane_model *model, const crane_state *st
                                  const crane_inputs *inputs, crane_real horizon, crane_real dt,
                                  crane_sample *out, size_t capacity, size_t *n_written);
 
+/* One control period: advances *state by period (s) under the inputs with crane_predict_model's
+ * integration (RK4 step dt <= period, the last step of the period up to 1.25 dt long; end stops,
+ * valves), writes the samples at the period's start and end to out[0] and out[1] (t = 0 and
+ * t = period) and the state at its end to *next (which may be state): the strokes, slew, extension
+ * and their rates (a boom cylinder's stroke rate is omega ds/dtheta at its stroke, 0 on a stop or
+ * held), every actuator's chamber pressures and spool (docs/model.md, "Continuing from a
+ * prediction"). Chained under constant drives, the calls continue one prediction: the samples at
+ * the periods' ends are those of one prediction over their sum, to the rounding of the stroke <->
+ * angle conversion. As crane_predict_model, the model must be the one at state->extension (a
+ * telescope that has moved needs a model made at its new extension: crane_model_init); sampled
+ * drives' times count from the period's start. Every error of crane_predict_model with period as
+ * the horizon (CRANE_E_HORIZON if period <= 0, CRANE_E_DT if dt <= 0 or dt > period, ...); on an
+ * error nothing is written, except CRANE_E_DIVERGED (out[0] may have been written, *next not). */
+crane_status crane_step(const crane_model *model, const crane_state *state,
+                        const crane_inputs *inputs, crane_real period, crane_real dt,
+                        crane_state *next, crane_sample out[2]);
+
 /* Number of samples a prediction writes when it keeps only the sample at t = 0, the one after
  * every sample_every-th step (sample_every >= 1) and the one after the last step: with
  * n = ceil(horizon/dt - 1e-9) steps, floor(n / sample_every) + (n % sample_every != 0) + 1. */

@@ -483,6 +483,14 @@ static inline crane_real crane__extension_rate_bound(const crane_params *p)
     return crane__extension_friction_slope(p) * 4 / p->extension_boom.mass;
 }
 
+/* crane_predict_model after its NULL checks, keeping the sample at t = 0, one after every
+ * sample_every-th step (>= 1) and one after the last (crane__decimated_count samples): the one
+ * copy of the checks and the prediction that crane_predict_model and crane_step share. */
+crane_status crane__predict_every(const crane_model *model, const crane_state *state0,
+                                  const crane_inputs *inputs, crane_real horizon, crane_real dt,
+                                  long sample_every, crane_sample *out, size_t capacity,
+                                  size_t *n_written);
+
 /* Samples written for n_steps steps, keeping every sample_every-th step and the last. */
 static inline size_t crane__decimated_count(long n_steps, long sample_every)
 {

@@ -303,13 +303,15 @@ static CRANE__ALWAYS_INLINE crane_status integrate(const crane_model *m, const c
     return crane__integrate4(m, s0, in, horizon, dt, n_steps, sample_every, out, n_written);
 }
 
-/* crane_predict_model after its NULL checks. Both entry points call it, so that crane_predict
- * does not add crane_predict_model's frame to its stack. */
+/* crane_predict_model after its NULL checks, keeping every sample_every-th sample (and the
+ * last). The entry points call it, so that crane_predict does not add crane_predict_model's frame
+ * to its stack. */
 static CRANE__ALWAYS_INLINE crane_status predict(const crane_model *model,
                                                  const crane_state *state0,
                                                  const crane_inputs *inputs, crane_real horizon,
-                                                 crane_real dt, crane_sample *out,
-                                                 size_t capacity, size_t *n_written)
+                                                 crane_real dt, long sample_every,
+                                                 crane_sample *out, size_t capacity,
+                                                 size_t *n_written)
 {
     crane_status st;
     long n_steps;
@@ -327,10 +329,10 @@ static CRANE__ALWAYS_INLINE crane_status predict(const crane_model *model,
     st = check_work(model, inputs, horizon, dt, n_steps, NULL);
     if (st != CRANE_OK)
         return st;
-    if ((size_t)n_steps + 1 > capacity)
+    if (crane__decimated_count(n_steps, sample_every) > capacity)
         return CRANE_E_CAPACITY;
 
-    return integrate(model, state0, inputs, horizon, dt, n_steps, 1, out, n_written);
+    return integrate(model, state0, inputs, horizon, dt, n_steps, sample_every, out, n_written);
 }
 
 crane_status crane_predict(const crane_params *params, const crane_state *state0,
@@ -346,7 +348,7 @@ crane_status crane_predict(const crane_params *params, const crane_state *state0
     st = crane__model_derive(&model, params, state0->extension, &field);
     if (st != CRANE_OK)
         return st;
-    return predict(&model, state0, inputs, horizon, dt, out, capacity, n_written);
+    return predict(&model, state0, inputs, horizon, dt, 1, out, capacity, n_written);
 }
 
 crane_status crane_predict_model(const crane_model *model, const crane_state *state0,
@@ -355,7 +357,15 @@ crane_status crane_predict_model(const crane_model *model, const crane_state *st
 {
     if (!model || !state0 || !inputs || !out || !n_written)
         return CRANE_E_NULL;
-    return predict(model, state0, inputs, horizon, dt, out, capacity, n_written);
+    return crane__predict_every(model, state0, inputs, horizon, dt, 1, out, capacity, n_written);
+}
+
+crane_status crane__predict_every(const crane_model *model, const crane_state *state0,
+                                  const crane_inputs *inputs, crane_real horizon, crane_real dt,
+                                  long sample_every, crane_sample *out, size_t capacity,
+                                  size_t *n_written)
+{
+    return predict(model, state0, inputs, horizon, dt, sample_every, out, capacity, n_written);
 }
 
 crane_status crane_sample_count_every(crane_real horizon, crane_real dt, size_t sample_every,

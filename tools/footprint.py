@@ -82,6 +82,7 @@ int main(void)
     s += (int)crane_sample_count_every(v, v, (size_t)v, &n);
     s += (int)crane_predict_model(&model, &state, &inputs, v, v, out, 4, &n);
     s += (int)crane_model_init(&model, &params, v);
+    s += (int)crane_step(&model, &state, &inputs, v, v, &state, out);
     s += (int)crane_params_check(&params, &field);
     s += (int)crane_field_rule(field)[0];
     s += (int)crane_points(&model, v, 1, th, buf);

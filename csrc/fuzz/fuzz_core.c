@@ -20,6 +20,8 @@
  *     (but CRANE_E_DIVERGED), sets *failed in [0, 2], and on success gives each future
  *     crane_predict's samples at the kept steps, bit for bit; it runs only when the step count is
  *     small (MAX_CAPACITY), else a short stride stops it before any work;
+ *   - crane_step with the horizon as its period gives crane_predict's status (but for its
+ *     capacity), its first and last samples bit for bit, and writes no next state on an error;
  *   - crane_params_check names a field exactly when it fails, agrees with crane_model_init at
  *     extension_min, and every field has a rule;
  *   - the inputs (const) are not modified.
@@ -442,6 +444,32 @@ static void run_predict(const universe *u)
                 fail("crane_predict_model differs from crane_predict");
         }
         free(out2);
+    }
+
+    /* crane_step over the horizon as its period: crane_predict's status (but for its capacity),
+     * its first and last samples bit for bit, nothing written to the next state on an error */
+    {
+        crane_model model;
+        crane_state next, canary;
+        crane_sample ends[2];
+        crane_status st3;
+        if (crane_model_init(&model, &params, state.extension) == CRANE_OK) {
+            memset(&next, 0xa5, sizeof next);
+            memcpy(&canary, &next, sizeof next);
+            st3 = crane_step(&model, &state, &inputs, u->horizon, u->dt, &next, ends);
+            check_status(st3, "crane_step status");
+            if (memcmp(scopy, &state, sizeof state) || memcmp(icopy, &inputs, sizeof inputs))
+                fail("crane_step modified its inputs");
+            if (st3 != CRANE_OK && memcmp(&next, &canary, sizeof next))
+                fail("crane_step wrote its next state on an error");
+            if (st != CRANE_E_CAPACITY && st3 != st)
+                fail("crane_step's status differs from crane_predict's");
+            if (st == CRANE_OK && st3 == CRANE_OK &&
+                (memcmp(&ends[0], &out[0], sizeof ends[0]) ||
+                 memcmp(&ends[1], &out[n_written - 1], sizeof ends[1]) ||
+                 memcmp(next.stroke, out[n_written - 1].stroke, sizeof next.stroke)))
+                fail("crane_step's samples differ from crane_predict's");
+        }
     }
 
     run_many(u, &params, &state, &inputs, st, out, n_written, stc == CRANE_OK ? count : 0);

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import argparse
+import os
 import statistics
 import sys
 import time
@@ -263,6 +264,44 @@ def _view(args: argparse.Namespace) -> int:
     return app.run(args)
 
 
+def _fmu(args: argparse.Namespace) -> int:
+    from .crane import Crane
+    from .fmu import export_fmu
+
+    crane = Crane.patu655() if args.crane in (None, "patu655") else Crane.from_toml(args.crane)
+    start = {}
+    for item in args.start or []:
+        name, sep, value = item.partition("=")
+        if not sep:
+            raise ValueError(f"--start takes NAME=VALUE (e.g. lift_stroke=0.116), got {item!r}")
+        try:
+            start[name] = float(value)
+        except ValueError:
+            raise ValueError(f"--start {name}: {value!r} is not a number") from None
+    levers = None if args.levers is None else [j for j in args.levers.split(",") if j]
+    world = None
+    if args.world is not None:
+        from . import world as world_mod
+        if os.path.exists(args.world):
+            world = world_mod.World.from_toml(args.world)
+        elif args.world in world_mod.names():
+            world = world_mod.get(args.world)
+        else:
+            raise ValueError(f"--world: no such file, and not an example world "
+                             f"({', '.join(world_mod.names())}): {args.world!r}")
+    try:
+        path = export_fmu(crane, args.output, fmi=args.fmi, drive=args.drive, levers=levers,
+                          start=start, step=args.step,
+                          crane_file=None if args.crane in (None, "patu655") else args.crane,
+                          world=world, guard_horizon=args.guard_horizon)
+    except (RuntimeError, ImportError) as exc:
+        print(f"cranepredict: error: {exc}", file=sys.stderr)
+        return 2
+    print(f"wrote {path} (FMI {args.fmi}.0 co-simulation, crane {crane.name}, "
+          f"{args.drive} drive)")
+    return 0
+
+
 def main(argv: Optional[List[str]] = None) -> int:
     parser = argparse.ArgumentParser(
         prog="cranepredict",
@@ -321,6 +360,30 @@ def main(argv: Optional[List[str]] = None) -> int:
     vw.add_argument("--serve-for", type=float, default=None, metavar="S",
                     help="stop after S seconds (default: serve until Ctrl-C)")
     vw.set_defaults(func=_view)
+    fmu = sub.add_parser("fmu", help="export the crane as an FMI co-simulation FMU (compiled with "
+                                     "this machine's C compiler; needs the [fmu] extra)")
+    fmu.add_argument("--crane", default="patu655",
+                     help="crane file (TOML), or patu655 (default)")
+    fmu.add_argument("--fmi", type=int, choices=(3, 2), default=3, help="FMI version (default: 3)")
+    fmu.add_argument("--drive", choices=("valve", "pressure"), default="valve",
+                     help="inputs: the valves' levers (default) or the lift and tilt cylinders' "
+                          "chamber pressures (the paper's experiment)")
+    fmu.add_argument("--levers", default=None, metavar="JOINTS",
+                     help="comma-separated joints given a lever, e.g. lift,tilt (default: every "
+                          "actuator with a valve circuit; the others are held)")
+    fmu.add_argument("--start", action="append", default=None, metavar="NAME=VALUE",
+                     help="default initial pose: lift_stroke, tilt_stroke (m), slew (rad), "
+                          "extension (m) (repeatable; the FMU's *_start parameters)")
+    fmu.add_argument("--step", type=float, default=5e-3,
+                     help="default of the FMU's step parameter, the core's RK4 step, s (default: 0.005)")
+    fmu.add_argument("--world", default=None,
+                     help="world file (TOML) or an example world's name: the FMU also outputs the "
+                          "collision guard's verdict (guard_signal, time_to_contact, "
+                          "min_clearance, stop_latest)")
+    fmu.add_argument("--guard-horizon", type=float, default=2.0,
+                     help="with --world: how far ahead the guard predicts, s (default: 2)")
+    fmu.add_argument("-o", "--output", required=True, help="the .fmu file to write")
+    fmu.set_defaults(func=_fmu)
     from .live.cli import add_parsers as _live_parsers
 
     _live_parsers(sub)
