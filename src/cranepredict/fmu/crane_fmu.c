@@ -243,7 +243,7 @@ static int judge(cfmu_instance *f)
     }
     drives(f, &in);
     f->params.load_mass = f->s.value[Q_LOAD_MASS];
-    st = crane_predict_many(&f->params, 1, &f->s.state, &in, horizon, dt, every, f->future, count,
+    st = crane_predict_many(&f->params, 1, 1, &f->s.state, &in, horizon, dt, every, f->future, count,
                             &failed);
     if (st != CRANE_OK)
         return fail(f, "the guard's prediction", st);
