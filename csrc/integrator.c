@@ -779,10 +779,13 @@ static void put_sample(ctx_t *c, crane_real t, const xstate *x, crane_sample *o)
 static int finite_state(const ctx_t *c, const xstate *x)
 {
     int i;
-    for (i = 0; i < n_used(c); ++i) {
+    for (i = 0; i < N_MECH; ++i)
+        if (!crane__finite(x->v[i]))
+            return 0;
+    for (i = H; i < n_used(c); ++i) {
         /* the pressures, then the spool, of each valve-driven joint from H on (x_slot) */
         const crane_real lim = (i - H) % 3 == 2 ? 1 : (crane_real)CRANE_PRESSURE_MAX;
-        if (i < H ? !crane__finite(x->v[i]) : !crane__in_range(x->v[i], -lim, lim))
+        if (!crane__in_range(x->v[i], -lim, lim))
             return 0;
     }
     return 1;
