@@ -277,6 +277,9 @@ static CRANE__NOINLINE void solve_planar(const ctx_t *c, const crane_real *Mp, c
     crane_real A[6];
     const crane_real *M = Mp;
 
+    /* cppcheck 2.10's whole-program check sizes a with the float build's crane_real and indexes
+     * it with the double build's (a false "ctuArrayIndex"; every caller passes crane_real[4]) */
+    /* cppcheck-suppress ctuArrayIndex */
     a[CRANE_SLEW] = a[CRANE_EXTENSION] = 0;
     if (in_set(lk, CRANE_LIFT) && in_set(lk, CRANE_TILT)) {
         a[CRANE_LIFT] = a[CRANE_TILT] = 0;
