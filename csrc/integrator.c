@@ -271,8 +271,8 @@ static crane_real mp(const crane_real Mp[6], int r, int k)
  * it the kernel's at c->d.cf. The planar kernel's: the two booms, the free one alone or both by
  * Cramer's rule (the closed form). Out of line like solve_spatial, one frame or the other on the
  * deepest path. */
-static CRANE__NOINLINE void solve_planar(const ctx_t *c, const crane_real *Mp, const crane_real b[4],
-                                         unsigned lk, crane_real a[4])
+static CRANE__NOINLINE void solve_planar(const ctx_t *c, const crane_real *Mp,
+                                         const crane_real b[4], unsigned lk, crane_real a[4])
 {
     crane_real A[6];
     const crane_real *M = Mp;
@@ -303,13 +303,13 @@ static CRANE__NOINLINE void solve_planar(const ctx_t *c, const crane_real *Mp, c
 }
 
 /* The spatial kernel's: the slew alone (M is block diagonal, J_z = c->d.jz), the free in-plane
- * joints by Gaussian elimination (M is positive definite). The mass matrix is worked here into the last six
- * places of the elimination's own matrix A (6..11, in Mp's order; A's rows are 4 long, the free
- * joints' columns, then b): A is filled row by row from the front, and each place is written only
- * after the last read of the Mp entry it held (so for every set of free joints), so that Mp takes
- * no storage of its own beside the dynamics (the stack). */
-static CRANE__NOINLINE void solve_spatial(const ctx_t *c, const crane_real *Mp, const crane_real b[4], unsigned lk,
-                  crane_real a[4])
+ * joints by Gaussian elimination (M is positive definite). The mass matrix is worked here into the
+ * last six places of the elimination's own matrix A (6..11, in Mp's order; A's rows are 4 long,
+ * the free joints' columns, then b): A is filled row by row from the front, and each place is
+ * written only after the last read of the Mp entry it held (so for every set of free joints), so
+ * that Mp takes no storage of its own beside the dynamics (the stack). */
+static CRANE__NOINLINE void solve_spatial(const ctx_t *c, const crane_real *Mp,
+                                          const crane_real b[4], unsigned lk, crane_real a[4])
 {
     crane_real A[3 * 4];
     const crane_real *M = Mp;
@@ -354,8 +354,9 @@ static CRANE__NOINLINE void solve_spatial(const ctx_t *c, const crane_real *Mp, 
     }
 }
 
+/* M a = b by the kernel's solver. */
 static CRANE__ALWAYS_INLINE void solve(const ctx_t *c, const crane_real *Mp, const crane_real b[4],
-                                        unsigned lk, crane_real a[4])
+                                       unsigned lk, crane_real a[4])
 {
     if (c->planar)
         solve_planar(c, Mp, b, lk, a);
