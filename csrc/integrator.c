@@ -72,6 +72,20 @@ static int lo_flag(const ctx_t *c, int j) { return (c->lo_is_max >> j) & 1 ? 1 :
 /* State entries in use: the pressures and spools only with valves. */
 static int n_used(const ctx_t *c) { return c->lim.valves ? N_ALL : N_MECH; }
 
+/* dst = src over the state entries in use; the others are never read (a step's end state leaves
+ * them unset). A loop over the entries rather than a copy of the whole struct: without valves
+ * that is 8 of its 20 entries, and the copies are made a few times a step. gcc would turn the
+ * loop into a call of memmove, which newlib's size-optimised build copies byte by byte. */
+#if defined(__GNUC__) && !defined(__clang__)
+__attribute__((optimize("no-tree-loop-distribute-patterns")))
+#endif
+static void copy_state(const ctx_t *c, xstate *dst, const xstate *src)
+{
+    int i;
+    for (i = 0; i < n_used(c); ++i)
+        dst->v[i] = src->v[i];
+}
+
 /* The lower (upper) limit of q of joint j: the angle limits, [slew_min, slew_max], the extension
  * range. Read where needed rather than kept in the context (the stack). */
 static crane_real lo_q(const ctx_t *c, int j)
@@ -415,9 +429,10 @@ static void rk4(ctx_t *c, crane_real t, const xstate *x, crane_real h, xstate *y
     /* the joints that can move: the planar kernel's two booms (the slew and the extension are
      * held, their entries stay those of x), else all four */
     const int nq = c->planar ? 2 : 4;
-    xstate xs = *x;
+    xstate xs;
     int s, i;
 
+    copy_state(c, &xs, x);
     for (s = 0; s < 4; ++s) {
         const crane_real ts = s == 0 ? t : s == 3 ? t + h : t + h2, cs = s == 2 ? h : h2;
         forces(c, ts, &xs, lk, &xs);
@@ -439,8 +454,6 @@ static void rk4(ctx_t *c, crane_real t, const xstate *x, crane_real h, xstate *y
         y->v[Q + i] = x->v[Q + i];
         y->v[W + i] = x->v[W + i];
     }
-    for (i = n_used(c); i < N_ALL; ++i)
-        y->v[i] = x->v[i];
 }
 
 /* Plastic impact on joint i (docs/model.md, "End stops", "Four joints"): over the free joints F,
@@ -505,7 +518,8 @@ static int release_set(ctx_t *c, crane_real t, const xstate *x)
     /* the stopped joints' actuator forces decide their release: only held joints are locked */
     forces(c, t, x, held, NULL);
     mass(c, Mp);
-    for (cand = 0; cand < 16u; ++cand) {
+    /* the candidates are subsets of the stopped joints: below 4 with the planar kernel */
+    for (cand = 0; cand < (c->planar ? 4u : 16u); ++cand) {
         int ok = 1;
         crane_real a[4], r[4];
         /* only stopped joints can be released */
@@ -568,7 +582,7 @@ static crane_real release_in_piece(ctx_t *c, crane_real t, xstate *x, crane_real
             lo = mid;
     }
     rk4(c, t, x, hi, y);
-    *x = *y;
+    copy_state(c, x, y);
     release(c, t + hi, x);
     return hi;
 }
@@ -615,11 +629,11 @@ static void step(ctx_t *c, crane_real t, xstate *x, crane_real h, crane_real t_e
                 }
                 c->release_clear = 1;
             }
-            *x = x1;
+            copy_state(c, x, &x1);
             return;
         }
         if (piece == CRANE__MAX_PIECES - 1) {
-            *x = x1;
+            copy_state(c, x, &x1);
             for (i = 0; i < 4; ++i)
                 if ((out >> i) & 1)
                     stop_joint(c, x, i, (upper >> i) & 1);
@@ -636,7 +650,7 @@ static void step(ctx_t *c, crane_real t, xstate *x, crane_real h, crane_real t_e
             }
         }
         rk4(c, t, x, tmin, &x1); /* x1 is free again: rk4 cannot write over its x */
-        *x = x1;
+        copy_state(c, x, &x1);
         t += tmin;
         rem -= tmin;
         /* In joint order, every free joint at or beyond a limit goes onto it. */
@@ -782,9 +796,11 @@ static void put_sample(ctx_t *c, crane_real t, const xstate *x, crane_sample *o)
  * a result. */
 static int finite_state(const ctx_t *c, const xstate *x)
 {
+    /* the joints that can move (held ones keep their validated initial state) */
+    const int nq = c->planar ? 2 : 4;
     int i;
-    for (i = 0; i < N_MECH; ++i)
-        if (!crane__finite(x->v[i]))
+    for (i = 0; i < nq; ++i)
+        if (!crane__finite(x->v[Q + i]) || !crane__finite(x->v[W + i]))
             return 0;
     for (i = H; i < n_used(c); ++i) {
         /* the pressures, then the spool, of each valve-driven joint from H on (x_slot) */
