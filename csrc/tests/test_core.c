@@ -12,6 +12,7 @@
 #include <string.h>
 #include <time.h>
 #include "crane.h"
+#include "crane_internal.h"
 #include "crane_patu655.h"
 #include "golden.h"
 
@@ -565,6 +566,49 @@ static void test_inverse_dynamics_lagrange(void)
     check_close(worst, 0, tol(1e-12, 1e-4), "Newton-Euler ID vs Lagrange closed form (200 states)");
 }
 
+/* The planar and the spatial dynamics kernels (dynamics.c) are one physics: at the model's
+ * extension, with the slew and the extension at rest, the spatial kernel's boom torques and the
+ * (lift, tilt) block of its mass matrix are the planar kernel's (which lumps the extension boom
+ * and the load into the outer boom) to rounding, side links included. */
+static void test_kernels_agree(void)
+{
+    const crane_params p = patu();
+    crane_model m;
+    crane__bodies b;
+    unsigned long seed = 11;
+    double worst_tau = 0, worst_m = 0;
+    int k, i;
+
+    crane_model_init(&m, &p, R(0.4));
+    crane__bodies_init(&p, &b);
+    for (k = 0; k < 100; ++k) {
+        const double th0 = D(m.theta_min[0]) + D(m.theta_max[0] - m.theta_min[0]) * rnd(&seed);
+        const double th1 = D(m.theta_min[1]) + D(m.theta_max[1] - m.theta_min[1]) * rnd(&seed);
+        const crane_real w[4] = {R(2 * rnd(&seed) - 1), R(2 * rnd(&seed) - 1), 0, 0};
+        const crane_real a[4] = {R(4 * rnd(&seed) - 2), R(4 * rnd(&seed) - 2), 0, 0};
+        crane__conf cf;
+        crane_real tp[2], ts[4], Mp[6], Ms[6];
+        double e;
+
+        crane__conf_at(&m, R(th0), R(th1), m.extension, &cf);
+        crane__id_planar(&m, &cf, w, a, p.gravity, tp);
+        crane__id_spatial(&m, &b, &cf, w, a, p.gravity, ts);
+        crane__mass_planar(&m, &cf, Mp);
+        crane__mass_spatial(&m, &b, &cf, Ms);
+        e = (fabs(D(tp[0]) - D(ts[0])) + fabs(D(tp[1]) - D(ts[1]))) /
+            (fabs(D(ts[0])) + fabs(D(ts[1])) + 1);
+        if (e > worst_tau)
+            worst_tau = e;
+        for (i = 0; i < 4; i += i == 1 ? 2 : 1) {
+            e = fabs(D(Mp[i]) - D(Ms[i])) / fabs(D(Ms[0]));
+            if (e > worst_m)
+                worst_m = e;
+        }
+    }
+    check_close(worst_tau, 0, tol(1e-12, 1e-4), "planar vs spatial kernel: boom torques (100 states)");
+    check_close(worst_m, 0, tol(1e-12, 1e-5), "planar vs spatial kernel: boom mass matrix");
+}
+
 /* 0.5 omega^T M omega, M from the core's inverse dynamics with g = 0 */
 static double kinetic_energy(const crane_model *m, const crane_real th[2], const crane_real w[2])
 {
@@ -1028,6 +1072,7 @@ int main(void)
     test_bad_small_calls();
     test_bad_predict();
     test_inverse_dynamics_lagrange();
+    test_kernels_agree();
     test_energy();
     test_paper_scenario();
     test_golden_vectors();
