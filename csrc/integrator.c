@@ -242,7 +242,8 @@ static CRANE__ALWAYS_INLINE void forces(ctx_t *c, crane_real t, const xstate *x,
         for (j = 0; j < 4; ++j)
             d->b[j] = -d->b[j];
     }
-    for (j = 0; j < 4; ++j) {
+    /* the actuators of the joints that can move: the planar kernel's slew and extension are held */
+    for (j = 0; j < (c->planar ? 2 : 4); ++j) {
         crane_real stroke = 0, v = 0;
         if (in_set(lk, j)) {
             if (valve(c, j))
