@@ -561,22 +561,15 @@ crane_status crane_joint_stroke(const crane_model *model, int joint, crane_real 
 crane_status crane_points(const crane_model *model, crane_real slew, size_t n,
                           const crane_real *theta, crane_real *xyz);
 
-/* Newton-Euler inverse dynamics: joint torques for (theta, omega, alpha), gravity included.
- * theta must lie within the angle limits (CRANE_E_ANGLE); torques too large to be finite (rates
- * near 1e160 rad/s in double) give CRANE_E_OVERFLOW. */
-crane_status crane_inverse_dynamics(const crane_model *model, const crane_real theta[2],
-                                    const crane_real omega[2], const crane_real alpha[2],
-                                    crane_real tau[2]);
-
-/* Four-joint inverse dynamics (docs/model.md, "Four joints"): the generalized forces over
- * [lift, tilt, slew, extension] (N m, N m, N m, N) for q = (theta0, theta1, psi, e), rates qd and
- * accelerations qdd, gravity included; the slew's row is J_z qdd_s + Jdot_z omega_s (the mass matrix
- * is block diagonal). The model's own extension is not used: e is q[3]. theta within the angle
+/* Newton-Euler inverse dynamics (docs/model.md, "Dynamics", "Four joints"): the generalized
+ * forces over [lift, tilt, slew, extension] (N m, N m, N m, N) for q = (theta0, theta1, psi, e),
+ * rates qd and accelerations qdd, gravity included; the slew's row is J_z qdd_s + Jdot_z omega_s
+ * (the mass matrix is block diagonal). The model's own extension is not used: e is q[3]. theta within the angle
  * limits (CRANE_E_ANGLE), e within [extension_min, extension_max] (CRANE_E_EXTENSION); psi any
  * finite value (nothing depends on it); forces too large to be finite give CRANE_E_OVERFLOW. */
-crane_status crane_inverse_dynamics4(const crane_model *model, const crane_real q[4],
-                                     const crane_real qd[4], const crane_real qdd[4],
-                                     crane_real tau[4]);
+crane_status crane_inverse_dynamics(const crane_model *model, const crane_real q[4],
+                                    const crane_real qd[4], const crane_real qdd[4],
+                                    crane_real tau[4]);
 
 /* Cylinder force along its axis (positive extends) at pressures p_a, p_b and stroke rate v;
  * CRANE_E_OVERFLOW if it is not finite (a stroke rate near the largest real). */

@@ -123,7 +123,7 @@ static inline void crane__lift_offsets(const crane_params *p, crane_real *eps, c
 
 enum { CRANE__FREE = 0, CRANE__HELD = 1, CRANE__STOP_LO = 2, CRANE__STOP_HI = 3 };
 
-/* ---- drives and events, shared by the planar and the four-joint integrators ---- */
+/* ---- drives and events of the integrator ---- */
 
 enum { CRANE__BISECTIONS = 60, CRANE__RELEASE_BISECTIONS = 40, CRANE__MAX_PIECES = 8 };
 
@@ -249,8 +249,8 @@ void crane__tilt_kinematics(const crane_model *m, crane_real c1, crane_real s1,
  * e2 = ca2 aq + cb2 perp(aq) (R(phi1) takes link_pin to qp, R(phi2) link2_end to aq; ca, cb are
  * cL's coordinates in those bases, from crane_model). Then each link's d, v, w (as defined at
  * crane__tilt_kin) and the sums over both links that the inverse dynamics needs
- * (kinematics.c); the four-joint model's slew inertia takes the links one by one from the same
- * vectors (dynamics4.c). Inline in both, so that neither adds a frame to the stack budget's
+ * (kinematics.c); the spatial kernel's slew inertia takes the links one by one from the same
+ * vectors (dynamics.c). Inline in both, so that neither adds a frame to the stack budget's
  * deepest path. */
 typedef struct {
     crane_vec2 qp, aq, e1, e2, d1, d2, v1, v2;
@@ -288,72 +288,54 @@ crane_field crane__fourbar_check(crane_model *m);
 /* theta wrapped into (-3pi/2, pi/2]. */
 crane_real crane__wrap_tilt(crane_real theta);
 
-/* ---- dynamics.c ---- */
+/* ---- dynamics.c: the dynamics kernels (docs/model.md, "Dynamics", "Four joints") ---- */
 
-/* Newton-Euler inverse dynamics from the rotated vectors C1 = R(th0) c1, C2 = R(th0+th1) c2,
- * r12 = R(th0) O2 (computed once by the caller), with the side links' terms from tk (the four-bar
- * at theta1; NULL when the model has no side links) and c0, s0 = cos, sin of theta0. */
-void crane__inverse_dynamics(const crane_model *m, crane_vec2 C1, crane_vec2 C2, crane_vec2 r12,
-                             crane_real c0, crane_real s0, const crane__tilt_kin *tk,
-                             const crane_real omega[2], const crane_real alpha[2], crane_real g,
-                             crane_real tau[2]);
-
-/* The side links' share of (tau0, tau1) (docs/model.md, "Side links"), added to tau: the planar
- * terms, which the four-joint model shares. */
-void crane__side_link_torques(const crane__tilt_kin *tk, crane_real c0, crane_real s0,
-                              const crane_real omega[2], const crane_real alpha[2], crane_real g,
-                              crane_real tau[2]);
-
-/* Mass matrix (M00, M01, M11) from cos/sin of theta1 alone (it does not depend on theta0), with
- * the side links' share from tk (NULL when the model has no side links); j0 is
- * crane__mass_matrix_j0, which the caller keeps (the model does not: the stack). */
-void crane__mass_matrix(const crane_model *m, crane_real j0, crane_real c1, crane_real s1,
-                        const crane__tilt_kin *tk, crane_real M[3]);
-
-/* I1 + m1 |c1|^2 + m2 |O2|^2: the constant part of M00. */
-static inline crane_real crane__mass_matrix_j0(const crane_model *m)
-{
-    const crane_body *const b1 = &m->params->lift_boom;
-    return (b1->izz + b1->mass * crane__norm2(b1->com)) +
-           m->m2 * crane__norm2(m->params->tilt_pivot);
-}
-
-/* ---- dynamics4.c (docs/model.md, "Four joints") ---- */
-
-/* The four-joint model's constants of one crane (independent of the extension): body 3 = the
+/* The spatial kernel's constants of one crane (independent of the extension): body 3 = the
  * extension boom + the load, lumped in the extension boom frame (mass, centre, izz, in-plane tensor
  * ixx, iyy, ixy), and the pillar's share of the slew inertia m com.x^2 + iyy. */
 typedef struct {
     crane_real m3, izz3, t3[3], jp;
     crane_vec2 c3;
-} crane__bodies4;
+} crane__bodies;
 
-void crane__bodies4_init(const crane_params *p, crane__bodies4 *b);
+void crane__bodies_init(const crane_params *p, crane__bodies *b);
 
-/* What the four-joint inverse dynamics, the mass matrix and the slew inertia read of one
- * configuration (theta0, theta1, e), computed once for all three: trig of theta0 and
- * theta0 + theta1, the extension and the four-bar. The rotated arms (C1 = R(th0) c1 and the like)
- * and the side links one by one are each reader's to work (dynamics4.c): this struct is kept on
- * the stack budget's deepest path. */
+/* What the kernels read of one configuration (theta0, theta1, e), computed once for all of them:
+ * trig of theta0, theta1 and theta0 + theta1, the extension and the four-bar (which the planar
+ * kernel reads only with side links). The rotated arms (C1 = R(th0) c1 and the like) and the
+ * side links one by one are each reader's to work (dynamics.c): this struct is kept on the stack
+ * budget's deepest path. */
 typedef struct {
-    crane_real c0, s0, c01, s01, e;
+    crane_real c0, s0, c1, s1, c01, s01, e;
     crane__tilt_kin tk;
-} crane__conf4;
+} crane__conf;
 
-void crane__conf4_at(const crane_model *m, crane_real th0, crane_real th1, crane_real e,
-                     crane__conf4 *cf);
+void crane__conf_at(const crane_model *m, crane_real th0, crane_real th1, crane_real e,
+                    crane__conf *cf);
 
-/* Generalized forces [lift, tilt, slew, extension] for rates qd and accelerations qdd, gravity g,
- * but for what crane__slew_inertia adds: the slew's own inertial term (tau[2] is 0 here; the
- * caller adds crane__slew_torque, having J_z for the mass matrix anyway, so that it is worked
- * once) and the slew's loads on the side links. */
-void crane__id4(const crane_model *m, const crane__bodies4 *b, const crane__conf4 *cf,
-                const crane_real qd[4], const crane_real qdd[4], crane_real g, crane_real tau[4]);
+/* The planar kernel: Newton-Euler inverse dynamics of the two booms (the extension boom and the
+ * load lumped into the outer boom at the model's extension: m2, c2, i2) at cf's trig (and its
+ * four-bar, with side links), for rates omega, accelerations alpha and gravity g. */
+void crane__id_planar(const crane_model *m, const crane__conf *cf, const crane_real omega[2],
+                      const crane_real alpha[2], crane_real g, crane_real tau[2]);
+
+/* Its mass matrix (M00, M01, M11) in crane__mass_spatial's layout Mp = (M00, M01, 0, M11, 0, 1)
+ * (the extension, held, with a unit mass that decouples it), from cos/sin of theta1 alone (it
+ * does not depend on theta0) and the four-bar's side links. */
+void crane__mass_planar(const crane_model *m, const crane__conf *cf, crane_real Mp[6]);
+
+/* The spatial kernel: generalized forces [lift, tilt, slew, extension] for rates qd and
+ * accelerations qdd, gravity g, but for what crane__slew_inertia adds: the slew's own inertial
+ * term (tau[2] is 0 here; the caller adds crane__slew_torque, having J_z for the mass matrix
+ * anyway, so that it is worked once) and the slew's loads on the side links. */
+void crane__id_spatial(const crane_model *m, const crane__bodies *b, const crane__conf *cf,
+                       const crane_real qd[4], const crane_real qdd[4], crane_real g,
+                       crane_real tau[4]);
 
 /* The slew inertia J_z and its rate of change Jdot_z at the rates qd; and the slew's loads on the
  * side links (their centripetal force and gyroscopic moment at omega_s = qd[2]) added to tau[0],
- * tau[1], which complete crane__id4's. */
-void crane__slew_inertia(const crane_model *m, const crane__bodies4 *b, const crane__conf4 *cf,
+ * tau[1], which complete crane__id_spatial's. */
+void crane__slew_inertia(const crane_model *m, const crane__bodies *b, const crane__conf *cf,
                          const crane_real qd[4], crane_real *jz, crane_real *jdot,
                          crane_real tau[2]);
 
@@ -365,11 +347,12 @@ static inline crane_real crane__slew_torque(crane_real jz, crane_real jdot, cran
     return ws != 0 || as != 0 ? jz * as + jdot * ws : 0;
 }
 
-/* The in-plane mass matrix over (lift, tilt, extension), symmetric, row-major upper triangle
- * Mp = (M00, M01, M0e, M11, M1e, Mee), in closed form (the columns ID(q, 0, e_j, 0) of crane__id4
- * worked by hand; tests compare them); the slew's entry is J_z alone (block diagonal). */
-void crane__mass4(const crane_model *m, const crane__bodies4 *b, const crane__conf4 *cf,
-                  crane_real Mp[6]);
+/* The spatial kernel's in-plane mass matrix over (lift, tilt, extension), symmetric, row-major
+ * upper triangle Mp = (M00, M01, M0e, M11, M1e, Mee), in closed form (the columns
+ * ID(q, 0, e_j, 0) of crane__id_spatial worked by hand; tests compare them); the slew's entry is
+ * J_z alone (block diagonal). */
+void crane__mass_spatial(const crane_model *m, const crane__bodies *b, const crane__conf *cf,
+                         crane_real Mp[6]);
 
 /* ---- cylinder.c ---- */
 
@@ -437,7 +420,7 @@ crane_status crane__check_params(const crane_params *p, crane_field *field);
 crane_status crane__model_derive(crane_model *m, const crane_params *params, crane_real extension,
                                  crane_field *field);
 
-/* ---- predict.c, for both integrators ---- */
+/* ---- predict.c, for the integrator ---- */
 
 /* The first sample time of a sampled drive (pressures or lever) of joints 0..n_joints-1 that lies
  * in (t, t_end), farther than a thousandth of dt from both ends; t_end if there is none. Steps
@@ -448,20 +431,15 @@ crane_real crane__next_knot(const crane_inputs *in, int n_joints, crane_real t, 
 
 /* ---- integrator.c ---- */
 
-/* Runs a validated prediction: the model, state, inputs, horizon, dt, step count and capacity
- * have all been checked by crane_predict. Writes the sample at t = 0, one after every
- * sample_every-th step (>= 1) and one after the last step: crane__decimated_count samples, and
- * returns CRANE_OK; or, if theta or omega stop being finite, CRANE_E_DIVERGED with the samples
- * written before that (all finite). *n_written is set either way. */
+/* Runs a validated prediction (docs/model.md, "Integration and samples", "Four joints"): the
+ * model, state, inputs, horizon, dt, step count and capacity have all been checked by
+ * crane_predict. Writes the sample at t = 0, one after every sample_every-th step (>= 1) and one
+ * after the last step: crane__decimated_count samples, and returns CRANE_OK; or, if the state
+ * stops being finite (or its chambers and spools leave their domain), CRANE_E_DIVERGED with the
+ * samples written before that (all finite). *n_written is set either way. */
 crane_status crane__integrate(const crane_model *m, const crane_state *s0, const crane_inputs *in,
                               crane_real horizon, crane_real dt, long n_steps, long sample_every,
                               crane_sample *out, size_t *n_written);
-
-/* The four-joint prediction (integrator4.c; docs/model.md, "Four joints"), for inputs that drive
- * the slew or the extension; otherwise as crane__integrate. */
-crane_status crane__integrate4(const crane_model *m, const crane_state *s0, const crane_inputs *in,
-                               crane_real horizon, crane_real dt, long n_steps, long sample_every,
-                               crane_sample *out, size_t *n_written);
 
 /* The extension's friction rate bound of docs/model.md ("Four joints", substeps), 1/s:
  * lambda_e = G_f (M^-1)_ee with (M^-1)_ee taken at most 4 / m_ext (the extension boom's own mass;

@@ -1,417 +1,548 @@
 /* SPDX-License-Identifier: MIT */
 /*
- * Fixed-step RK4 with end stops (docs/model.md, "Cylinders", "End stops", "Integration and
- * samples"). Everything here runs on inputs that crane_predict has already validated.
+ * The integrator of every crane (docs/model.md, "Integration and samples", "End stops", "Four
+ * joints", "Hydraulics"): fixed-step RK4 with substeps on (q, qd) of lift, tilt, slew and
+ * extension and the chamber pressures and spools of valve-driven actuators, with the end-stop
+ * events over the four joints. One pipeline for every model; the model's shape picks the
+ * dynamics kernel (dynamics.c): the planar one (the two booms, the extension boom and the load
+ * lumped with the outer boom) when the slew and the extension are held, the spatial one
+ * otherwise. Both kernels give the same physics; the planar one is cheaper and keeps the two-joint
+ * model's results bit for bit.
+ *
+ * Everything here runs on inputs that crane_predict has already validated.
  */
 #include "crane_internal.h"
 
-enum integrator_bisections { RELEASE_BISECTIONS = CRANE__RELEASE_BISECTIONS };
+/* State layout: q[4], qd[4], then with valve-driven actuators joint j's p_a, p_b and spool at
+ * H + 3j (the order of crane__chamber_rates's rates); entries of joints that are not valve-driven
+ * stay 0. */
+enum x_slot { Q = 0, W = 4, H = 8, N_MECH = 8, N_ALL = 20 };
 
-/* theta, omega; with valve-driven cylinders also (p_a, p_b) of each joint and the spools (the
- * entries of joints that are not valve-driven stay 0). */
 typedef struct {
-    crane_real th[2], w[2];
-#if CRANE_HYDRAULICS
-    crane_real p[4], y[2];
-#endif
+    crane_real v[N_ALL];
 } xstate;
+
+/* What is valid in the dynamics' cache (dyn): the trig of cf at key_th, its four-bar at the tilt
+ * angle key_th[1]. */
+enum { CACHE_TRIG = 1, CACHE_TK = 2 };
+
+/* Everything the accelerations need at (t, x): the configuration (the mass matrix is worked from
+ * it where it is solved), J_z and the net generalized forces b = tau - h; and what the
+ * configuration was worked at, so that the next evaluation at the same angles (a sample, the next
+ * step's release check and first RK4 stage) or the same tilt angle (a tilt held or stopped) reuses
+ * it instead of evaluating the same trig and four-bar again. */
+typedef struct {
+    crane__conf cf;
+    crane_real jz, b[4];
+    crane_real key_th[2];
+} dyn;
 
 /* Per-prediction working data, on the caller's stack. */
 typedef struct {
-    const crane_model *m;
     const crane_inputs *in;
-    const crane_state *s0;      /* the initial strokes are reported for held joints */
-    size_t cursor[2];           /* pressure sample segment last used, per joint */
-    signed char mode[2];        /* CRANE__FREE, _HELD, _STOP_LO, _STOP_HI */
-    signed char lo_flag[2];     /* stop flag at the lower angle limit: -1 stroke_min, +1 stroke_max
-                                 * (the upper angle limit has the other one) */
-#if CRANE_HYDRAULICS
-    unsigned char valve[2];     /* joint i is valve-driven */
-#endif
+    const crane_state *s0;      /* held joints report their initial strokes */
+    /* the model (lim.m) and the relief and anti-cavitation valves (crane__limit_valves);
+     * lim.valves bit j: joint j is valve-driven (some is: the state carries pressures and
+     * spools) */
+    crane__limits lim;
+    crane__bodies b;            /* the spatial kernel's constants */
+    size_t cursor[4];           /* sample segment last used, per joint */
+    /* The one scratch of every evaluation of the dynamics (RK4's stages, the release rule, the
+     * impacts, the substep count), which never overlap: a frame of its own in each would stack
+     * on this one (the stack). */
+    dyn d;
+    signed char mode[4];        /* CRANE__FREE, _HELD, _STOP_LO, _STOP_HI (in q terms) */
+    /* Bit j: joint j's lower limit of q is its actuator's stroke_max (stop flag +1 there; else
+     * -1). A mask, not an array of flags: this context is on the stack budget's deepest path. */
+    unsigned char lo_is_max;
+    unsigned char planar;       /* the planar kernel: slew and extension held */
+    unsigned char cache;        /* CACHE_* bits */
     /* The last step ended with the release rule run at its end (the next step's start time and
      * state) releasing nothing: the release at the next step's start would repeat it exactly. */
     unsigned char release_clear;
-    unsigned char kin_valid, kin_has_lift, tk_valid; /* the caches below hold values */
-    /* Kinematics at the state of the last sample (trig of both angles, ds/dtheta and stroke of
-     * the joints that were free): the next step's release check and first RK4 stage are at the
-     * same angles, so they reuse it instead of evaluating the same trig and four-bar again. */
-    crane_real kin_th[2];
-    crane_real kin_c0, kin_s0, kin_c1, kin_s1;
-    crane_real kin_ds_lift;
-    crane_real j0;              /* crane__mass_matrix_j0, worked once */
-    /* The four-bar (tilt ds/dtheta, stroke, side links) at the last tilt angle it was needed at:
-     * with the tilt held or stopped the angle never changes, and with it free the last sample,
-     * the next release check and the next step's first RK4 stage share one angle. */
-    crane_real tk_th;
-    crane__tilt_kin tk;
-#if CRANE_HYDRAULICS
-    /* the relief and anti-cavitation valves (crane__limit_valves); lim.valves bit i: joint i is
-     * valve-driven (some is: the state carries pressures) */
-    crane__limits lim;
-#endif
 } ctx_t;
 
-/* Joint i is valve-driven (never in a build without CRANE_HYDRAULICS, whose validation refuses
- * valve drives; the fields are left out there, to keep its stack smaller). */
-static inline int is_valve(const ctx_t *c, int i)
-{
-#if CRANE_HYDRAULICS
-    return c->valve[i];
-#else
-    (void)c;
-    (void)i;
-    return 0;
+static int locked(const ctx_t *c, int j) { return c->mode[j] != CRANE__FREE; }
+
+static int valve(const ctx_t *c, int j) { return (int)((c->lim.valves >> j) & 1u); }
+
+/* The stop flag (actuator terms: -1 stroke_min, +1 stroke_max) at the lower limit of q. */
+static int lo_flag(const ctx_t *c, int j) { return (c->lo_is_max >> j) & 1 ? 1 : -1; }
+
+/* State entries in use: the pressures and spools only with valves. */
+static int n_used(const ctx_t *c) { return c->lim.valves ? N_ALL : N_MECH; }
+
+/* dst = src over the state entries in use; the others are never read (a step's end state leaves
+ * them unset). A loop over the entries rather than a copy of the whole struct: without valves
+ * that is 8 of its 20 entries, and the copies are made a few times a step. gcc would turn the
+ * loop into a call of memmove, which newlib's size-optimised build copies byte by byte. */
+#if defined(__GNUC__) && !defined(__clang__)
+__attribute__((optimize("no-tree-loop-distribute-patterns")))
 #endif
+static void copy_state(const ctx_t *c, xstate *dst, const xstate *src)
+{
+    int i;
+    for (i = 0; i < n_used(c); ++i)
+        dst->v[i] = src->v[i];
 }
 
-/* The stroke at joint i's stop flag (-1: stroke_min, +1: stroke_max). */
-static crane_real flag_stroke(const ctx_t *c, int i, int flag)
+/* The lower (upper) limit of q of joint j: the angle limits, [slew_min, slew_max], the extension
+ * range. Read where needed rather than kept in the context (the stack). */
+static crane_real lo_q(const ctx_t *c, int j)
 {
-    return flag < 0 ? crane__stroke_min(c->m, i) : crane__stroke_max(c->m, i);
+    if (j < 2)
+        return c->lim.m->theta_min[j];
+    return j == CRANE_SLEW ? c->lim.m->params->slew_drive.slew_min : c->lim.m->params->extension_min;
 }
 
-/* The four-bar at theta1 (cos c1, sin s1), computed only when the angle differs from the last. */
-static CRANE__ALWAYS_INLINE const crane__tilt_kin *tilt_kin(ctx_t *c, crane_real th1, crane_real c1, crane_real s1)
+static crane_real hi_q(const ctx_t *c, int j)
 {
-    if (!c->tk_valid || c->tk_th != th1) {
-        crane__tilt_kinematics(c->m, c1, s1, &c->tk);
-        c->tk_th = th1;
-        c->tk_valid = 1;
+    if (j < 2)
+        return c->lim.m->theta_max[j];
+    return j == CRANE_SLEW ? c->lim.m->params->slew_drive.slew_max : c->lim.m->params->extension_max;
+}
+
+/* Joint j is in the set js (bit j: lift 1, tilt 2, slew 4, extension 8). Joint sets are masks
+ * rather than arrays of flags: RK4 keeps one for its four stages (the stack). */
+static int in_set(unsigned js, int j) { return (int)((js >> j) & 1u); }
+
+/* The configuration at x into c->d.cf, from the cache where it holds the same angles; the
+ * four-bar only with need_tk. */
+static CRANE__ALWAYS_INLINE const crane__conf *configure(ctx_t *c, const xstate *x, int need_tk)
+{
+    dyn *const d = &c->d;
+    crane__conf *const cf = &d->cf;
+
+    if (!(c->cache & CACHE_TRIG) || x->v[Q] != d->key_th[0] || x->v[Q + 1] != d->key_th[1]) {
+        /* the four-bar stays valid while the tilt angle does */
+        const unsigned keep = (c->cache & CACHE_TRIG) && x->v[Q + 1] == d->key_th[1] ? CACHE_TK : 0;
+        /* one sin/cos per joint angle; the absolute outer boom angle by the angle-sum formulas */
+        crane__sincos(x->v[Q], &cf->s0, &cf->c0);
+        crane__sincos(x->v[Q + 1], &cf->s1, &cf->c1);
+        cf->c01 = cf->c0 * cf->c1 - cf->s0 * cf->s1;
+        cf->s01 = cf->s0 * cf->c1 + cf->c0 * cf->s1;
+        d->key_th[0] = x->v[Q];
+        d->key_th[1] = x->v[Q + 1];
+        c->cache = (unsigned char)((c->cache & keep) | CACHE_TRIG);
     }
-    return &c->tk;
+    cf->e = x->v[Q + 3];
+    if (need_tk && !(c->cache & CACHE_TK)) {
+        crane__tilt_kinematics(c->lim.m, cf->c1, cf->s1, &cf->tk);
+        c->cache |= CACHE_TK;
+    }
+    return cf;
 }
 
-/* Pressures of a pressure-driven joint at time t (crane__drive_pressures). */
-static void pressures(ctx_t *c, int i, crane_real t, crane_real *p_a, crane_real *p_b)
+/* ds/dq of joint j at the configuration: the lift's from its triangle, the tilt's from the
+ * four-bar, the rack's pinion radius for the slew, 1 for the extension. With stroke, the stroke
+ * (for the slew and the extension from their coordinate q: r_p (psi - slew_min), e - extension_min). */
+static crane_real ratio(ctx_t *c, int j, crane_real q, crane_real *stroke)
 {
-    crane__drive_pressures(&c->in->drive[i], &c->cursor[i], t, p_a, p_b);
+    const dyn *const d = &c->d;
+    crane_real ds = 1, s;
+
+    if (j == CRANE_LIFT) {
+        crane__lift_from_angle(c->lim.m, d->cf.c0, d->cf.s0, &s, &ds);
+    } else if (j == CRANE_TILT) {
+        ds = d->cf.tk.ds;
+        s = d->cf.tk.stroke;
+    } else {
+        if (j == CRANE_SLEW)
+            ds = c->lim.m->params->slew_drive.pinion_radius;
+        s = ds * (q - lo_q(c, j));
+    }
+    if (stroke)
+        *stroke = s;
+    return ds;
+}
+
+/* The stroke of a stopped valve-driven actuator: the end of its range that it stopped at (a
+ * valve-driven joint is never held). */
+static crane_real locked_stroke(const ctx_t *c, int j)
+{
+    const int flag = c->mode[j] == CRANE__STOP_LO ? lo_flag(c, j) : -lo_flag(c, j);
+    crane_real s_min, s_max;
+
+    crane__actuator_range(c->lim.m, j, &s_min, &s_max);
+    return flag < 0 ? s_min : s_max;
+}
+
+/* Joint j's drive at t (crane__drive_pressures, crane__drive_lever). The lever's interpolation
+ * is out of line, one copy for RK4's stages and the samples (the code budget); the pressures'
+ * stay inline, since their outputs would otherwise take stack on the deepest path. */
+static CRANE__ALWAYS_INLINE void pressures(ctx_t *c, int j, crane_real t, crane_real *p_a,
+                                           crane_real *p_b)
+{
+    crane__drive_pressures(&c->in->drive[j], &c->cursor[j], t, p_a, p_b);
 }
 
 #if CRANE_HYDRAULICS
-/* The lever of a valve-driven joint at time t (crane__drive_lever). */
-static crane_real lever(ctx_t *c, int i, crane_real t)
+static crane_real lever(ctx_t *c, int j, crane_real t)
 {
-    return crane__drive_lever(&c->in->drive[i], &c->cursor[i], t);
+    return crane__drive_lever(&c->in->drive[j], &c->cursor[j], t);
 }
 
-/* The stroke of a locked (stopped) valve-driven joint: its stop's. */
-static crane_real stop_stroke(const ctx_t *c, int i)
-{
-    return flag_stroke(c, i, c->mode[i] == CRANE__STOP_LO ? c->lo_flag[i] : -c->lo_flag[i]);
-}
-
-/* The chamber and spool rates of valve-driven joint i into dh (dp_a at 2i, dp_b at 2i+1, dy at
- * 4+i), at its stroke and stroke rate. */
-static void valve_rates(ctx_t *c, crane_real t, const xstate *x, int i, crane_real stroke,
-                        crane_real v, crane_real dh[6])
+/* The chamber and spool rates at t of valve-driven joint j at stroke s and stroke rate v, written
+ * over its pressures and spool in x (which they are read from first): RK4 takes a stage's rates
+ * from there, and keeps no array of them (the stack). */
+static CRANE__ALWAYS_INLINE void valve_rates(ctx_t *c, crane_real t, xstate *x, int j,
+                                             crane_real s, crane_real v)
 {
     crane_real r[3];
+    int k;
 
-    crane__chamber_rates(c->m, i, lever(c, i, t), stroke, v, &x->p[2 * i], x->y[i], r);
-    dh[2 * i] = r[0];
-    dh[2 * i + 1] = r[1];
-    dh[4 + i] = r[2];
+    crane__chamber_rates(c->lim.m, j, lever(c, j, t), s, v, &x->v[H + 3 * j], x->v[H + 3 * j + 2], r);
+    for (k = 0; k < 3; ++k)
+        x->v[H + 3 * j + k] = r[k];
+}
+#endif
+
+/* The kernel's mass matrix at c->d.cf over (lift, tilt, extension), Mp = (M00, M01, M0e, M11,
+ * M1e, Mee). */
+static CRANE__ALWAYS_INLINE void mass(const ctx_t *c, crane_real Mp[6])
+{
+    if (c->planar) {
+        crane__mass_planar(c->lim.m, &c->d.cf, Mp);
+    } else {
+        crane__mass_spatial(c->lim.m, &c->b, &c->d.cf, Mp);
+    }
 }
 
-#endif
-
-/* Mass matrix M (M00, M01, M11) and the net joint torques b = tau - h at (t, theta, omega);
- * cylinder torques only for the joints that are not locked (lk[i] = 0: a locked joint's own
- * torque is not needed to move the crane, only to decide whether it leaves its stop). With sv, also the valve-driven
- * joints' strokes (sv[i]) and stroke rates (sv[2 + i]), for their chamber rates: the caller
- * evaluates those after this returns, so that the valve's frames do not stack on this one's
- * (the stack budget of docs/embedding.md). */
-static void forces(ctx_t *c, crane_real t, const xstate *x, const int lk[2], crane_real M[3],
-                   crane_real b[2], crane_real *sv)
+/* Fills c->d at (t, x): the configuration, J_z and b = tau - h, with actuator forces only for
+ * the joints not in lk (a joint in lk that is stopped needs its own force only to decide its
+ * release, which passes lk = the held joints); no dynamics when all four are locked. With rates
+ * (then x itself), each valve-driven joint's chamber and spool rates replace its pressures and
+ * spool in x, once its force has read them (valve_rates). */
+static CRANE__ALWAYS_INLINE void forces(ctx_t *c, crane_real t, const xstate *x, unsigned lk,
+                                        xstate *rates)
 {
-    const crane_model *m = c->m;
-    static const crane_real zero[2] = {0, 0};
-    crane_real c0, s0, c1, s1, c01, s01, h[2];
-    crane_vec2 C1, C2, r12;
-    const crane__tilt_kin *tk = NULL;
-    int i;
-    const int cached = c->kin_valid && x->th[0] == c->kin_th[0] && x->th[1] == c->kin_th[1];
+    const crane_model *m = c->lim.m;
+    static const crane_real zero[4] = {0, 0, 0, 0};
+    dyn *const d = &c->d;
+    int j;
 
-    /* One sin/cos per joint angle (or none, at the last sample's angles); the absolute outer
-     * boom angle by the angle-sum formulas. */
-    if (cached) {
-        c0 = c->kin_c0;
-        s0 = c->kin_s0;
-        c1 = c->kin_c1;
-        s1 = c->kin_s1;
-    } else {
-        crane__sincos(x->th[0], &s0, &c0);
-        crane__sincos(x->th[1], &s1, &c1);
-    }
-    c01 = c0 * c1 - s0 * s1;
-    s01 = s0 * c1 + c0 * s1;
-    C1 = crane__rot(c0, s0, m->params->lift_boom.com);
-    C2 = crane__rot(c01, s01, m->c2);
-    r12 = crane__rot(c0, s0, m->params->tilt_pivot);
-    /* The four-bar is needed for the side links and for a driven tilt cylinder's ds/dtheta. */
-    if (m->links || !lk[CRANE_TILT])
-        tk = tilt_kin(c, x->th[1], c1, s1);
-    crane__inverse_dynamics(m, C1, C2, r12, c0, s0, m->links ? tk : NULL, x->w, zero,
-                            m->params->gravity, h);
-    crane__mass_matrix(m, c->j0, c1, s1, m->links ? tk : NULL, M);
-
-    for (i = 0; i < 2; ++i) {
-        crane_real ds, p_a, p_b, stroke = 0;
-        b[i] = -h[i];
-        if (lk[i]) {
-#if CRANE_HYDRAULICS
-            if (sv && c->valve[i]) {
-                sv[i] = stop_stroke(c, i);
-                sv[2 + i] = 0;
-            }
-#endif
-            continue;
-        }
-        if (i == CRANE_TILT) {
-            ds = tk->ds;
-            stroke = tk->stroke;
-        } else if (is_valve(c, i)) {
-            crane__lift_from_angle(m, c0, s0, &stroke, &ds);
-        } else if (cached && c->kin_has_lift) {
-            ds = c->kin_ds_lift;
+    if (lk != 15u) {
+        /* the planar kernel needs the four-bar for the side links and a free tilt's ds/dtheta */
+        const crane__conf *cf =
+            configure(c, x, !c->planar || m->links || !in_set(lk, CRANE_TILT));
+        /* a locked slew's inertia and force are never read */
+        d->jz = 1;
+        if (c->planar) {
+            crane__id_planar(m, cf, &x->v[W], zero, m->params->gravity, d->b);
+            d->b[CRANE_SLEW] = d->b[CRANE_EXTENSION] = 0;
         } else {
-            crane__lift_from_angle(m, c0, s0, NULL, &ds);
-        }
-#if CRANE_HYDRAULICS
-        if (c->valve[i]) {
-            p_a = x->p[2 * i];
-            p_b = x->p[2 * i + 1];
-            if (sv) {
-                sv[i] = stroke;
-                sv[2 + i] = ds * x->w[i];
+            /* the bias h = ID(q, qd, 0) goes into b, negated there (no array of its own) */
+            crane__id_spatial(m, &c->b, cf, &x->v[W], zero, m->params->gravity, d->b);
+            if (!in_set(lk, CRANE_SLEW)) {
+                crane_real jdot;
+                crane__slew_inertia(m, &c->b, cf, &x->v[W], &d->jz, &jdot, d->b);
+                d->b[CRANE_SLEW] = crane__slew_torque(d->jz, jdot, x->v[W + CRANE_SLEW], 0);
             }
-        } else
-#endif
-        {
-            (void)stroke;
-            (void)sv;
-            pressures(c, i, t, &p_a, &p_b);
         }
-        b[i] += crane__cylinder_force(m, i, p_a, p_b, ds * x->w[i]) * ds;
+        for (j = 0; j < 4; ++j)
+            d->b[j] = -d->b[j];
     }
-}
-
-/* Solves M alpha = b for the unlocked joints; locked joints get alpha = 0. */
-static void solve(const crane_real M[3], const crane_real b[2], const int lk[2], crane_real alpha[2])
-{
-    if (lk[0] && lk[1]) {
-        alpha[0] = alpha[1] = 0;
-    } else if (lk[0]) {
-        alpha[0] = 0;
-        alpha[1] = b[1] / M[2];
-    } else if (lk[1]) {
-        alpha[0] = b[0] / M[0];
-        alpha[1] = 0;
-    } else {
-        const crane_real det = M[0] * M[2] - M[1] * M[1];
-        alpha[0] = (M[2] * b[0] - M[1] * b[1]) / det;
-        alpha[1] = (M[0] * b[1] - M[1] * b[0]) / det;
-    }
-}
-
-/* Joint accelerations at (t, theta, omega); locked joints (held or stopped) get alpha = 0. With
- * dh (valve-driven joints), also the chamber and spool rates. */
-static void accel(ctx_t *c, crane_real t, const xstate *x, const int lk[2], crane_real alpha[2],
-                  crane_real *dh)
-{
-    crane_real M[3], b[2];
+    /* the actuators of the joints that can move: the planar kernel's slew and extension are held */
+    for (j = 0; j < (c->planar ? 2 : 4); ++j) {
+        crane_real stroke = 0, v = 0;
+        if (in_set(lk, j)) {
+            if (valve(c, j))
+                stroke = locked_stroke(c, j);
+        } else {
+            const crane_real ds = ratio(c, j, x->v[Q + j], &stroke);
+            crane_real p_a, p_b;
+            v = ds * x->v[W + j];
+            if (valve(c, j)) {
+                p_a = x->v[H + 3 * j];
+                p_b = x->v[H + 3 * j + 1];
+            } else {
+                pressures(c, j, t, &p_a, &p_b);
+            }
+            d->b[j] += crane__actuator_force(m, j, p_a, p_b, v) * ds;
+        }
 #if CRANE_HYDRAULICS
-    crane_real sv[4]; /* the valve-driven joints' strokes and stroke rates */
-    int i;
-
-    if (lk[0] && lk[1]) {
-        alpha[0] = alpha[1] = 0;
-        for (i = 0; i < 2; ++i) {
-            sv[i] = c->valve[i] ? stop_stroke(c, i) : 0;
-            sv[2 + i] = 0;
-        }
-    } else {
-        forces(c, t, x, lk, M, b, dh ? sv : NULL);
-        solve(M, b, lk, alpha);
-    }
-    if (dh)
-        for (i = 0; i < 2; ++i)
-            if (c->valve[i])
-                valve_rates(c, t, x, i, sv[i], sv[2 + i], dh);
+        if (rates && valve(c, j))
+            valve_rates(c, t, rates, j, stroke, v);
 #else
-    (void)dh;
-    if (lk[0] && lk[1]) {
-        alpha[0] = alpha[1] = 0;
+        (void)stroke;
+        (void)rates;
+#endif
+    }
+}
+
+/* Index of in-plane joint k (0, 1, 2) in Mp's (lift, tilt, extension) and in the joint arrays. */
+static const int PLANE[3] = {CRANE_LIFT, CRANE_TILT, CRANE_EXTENSION};
+
+/* The r-th of the free joints packed by solve. */
+static int free_at(unsigned f, int r) { return (int)((f >> (2 * r)) & 3u); }
+
+static crane_real mp(const crane_real Mp[6], int r, int k)
+{
+    static const int idx[3][3] = {{0, 1, 2}, {1, 3, 4}, {2, 4, 5}};
+    return Mp[idx[r][k]];
+}
+
+/* Solves M a = b over the joints not in lk (the others get 0), M the mass matrix: Mp, or without
+ * it the kernel's at c->d.cf. The planar kernel's: the two booms, the free one alone or both by
+ * Cramer's rule (the closed form). Out of line like solve_spatial, one frame or the other on the
+ * deepest path. */
+static CRANE__NOINLINE void solve_planar(const ctx_t *c, const crane_real *Mp,
+                                         const crane_real b[4], unsigned lk, crane_real a[4])
+{
+    crane_real A[6];
+    const crane_real *M = Mp;
+
+    /* cppcheck 2.10's whole-program check sizes a with the float build's crane_real and indexes
+     * it with the double build's (a false "ctuArrayIndex"; every caller passes crane_real[4]) */
+    /* cppcheck-suppress ctuArrayIndex */
+    a[CRANE_SLEW] = a[CRANE_EXTENSION] = 0;
+    if (in_set(lk, CRANE_LIFT) && in_set(lk, CRANE_TILT)) {
+        a[CRANE_LIFT] = a[CRANE_TILT] = 0;
         return;
     }
-    forces(c, t, x, lk, M, b, NULL);
-    solve(M, b, lk, alpha);
-#endif
-}
-
-static void lock_mask(const ctx_t *c, int lk[2])
-{
-    lk[0] = c->mode[0] != CRANE__FREE;
-    lk[1] = c->mode[1] != CRANE__FREE;
-}
-
-/* y = x + h * (dtheta, domega) (and the pressures and spools + h * dh, with valves), written in
- * place: dth may be y->w (each rate is read before its entry is written), which spares RK4 a
- * second stage state (the stack). Without dh, y's pressures and spools are left as they are. */
-static void axpy(const xstate *x, crane_real h, const crane_real *dth, const crane_real dw[2],
-                 const crane_real *dh, xstate *y)
-{
-    y->th[0] = x->th[0] + h * dth[0];
-    y->th[1] = x->th[1] + h * dth[1];
-    y->w[0] = x->w[0] + h * dw[0];
-    y->w[1] = x->w[1] + h * dw[1];
-#if CRANE_HYDRAULICS
-    /* without rates (no valve-driven joint) the pressures and spools stay those of x, which RK4's
-     * stage state already holds */
-    if (dh) {
-        int k;
-        for (k = 0; k < 4; ++k)
-            y->p[k] = x->p[k] + h * dh[k];
-        for (k = 0; k < 2; ++k)
-            y->y[k] = x->y[k] + h * dh[4 + k];
+    if (!Mp) {
+        mass(c, A);
+        M = A;
     }
-#else
-    (void)dh;
-#endif
+    if (in_set(lk, CRANE_LIFT)) {
+        a[CRANE_LIFT] = 0;
+        a[CRANE_TILT] = b[CRANE_TILT] / M[3];
+    } else if (in_set(lk, CRANE_TILT)) {
+        a[CRANE_LIFT] = b[CRANE_LIFT] / M[0];
+        a[CRANE_TILT] = 0;
+    } else {
+        const crane_real det = M[0] * M[3] - M[1] * M[1];
+        a[CRANE_LIFT] = (M[3] * b[CRANE_LIFT] - M[1] * b[CRANE_TILT]) / det;
+        a[CRANE_TILT] = (M[0] * b[CRANE_TILT] - M[1] * b[CRANE_LIFT]) / det;
+    }
 }
 
+/* The spatial kernel's: the slew alone (M is block diagonal, J_z = c->d.jz), the free in-plane
+ * joints by Gaussian elimination (M is positive definite). The mass matrix is worked here into the
+ * last six places of the elimination's own matrix A (6..11, in Mp's order; A's rows are 4 long,
+ * the free joints' columns, then b): A is filled row by row from the front, and each place is
+ * written only after the last read of the Mp entry it held (so for every set of free joints), so
+ * that Mp takes no storage of its own beside the dynamics (the stack). */
+static CRANE__NOINLINE void solve_spatial(const ctx_t *c, const crane_real *Mp,
+                                          const crane_real b[4], unsigned lk, crane_real a[4])
+{
+    crane_real A[3 * 4];
+    const crane_real *M = Mp;
+    /* the free in-plane joints (their indices into PLANE), two bits each (the stack) */
+    unsigned f = 0;
+    int n = 0, r, k, i;
 
-/* Classic RK4, its four stages in one loop so that accel (forces and all) has one call site and
- * is inlined once. The stage sums are accumulated in *y as the stages go (one stage state, one
- * acceleration, no sums of their own: the stack), in the order ((k1 + 2 k2) + 2 k3) + k4, which is
- * the textbook expression's; so y must not be x. */
+    /* cppcheck 2.10's whole-program check sizes a with the float build's crane_real and indexes
+     * it with the double build's (a false "ctuArrayIndex"; every caller passes crane_real[4]) */
+    /* cppcheck-suppress ctuArrayIndex */
+    a[CRANE_SLEW] = in_set(lk, CRANE_SLEW) ? 0 : b[CRANE_SLEW] / c->d.jz;
+    for (k = 0; k < 3; ++k) {
+        a[PLANE[k]] = 0;
+        if (!in_set(lk, PLANE[k])) {
+            f |= (unsigned)k << (2 * n);
+            ++n;
+        }
+    }
+    if (n == 0)
+        return;
+    if (!Mp) {
+        crane__mass_spatial(c->lim.m, &c->b, &c->d.cf, &A[6]);
+        M = &A[6];
+    }
+    for (r = 0; r < n; ++r) {
+        for (k = 0; k < n; ++k)
+            A[4 * r + k] = mp(M, free_at(f, r), free_at(f, k));
+        A[4 * r + n] = b[PLANE[free_at(f, r)]];
+    }
+    /* (column i below the pivot is not read again: its update is skipped) */
+    for (i = 0; i < n; ++i)
+        for (r = i + 1; r < n; ++r) {
+            const crane_real l = A[4 * r + i] / A[4 * i + i];
+            for (k = i + 1; k <= n; ++k)
+                A[4 * r + k] -= l * A[4 * i + k];
+        }
+    for (i = n - 1; i >= 0; --i) {
+        crane_real s = A[4 * i + n];
+        for (k = i + 1; k < n; ++k)
+            s -= A[4 * i + k] * a[PLANE[free_at(f, k)]];
+        a[PLANE[free_at(f, i)]] = s / A[4 * i + i];
+    }
+}
+
+/* M a = b by the kernel's solver. */
+static CRANE__ALWAYS_INLINE void solve(const ctx_t *c, const crane_real *Mp, const crane_real b[4],
+                                       unsigned lk, crane_real a[4])
+{
+    if (c->planar)
+        solve_planar(c, Mp, b, lk, a);
+    else
+        solve_spatial(c, Mp, b, lk, a);
+}
+
+/* The joints that are held or stopped. */
+static unsigned lock_mask(const ctx_t *c)
+{
+    unsigned lk = 0;
+    int j;
+    for (j = 0; j < 4; ++j)
+        if (locked(c, j))
+            lk |= 1u << j;
+    return lk;
+}
+
+/* Entries [from, to) of RK4's bookkeeping at stage s, each entry's rate there being xs->v[i + off]:
+ * the stage sum ((k1 + 2 k2) + 2 k3) + k4 accumulates in y, and the next stage's state x + cs k is
+ * written over xs (the rate is read first). Out of line, a leaf: its loop then takes none of
+ * rk4's registers, whose frame is on the stack budget's deepest path. */
+static CRANE__NOINLINE void stage(const xstate *x, xstate *xs, xstate *y, int from, int to, int off,
+                                  int s, crane_real cs, crane_real h6)
+{
+    int i;
+
+    /* one loop per kind of stage (the branch out of the loop: this runs 8 times a step) */
+    if (s == 0) {
+        for (i = from; i < to; ++i) {
+            const crane_real k = xs->v[i + off];
+            y->v[i] = k;
+            xs->v[i] = x->v[i] + cs * k;
+        }
+    } else if (s < 3) {
+        for (i = from; i < to; ++i) {
+            const crane_real k = xs->v[i + off];
+            y->v[i] = y->v[i] + 2 * k;
+            xs->v[i] = x->v[i] + cs * k;
+        }
+    } else {
+        for (i = from; i < to; ++i)
+            y->v[i] = x->v[i] + h6 * (y->v[i] + xs->v[i + off]);
+    }
+}
+
+/* Classic RK4 of size h from (t, x) into y (y != x): ((k1 + 2 k2) + 2 k3) + k4, its four stages in
+ * one loop so that the dynamics are called from one place. There is no array of stage rates: the
+ * stage state xs holds them where they are read (the velocities are the positions' rates, solve
+ * writes the accelerations over the velocities once the positions are done, the chamber rates
+ * replace the pressures), and it is then overwritten by the next stage's state (the stack). */
 static void rk4(ctx_t *c, crane_real t, const xstate *x, crane_real h, xstate *y)
 {
     const crane_real h2 = h / 2, h6 = h / 6;
-    crane_real a[2];
-#if CRANE_HYDRAULICS
-    /* the rates of joints that are not valve-driven stay 0: their entries of the state too */
-    crane_real dh[6] = {0, 0, 0, 0, 0, 0};
-    crane_real *const pdh = c->lim.valves ? dh : NULL;
-#else
-    crane_real *const pdh = NULL;
-#endif
-    xstate xs = *x;
-    int lk[2], k, i;
+    const unsigned lk = lock_mask(c);
+    /* the joints that can move: the planar kernel's two booms (the slew and the extension are
+     * held, their entries stay those of x), else all four */
+    const int nq = c->planar ? 2 : 4;
+    xstate xs;
+    int s, i;
 
-    lock_mask(c, lk);
-    for (k = 0; k < 4; ++k) {
-        accel(c, k == 0 ? t : k == 3 ? t + h : t + h2, &xs, lk, a, pdh);
+    copy_state(c, &xs, x);
+    for (s = 0; s < 4; ++s) {
+        const crane_real ts = s == 0 ? t : s == 3 ? t + h : t + h2, cs = s == 2 ? h : h2;
+        forces(c, ts, &xs, lk, &xs);
+        stage(x, &xs, y, Q, Q + nq, W - Q, s, cs, h6);
+        /* all four locked: zeros, without reading c->d */
+        solve(c, NULL, c->d.b, lk, &xs.v[W]);
+        stage(x, &xs, y, W, W + nq, 0, s, cs, h6);
 #if CRANE_HYDRAULICS
-        if (pdh) {
-            for (i = 0; i < 6; ++i) {
-                crane_real *const sum = i < 4 ? &y->p[i] : &y->y[i - 4];
-                if (k == 0)
-                    *sum = dh[i];
-                else if (k < 3)
-                    *sum = *sum + 2 * dh[i];
-                else
-                    *sum = (i < 4 ? x->p[i] : x->y[i - 4]) + h6 * (*sum + dh[i]);
-            }
+        if (c->lim.valves) {
+            /* the entries of joints that are not valve-driven are 0, and so read as rates */
+            stage(x, &xs, y, H, N_ALL, 0, s, cs, h6);
+            /* the relief and anti-cavitation valves, implicitly: over the stage's step on the
+             * next stage's state, over h on the result */
+            crane__limit_valves(&c->lim, s < 2 ? h2 : h, s < 3 ? &xs.v[H] : &y->v[H], 3);
         }
 #endif
-        for (i = 0; i < 2; ++i) {
-            if (k == 0) {
-                y->th[i] = xs.w[i];
-                y->w[i] = a[i];
-            } else if (k < 3) {
-                y->th[i] = y->th[i] + 2 * xs.w[i];
-                y->w[i] = y->w[i] + 2 * a[i];
-            } else {
-                y->th[i] = x->th[i] + h6 * (y->th[i] + xs.w[i]);
-                y->w[i] = x->w[i] + h6 * (y->w[i] + a[i]);
-            }
-        }
-        if (k < 3)
-            axpy(x, k == 2 ? h : h2, xs.w, a, pdh, &xs);
-#if CRANE_HYDRAULICS
-        /* the relief and anti-cavitation valves, implicitly: over the stage's step on the next
-         * stage's state, over h on the result */
-        if (pdh)
-            crane__limit_valves(&c->lim, k < 2 ? h2 : h, k < 3 ? xs.p : y->p,
-                                2);
-#endif
     }
-#if CRANE_HYDRAULICS
-    if (!pdh) {
-        for (i = 0; i < 4; ++i)
-            y->p[i] = x->p[i];
-        y->y[0] = x->y[0];
-        y->y[1] = x->y[1];
+    for (i = nq; i < 4; ++i) {
+        y->v[Q + i] = x->v[Q + i];
+        y->v[W + i] = x->v[W + i];
     }
-#endif
 }
 
-/* Plastic impact on joint i: an impulse on joint i alone takes omega_i to 0, which conserves the
- * other joint's generalized momentum when it is free. */
+/* Plastic impact on joint i (docs/model.md, "End stops", "Four joints"): over the free joints F,
+ * qd_F <- qd_F - Minv e_i (qd_i / Minv_ii); M is block diagonal, so a slew impact stops the slew
+ * alone and an in-plane impact leaves the slew rate. With the planar kernel's two booms this is
+ * qd_j <- qd_j + M_ij / M_jj qd_i. */
 static void impact(ctx_t *c, xstate *x, int i)
 {
-    const int j = 1 - i;
-
-    if (c->mode[j] == CRANE__FREE) {
-        crane_real M[3], c1, s1;
-        crane__sincos(x->th[1], &s1, &c1);
-        crane__mass_matrix(c->m, c->j0, c1, s1, c->m->links ? tilt_kin(c, x->th[1], c1, s1) : NULL,
-                           M);
-        /* omega - Minv e_i omega_i / Minv_ii, written without the inverse. */
-        x->w[j] += M[1] / M[j == 0 ? 0 : 2] * x->w[i];
+    if (i != CRANE_SLEW) {
+        const unsigned lk = (lock_mask(c) & ~(1u << i)) | (1u << CRANE_SLEW);
+        (void)configure(c, x, 1);
+        if (c->planar) {
+            const int j = 1 - i;
+            if (!in_set(lk, j)) {
+                crane_real Mp[6];
+                mass(c, Mp);
+                x->v[W + j] += Mp[1] / Mp[j == 0 ? 0 : 3] * x->v[W + i];
+            }
+        } else {
+            crane_real e[4] = {0, 0, 0, 0}, col[4];
+            int j;
+            e[i] = 1;
+            solve(c, NULL, e, lk, col);
+            for (j = 0; j < 4; ++j)
+                if (j != i && !in_set(lk, j))
+                    x->v[W + j] -= col[j] * (x->v[W + i] / col[i]);
+        }
     }
-    x->w[i] = 0;
+    x->v[W + i] = 0;
 }
 
-/* Puts joint i on its stop: theta exactly at the limit, plastic impact, STOPPED. */
+/* Puts joint i on its stop: q exactly at the limit, plastic impact, STOPPED. */
 static void stop_joint(ctx_t *c, xstate *x, int i, int upper)
 {
-    x->th[i] = upper ? c->m->theta_max[i] : c->m->theta_min[i];
+    x->v[Q + i] = upper ? hi_q(c, i) : lo_q(c, i);
     impact(c, x, i);
     c->mode[i] = (signed char)(upper ? CRANE__STOP_HI : CRANE__STOP_LO);
 }
 
-/* Which stopped joints leave their stops: the solution of the two-contact complementarity problem.
- * Candidates (bit i set = joint i released) are tried in the order none, lift, tilt, both; the
- * first where every released joint accelerates into its range and every joint kept on its stop
- * is pushed onto it (its reaction r = M alpha - b points into the range) is taken. With one
- * stopped joint this is simply "released if its free acceleration points inward"; with two, it
- * keeps a joint from being released when only the other's being locked makes it want to leave. */
+/* Which stopped joints leave their stops (docs/model.md, "End stops"): the solution of the
+ * contact complementarity problem. Candidate sets are tried in the order of their bitmask (lift
+ * 1, tilt 2, slew 4, extension 8); the first where every released joint accelerates into its
+ * range and every joint kept on its stop is pushed onto it (its reaction r = M a - b points into
+ * the range) is taken. With one stopped joint this is simply "released if its free acceleration
+ * points inward"; with more, it keeps a joint from being released when only another's being
+ * locked makes it want to leave. */
 static int release_set(ctx_t *c, crane_real t, const xstate *x)
 {
-    int held[2], cand, i;
-    crane_real M[3], b[2];
+    const dyn *const d = &c->d;
+    unsigned held = 0, stopped = 0, cand;
+    crane_real Mp[6];
+    int j;
 
-    if (c->mode[0] < CRANE__STOP_LO && c->mode[1] < CRANE__STOP_LO)
+    for (j = 0; j < 4; ++j) {
+        if (c->mode[j] == CRANE__HELD)
+            held |= 1u << j;
+        else if (c->mode[j] >= CRANE__STOP_LO)
+            stopped |= 1u << j;
+    }
+    if (!stopped)
         return 0;
-    for (i = 0; i < 2; ++i)
-        held[i] = c->mode[i] == CRANE__HELD;
-    /* the stopped joints' cylinder torques decide their release: only held joints are locked */
-    forces(c, t, x, held, M, b, NULL);
-    for (cand = 0; cand < 4; ++cand) {
-        int lk[2], ok = 1;
-        crane_real alpha[2];
-        for (i = 0; i < 2; ++i) {
-            const int released = (cand >> i) & 1;
-            if (released && c->mode[i] < CRANE__STOP_LO)
-                ok = 0;
-            lk[i] = held[i] || (c->mode[i] >= CRANE__STOP_LO && !released);
-        }
-        if (!ok)
+    /* the stopped joints' actuator forces decide their release: only held joints are locked */
+    forces(c, t, x, held, NULL);
+    mass(c, Mp);
+    /* the candidates are subsets of the stopped joints: below 4 with the planar kernel */
+    for (cand = 0; cand < (c->planar ? 4u : 16u); ++cand) {
+        int ok = 1;
+        crane_real a[4], r[4];
+        /* only stopped joints can be released */
+        if (cand & ~stopped)
             continue;
-        solve(M, b, lk, alpha);
-        for (i = 0; i < 2; ++i) {
-            const crane_real inward = c->mode[i] == CRANE__STOP_LO ? 1 : -1;
-            if (c->mode[i] < CRANE__STOP_LO)
+        solve(c, Mp, d->b, held | (stopped & ~cand), a);
+        /* M a, for the reactions of the kept joints */
+        for (j = 0; j < 3; ++j)
+            r[PLANE[j]] = mp(Mp, j, 0) * a[CRANE_LIFT] + mp(Mp, j, 1) * a[CRANE_TILT] +
+                          mp(Mp, j, 2) * a[CRANE_EXTENSION];
+        r[CRANE_SLEW] = d->jz * a[CRANE_SLEW];
+        for (j = 0; j < 4; ++j) {
+            const crane_real inward = c->mode[j] == CRANE__STOP_LO ? 1 : -1;
+            if (!in_set(stopped, j))
                 continue;
-            if ((cand >> i) & 1)
-                ok = ok && inward * alpha[i] > 0;
+            if (in_set(cand, j))
+                ok = ok && inward * a[j] > 0;
             else
-                ok = ok && inward * (M[i] * alpha[0] + M[i + 1] * alpha[1] - b[i]) >= 0;
+                ok = ok && inward * (r[j] - d->b[j]) >= 0;
         }
         if (ok)
-            return cand;
+            return (int)cand;
     }
     /* No candidate consistent (only in a degenerate tie, e.g. an acceleration exactly 0): none. */
     return 0;
@@ -421,11 +552,17 @@ static int release_set(ctx_t *c, crane_real t, const xstate *x)
 static void release(ctx_t *c, crane_real t, const xstate *x)
 {
     const int cand = release_set(c, t, x);
-    int i;
+    int j;
 
-    for (i = 0; i < 2; ++i)
-        if ((cand >> i) & 1)
-            c->mode[i] = CRANE__FREE;
+    for (j = 0; j < 4; ++j)
+        if ((cand >> j) & 1)
+            c->mode[j] = CRANE__FREE;
+}
+
+static int any_stopped(const ctx_t *c)
+{
+    return c->mode[0] >= CRANE__STOP_LO || c->mode[1] >= CRANE__STOP_LO ||
+           c->mode[2] >= CRANE__STOP_LO || c->mode[3] >= CRANE__STOP_LO;
 }
 
 /* Release inside a piece (docs/model.md, "Release inside a step"): the piece from (t, x) over
@@ -437,7 +574,7 @@ static crane_real release_in_piece(ctx_t *c, crane_real t, xstate *x, crane_real
     crane_real lo = 0, hi = h;
     int k;
 
-    for (k = 0; k < RELEASE_BISECTIONS; ++k) {
+    for (k = 0; k < CRANE__RELEASE_BISECTIONS; ++k) {
         const crane_real mid = (lo + hi) / 2;
         rk4(c, t, x, mid, y);
         if (release_set(c, t + mid, y))
@@ -446,7 +583,7 @@ static crane_real release_in_piece(ctx_t *c, crane_real t, xstate *x, crane_real
             lo = mid;
     }
     rk4(c, t, x, hi, y);
-    *x = *y;
+    copy_state(c, x, y);
     release(c, t + hi, x);
     return hi;
 }
@@ -457,11 +594,8 @@ static crane_real release_in_piece(ctx_t *c, crane_real t, xstate *x, crane_real
  * again a hair later (as the specification reads). MAX_PIECES only bounds that in pathological
  * cases: the last piece takes the whole rest, puts any joint that overshot on its limit and does
  * no release search. */
-enum integrator_pieces { MAX_PIECES = CRANE__MAX_PIECES };
-
 static void step(ctx_t *c, crane_real t, xstate *x, crane_real h, crane_real t_end)
 {
-    const crane_model *m = c->m;
     crane_real rem = h;
     int piece;
 
@@ -473,12 +607,12 @@ static void step(ctx_t *c, crane_real t, xstate *x, crane_real h, crane_real t_e
         int i;
 
         rk4(c, t, x, rem, &x1);
-        for (i = 0; i < 2; ++i) {
+        for (i = 0; i < 4; ++i) {
             if (c->mode[i] != CRANE__FREE)
                 continue;
-            if (x1.th[i] > m->theta_max[i])
+            if (x1.v[Q + i] > hi_q(c, i))
                 upper |= 1u << i;
-            else if (!(x1.th[i] < m->theta_min[i]))
+            else if (!(x1.v[Q + i] < lo_q(c, i)))
                 continue;
             out |= 1u << i;
         }
@@ -486,8 +620,7 @@ static void step(ctx_t *c, crane_real t, xstate *x, crane_real h, crane_real t_e
             /* A piece without an impact, which ends at the step's end (its time is taken as t_end,
              * the next step's start time, so that this check and the release at the next step's
              * start are one evaluation): a STOPPED joint may have come free inside it. */
-            if (piece < MAX_PIECES - 1 &&
-                (c->mode[0] >= CRANE__STOP_LO || c->mode[1] >= CRANE__STOP_LO)) {
+            if (piece < CRANE__MAX_PIECES - 1 && any_stopped(c)) {
                 if (release_set(c, t_end, &x1)) {
                     /* x1 is free again: the search's scratch (the stack) */
                     const crane_real hi = release_in_piece(c, t, x, rem, &x1);
@@ -497,97 +630,140 @@ static void step(ctx_t *c, crane_real t, xstate *x, crane_real h, crane_real t_e
                 }
                 c->release_clear = 1;
             }
-            *x = x1;
+            copy_state(c, x, &x1);
             return;
         }
-        if (piece == MAX_PIECES - 1) {
-            *x = x1;
-            for (i = 0; i < 2; ++i)
+        if (piece == CRANE__MAX_PIECES - 1) {
+            copy_state(c, x, &x1);
+            for (i = 0; i < 4; ++i)
                 if ((out >> i) & 1)
                     stop_joint(c, x, i, (upper >> i) & 1);
             return;
         }
-        for (i = 0; i < 2; ++i) {
+        for (i = 0; i < 4; ++i) {
             if ((out >> i) & 1) {
                 const int up = (upper >> i) & 1;
-                const crane_real tau = crane__crossing_time(x->th[i], x->w[i], x1.th[i], x1.w[i], rem,
-                                                     up ? m->theta_max[i] : m->theta_min[i], up);
+                const crane_real tau = crane__crossing_time(x->v[Q + i], x->v[W + i], x1.v[Q + i],
+                                                            x1.v[W + i], rem,
+                                                            up ? hi_q(c, i) : lo_q(c, i), up);
                 if (tau < tmin)
                     tmin = tau;
             }
         }
         rk4(c, t, x, tmin, &x1); /* x1 is free again: rk4 cannot write over its x */
-        *x = x1;
+        copy_state(c, x, &x1);
         t += tmin;
         rem -= tmin;
         /* In joint order, every free joint at or beyond a limit goes onto it. */
-        for (i = 0; i < 2; ++i) {
+        for (i = 0; i < 4; ++i) {
             if (c->mode[i] != CRANE__FREE)
                 continue;
-            if (x->th[i] <= m->theta_min[i])
+            if (x->v[Q + i] <= lo_q(c, i))
                 stop_joint(c, x, i, 0);
-            else if (x->th[i] >= m->theta_max[i])
+            else if (x->v[Q + i] >= hi_q(c, i))
                 stop_joint(c, x, i, 1);
         }
     }
 }
 
-static void put_sample(ctx_t *c, crane_real t, const xstate *x, crane_real cpsi, crane_real spsi,
-                       crane_sample *o)
+/* The substep count of a step of size h from x (docs/model.md, "Hydraulics" and "Four joints"):
+ * the valve-driven actuators' chamber stiffness (from their strokes; a stopped one's is its
+ * stop's) and, with the extension not held, its friction's rate lambda_e = G_f (M^-1)_ee over
+ * the joints that are not held; the larger count. Out of line, so that its locals are not in
+ * crane__integrate's frame under the step (the stack). */
+static CRANE__NOINLINE long substeps(ctx_t *c, const xstate *x, crane_real h)
 {
-    const crane_model *m = c->m;
-    crane_real c0, s0, c1, s1;
+    const int ext = c->mode[CRANE_EXTENSION] != CRANE__HELD;
+    long n = 1;
+
+    (void)configure(c, x, ext || valve(c, CRANE_TILT));
+#if CRANE_HYDRAULICS
+    if (c->lim.valves) {
+        const int driven[4] = {valve(c, 0), valve(c, 1), valve(c, 2), valve(c, 3)};
+        crane_real stroke[4] = {0, 0, 0, 0};
+        int j;
+        for (j = 0; j < 4; ++j)
+            if (driven[j]) {
+                if (c->mode[j] != CRANE__FREE)
+                    stroke[j] = locked_stroke(c, j);
+                else
+                    (void)ratio(c, j, x->v[Q + j], &stroke[j]);
+            }
+        n = crane__substeps(c->lim.m, stroke, driven, h, c->lim.coef);
+    }
+#endif
+    if (ext) {
+        crane_real e[4] = {0, 0, 0, 0}, col[4], ne, minv;
+        unsigned lk = 1u << CRANE_SLEW;
+        int j;
+        for (j = 0; j < 4; ++j)
+            if (c->mode[j] == CRANE__HELD)
+                lk |= 1u << j;
+        e[CRANE_EXTENSION] = 1;
+        solve(c, NULL, e, lk, col);
+        /* (M^-1)_ee at most 4 / m_ext: the bound that check_work counts (crane_internal.h) */
+        minv = col[CRANE_EXTENSION];
+        if (minv > 4 / c->lim.m->params->extension_boom.mass)
+            minv = 4 / c->lim.m->params->extension_boom.mass;
+        ne = crane__ceil(h * crane__extension_friction_slope(c->lim.m->params) * minv /
+                         (crane_real)2.5);
+        if (ne > (crane_real)n)
+            n = (long)ne;
+    }
+    return n;
+}
+
+static void put_sample(ctx_t *c, crane_real t, const xstate *x, crane_sample *o)
+{
+    const crane_model *m = c->lim.m;
+    const crane_params *p = m->params;
+    const crane__conf *cf = configure(c, x, c->mode[CRANE_TILT] == CRANE__FREE);
+    crane_real cpsi, spsi;
     crane_vec2 tip;
     int i;
 
-    crane__sincos(x->th[0], &s0, &c0);
-    crane__sincos(x->th[1], &s1, &c1);
-    tip = crane__add(m->params->lift_pivot,
-                     crane__rot(c0, s0,
-                                crane__add(m->params->tilt_pivot,
-                                           crane__rot(c1, s1, crane__tip(m)))));
-
-    c->kin_valid = 1;
-    c->kin_th[0] = x->th[0];
-    c->kin_th[1] = x->th[1];
-    c->kin_c0 = c0;
-    c->kin_s0 = s0;
-    c->kin_c1 = c1;
-    c->kin_s1 = s1;
-    c->kin_has_lift = 0;
     o->t = t;
-    for (i = 0; i < 2; ++i) {
-        crane_real s;
-        switch (c->mode[i]) {
-        case CRANE__STOP_LO: s = flag_stroke(c, i, c->lo_flag[i]); break;
-        case CRANE__STOP_HI: s = flag_stroke(c, i, -c->lo_flag[i]); break;
-        case CRANE__HELD: s = c->s0->stroke[i]; break;
-        default:
-            /* The stroke and ds/dtheta share the same kinematics: both at once, ds cached. */
-            if (i == CRANE_LIFT) {
-                crane__lift_from_angle(m, c0, s0, &s, &c->kin_ds_lift);
-                c->kin_has_lift = 1;
-            } else {
-                s = tilt_kin(c, x->th[1], c1, s1)->stroke;
+    for (i = 0; i < 4; ++i) {
+        crane_real coord = x->v[Q + i];
+        /* a held joint reports its initial coordinate, a stopped one exactly its limit */
+        if (c->mode[i] == CRANE__STOP_LO)
+            coord = lo_q(c, i);
+        else if (c->mode[i] == CRANE__STOP_HI)
+            coord = hi_q(c, i);
+        if (i == CRANE_SLEW) {
+            o->slew = c->mode[i] == CRANE__HELD ? c->s0->slew : coord;
+            o->slew_rate = c->mode[i] == CRANE__HELD ? 0 : x->v[W + i];
+        } else if (i == CRANE_EXTENSION) {
+            o->extension = c->mode[i] == CRANE__HELD ? c->s0->extension : coord;
+            o->extension_rate = c->mode[i] == CRANE__HELD ? 0 : x->v[W + i];
+        } else {
+            crane_real s;
+            switch (c->mode[i]) {
+            case CRANE__STOP_LO:
+            case CRANE__STOP_HI: s = locked_stroke(c, i); break;
+            case CRANE__HELD: s = c->s0->stroke[i]; break;
+            default:
+                (void)ratio(c, i, x->v[Q + i], &s);
+                /* The stroke -> angle -> stroke round trip can land a few 1e-16 m outside the
+                 * range (docs/model.md, "End stops"): the reported stroke is clamped, the angle
+                 * is not. */
+                if (s < crane__stroke_min(m, i))
+                    s = crane__stroke_min(m, i);
+                else if (s > crane__stroke_max(m, i))
+                    s = crane__stroke_max(m, i);
+                break;
             }
-            /* The stroke -> angle -> stroke round trip can land a few 1e-16 m outside the range
-             * (docs/model.md, "End stops"): the reported stroke is clamped, the angle is not. */
-            if (s < crane__stroke_min(m, i))
-                s = crane__stroke_min(m, i);
-            else if (s > crane__stroke_max(m, i))
-                s = crane__stroke_max(m, i);
-            break;
+            o->stroke[i] = s;
+            o->theta[i] = x->v[Q + i];
+            o->omega[i] = x->v[W + i];
         }
-        o->stroke[i] = s;
-        o->theta[i] = x->th[i];
-        o->omega[i] = x->w[i];
         o->flow_a[i] = o->flow_b[i] = o->spool[i] = 0;
 #if CRANE_HYDRAULICS
-        if (c->valve[i]) {
+        if (valve(c, i)) {
             const crane_hydraulics *h = crane__circuit(m, i);
-            const crane_real y = h->spool_time_constant > 0 ? x->y[i] : lever(c, i, t);
-            o->p_a[i] = x->p[2 * i];
-            o->p_b[i] = x->p[2 * i + 1];
+            const crane_real y = h->spool_time_constant > 0 ? x->v[H + 3 * i + 2] : lever(c, i, t);
+            o->p_a[i] = x->v[H + 3 * i];
+            o->p_b[i] = x->v[H + 3 * i + 1];
             crane__valve_flows(h, y, o->p_a[i], o->p_b[i], &o->flow_a[i], &o->flow_b[i]);
             o->spool[i] = y;
         } else
@@ -597,135 +773,117 @@ static void put_sample(ctx_t *c, crane_real t, const xstate *x, crane_real cpsi,
         } else {
             pressures(c, i, t, &o->p_a[i], &o->p_b[i]);
         }
-        /* Stop flags are in cylinder terms (docs/model.md): the tilt's lower angle stop is +1. */
-        o->stop[i] = c->mode[i] == CRANE__STOP_LO   ? c->lo_flag[i]
-                     : c->mode[i] == CRANE__STOP_HI ? -c->lo_flag[i]
+        /* Stop flags are in actuator terms (docs/model.md): the tilt's lower angle stop is +1. */
+        o->stop[i] = c->mode[i] == CRANE__STOP_LO   ? lo_flag(c, i)
+                     : c->mode[i] == CRANE__STOP_HI ? -lo_flag(c, i)
                                                     : 0;
     }
-    /* The slew and the extension are held (crane_predict accepts nothing else yet). */
-    for (i = CRANE_SLEW; i <= CRANE_EXTENSION; ++i) {
-        o->stop[i] = 0;
-        o->p_a[i] = o->p_b[i] = o->flow_a[i] = o->flow_b[i] = o->spool[i] = 0;
-    }
-    o->slew = c->s0->slew;
-    o->extension = c->s0->extension;
-    o->slew_rate = o->extension_rate = 0;
+    /* tip = O1 + R(th0) (O2 + R(th1) (mount + (e, 0) + (tip_distance, 0))), then the slew */
+    tip = crane__add(p->lift_pivot,
+                     crane__rot(cf->c0, cf->s0,
+                                crane__add(p->tilt_pivot,
+                                           crane__rot(cf->c1, cf->s1,
+                                                      crane__add(crane__add(p->extension_mount,
+                                                                            crane__v2(o->extension, 0)),
+                                                                 crane__v2(p->tip_distance, 0))))));
+    crane__sincos(o->slew, &spsi, &cpsi);
     o->tip[0] = tip.x * cpsi;
     o->tip[1] = tip.x * spsi;
     o->tip[2] = tip.y;
 }
 
-/* theta and omega (and the pressures and spools, which stay 0 without valve-driven joints) are
- * all finite. */
+/* Finite, and the chambers and spools in their physical domain (crane_predict's
+ * CRANE_E_DIVERGED): an integrator gone unstable shows there first, and finite garbage is never
+ * a result. */
 static int finite_state(const ctx_t *c, const xstate *x)
 {
-#if CRANE_HYDRAULICS
-    /* the physical domain too (crane_predict's CRANE_E_DIVERGED): an integrator gone unstable
-     * shows there first, and finite garbage is never a result */
-    int k;
-    for (k = 0; c->lim.valves && k < 4; ++k)
-        if (!crane__in_range(x->p[k], -(crane_real)CRANE_PRESSURE_MAX, (crane_real)CRANE_PRESSURE_MAX))
-            return 0;
-    if (c->lim.valves && (!crane__in_range(x->y[0], -1, 1) || !crane__in_range(x->y[1], -1, 1)))
-        return 0;
-#else
-    (void)c;
-#endif
-    return crane__finite(x->th[0]) && crane__finite(x->th[1]) && crane__finite(x->w[0]) &&
-           crane__finite(x->w[1]);
-}
-
-#if CRANE_HYDRAULICS
-/* The substep count of a step of size h from the state x (docs/model.md, "Hydraulics"), from the
- * strokes of the valve-driven joints (a stopped joint's is its stop's). Out of line, so that its
- * locals are not in crane__integrate's frame under the step (the stack budget). */
-static CRANE__NOINLINE long substeps(ctx_t *c, const xstate *x, crane_real h)
-{
-    const int valve[4] = {c->valve[0], c->valve[1], 0, 0};
-    crane_real stroke[4] = {0, 0, 0, 0}, s1, c1;
+    /* the joints that can move (held ones keep their validated initial state) */
+    const int nq = c->planar ? 2 : 4;
     int i;
-
-    for (i = 0; i < 2; ++i) {
-        stroke[i] = 0;
-        if (!c->valve[i])
-            continue;
-        if (c->mode[i] != CRANE__FREE) {
-            stroke[i] = stop_stroke(c, i);
-        } else if (i == CRANE_LIFT) {
-            crane_real c0, s0;
-            crane__sincos(x->th[0], &s0, &c0);
-            crane__lift_from_angle(c->m, c0, s0, &stroke[i], NULL);
-        } else {
-            crane__sincos(x->th[1], &s1, &c1);
-            stroke[i] = tilt_kin(c, x->th[1], c1, s1)->stroke;
-        }
+    for (i = 0; i < nq; ++i)
+        if (!crane__finite(x->v[Q + i]) || !crane__finite(x->v[W + i]))
+            return 0;
+    for (i = H; i < n_used(c); ++i) {
+        /* the pressures, then the spool, of each valve-driven joint from H on (x_slot) */
+        const crane_real lim = (i - H) % 3 == 2 ? 1 : (crane_real)CRANE_PRESSURE_MAX;
+        if (!crane__in_range(x->v[i], -lim, lim))
+            return 0;
     }
-    return crane__substeps(c->m, stroke, valve, h, c->lim.coef);
+    return 1;
 }
-#endif
 
 crane_status crane__integrate(const crane_model *m, const crane_state *s0, const crane_inputs *in,
                               crane_real horizon, crane_real dt, long n_steps, long sample_every,
                               crane_sample *out, size_t *n_written)
 {
-    crane_real cpsi, spsi;
     ctx_t c;
     xstate x;
     long k;
     size_t next;
     int i;
 
-    crane__sincos(s0->slew, &spsi, &cpsi);
-    c.m = m;
-#if CRANE_HYDRAULICS
     c.lim.m = m;
-#endif
     c.in = in;
     c.s0 = s0;
-    c.kin_valid = 0;
-    c.kin_has_lift = 0;
-    c.tk_valid = 0;
-    c.j0 = crane__mass_matrix_j0(m);
-    c.release_clear = 0;
-#if CRANE_HYDRAULICS
+    crane__bodies_init(m->params, &c.b);
     c.lim.valves = 0;
-    for (i = 0; i < 2; ++i) {
-        c.valve[i] = (unsigned char)(in->drive[i].mode == CRANE_DRIVE_VALVE);
-        c.lim.valves |= (unsigned)c.valve[i] << i;
-        x.p[2 * i] = c.valve[i] ? s0->p_a[i] : 0;
-        x.p[2 * i + 1] = c.valve[i] ? s0->p_b[i] : 0;
-        x.y[i] = c.valve[i] ? s0->spool[i] : 0;
-    }
-#endif
-    for (i = 0; i < 2; ++i) {
-        crane_real ds;
+    c.lo_is_max = 0;
+    c.cache = 0;
+    c.release_clear = 0;
+    c.planar = (unsigned char)(in->drive[CRANE_SLEW].mode == CRANE_DRIVE_HOLD &&
+                               in->drive[CRANE_EXTENSION].mode == CRANE_DRIVE_HOLD);
+    for (i = 0; i < N_ALL; ++i)
+        x.v[i] = 0;
+    for (i = 0; i < 4; ++i) {
         c.cursor[i] = 0;
         c.mode[i] = (signed char)(in->drive[i].mode == CRANE_DRIVE_HOLD ? CRANE__HELD : CRANE__FREE);
-        if (i == CRANE_LIFT)
-            crane__lift_from_stroke(m, s0->stroke[i], &x.th[i], &ds);
-        else
-            (void)crane__tilt_from_stroke(m, s0->stroke[i], &x.th[i], &ds, NULL, NULL);
-        x.w[i] = s0->stroke_rate[i] / ds;
-        /* Which stroke limit is the lower angle limit follows the sign of ds/dtheta, which the
-         * crane check keeps constant over the stroke. */
-        c.lo_flag[i] = (signed char)(ds > 0 ? -1 : 1);
+        if (CRANE_HYDRAULICS && in->drive[i].mode == CRANE_DRIVE_VALVE) {
+            c.lim.valves |= 1u << i;
+            x.v[H + 3 * i] = s0->p_a[i];
+            x.v[H + 3 * i + 1] = s0->p_b[i];
+            x.v[H + 3 * i + 2] = s0->spool[i];
+        }
+        if (i < 2) {
+            crane_real ds;
+            if (i == CRANE_LIFT)
+                crane__lift_from_stroke(m, s0->stroke[i], &x.v[Q + i], &ds);
+            else
+                (void)crane__tilt_from_stroke(m, s0->stroke[i], &x.v[Q + i], &ds, NULL, NULL);
+            x.v[W + i] = s0->stroke_rate[i] / ds;
+            /* Which stroke limit is the lower angle limit follows the sign of ds/dtheta, which
+             * the crane check keeps constant over the stroke. */
+            if (!(ds > 0))
+                c.lo_is_max = (unsigned char)(c.lo_is_max | (1u << i));
+        } else {
+            x.v[Q + i] = i == CRANE_SLEW ? s0->slew : s0->extension;
+            x.v[W + i] = i == CRANE_SLEW ? s0->slew_rate : s0->extension_rate;
+        }
     }
 
-    /* At t = 0: a free joint at a stroke limit whose stroke rate does not point into the range
-     * starts on that stop, in joint order, with a plastic impact. */
-    for (i = 0; i < 2; ++i) {
-        const crane_real s = s0->stroke[i], v = s0->stroke_rate[i];
+    /* At t = 0: a free joint at a limit whose rate does not point into the range starts on that
+     * stop, in joint order, with a plastic impact. */
+    for (i = 0; i < 4; ++i) {
         int flag; /* the stop's flag: -1 stroke_min, +1 stroke_max */
         if (c.mode[i] != CRANE__FREE)
             continue;
-        if (s <= crane__stroke_min(m, i) && v <= 0)
-            flag = -1;
-        else if (s >= crane__stroke_max(m, i) && v >= 0)
-            flag = 1;
-        else
-            continue;
-        /* the upper angle limit is the one whose flag is not lo_flag */
-        stop_joint(&c, &x, i, flag != c.lo_flag[i]);
+        if (i < 2) {
+            const crane_real s = s0->stroke[i], v = s0->stroke_rate[i];
+            if (s <= crane__stroke_min(m, i) && v <= 0)
+                flag = -1;
+            else if (s >= crane__stroke_max(m, i) && v >= 0)
+                flag = 1;
+            else
+                continue;
+        } else {
+            if (x.v[Q + i] <= lo_q(&c, i) && x.v[W + i] <= 0)
+                flag = -1;
+            else if (x.v[Q + i] >= hi_q(&c, i) && x.v[W + i] >= 0)
+                flag = 1;
+            else
+                continue;
+        }
+        /* the upper limit of q is the one whose flag is not lo_flag */
+        stop_joint(&c, &x, i, flag != lo_flag(&c, i));
     }
 
     /* A state that stops being finite (only with absurd parameters, e.g. gravity 1e135) ends
@@ -733,7 +891,7 @@ crane_status crane__integrate(const crane_model *m, const crane_state *s0, const
     *n_written = 0;
     if (!finite_state(&c, &x))
         return CRANE_E_DIVERGED;
-    put_sample(&c, 0, &x, cpsi, spsi, &out[0]);
+    put_sample(&c, 0, &x, &out[0]);
     /* Samples after every sample_every-th step and after the last one. The kinematic cache is
      * keyed by the angles themselves, so it stays valid whatever happens in between. */
     for (k = 0, next = 1; k < n_steps; ++k) {
@@ -745,15 +903,15 @@ crane_status crane__integrate(const crane_model *m, const crane_state *s0, const
         /* The step, cut at the knots of sampled drives inside it into pieces, each integrated as
          * a step of its own (docs/model.md, "Integration and samples"). */
         do {
-            const crane_real t_q = crane__next_knot(in, 2, t, t_end, dt);
+            const crane_real t_q = crane__next_knot(in, 4, t, t_end, dt);
             const crane_real h = t_q - t;
-#if CRANE_HYDRAULICS
             long j, n_sub = 1;
             crane_real sub = h;
 
-            /* docs/model.md "Hydraulics": with valve-driven joints, n equal substeps, each a full
-             * step of the scheme (one call site of step, so that it stays inlined: the stack). */
-            if (c.lim.valves && h > 0) {
+            /* docs/model.md "Hydraulics", "Four joints": with valve-driven actuators or a moving
+             * extension, n equal substeps, each a full step of the scheme (one call site of step,
+             * so that it stays inlined: the stack). */
+            if ((c.lim.valves || c.mode[CRANE_EXTENSION] != CRANE__HELD) && h > 0) {
                 n_sub = substeps(&c, &x, h);
                 sub = h / (crane_real)n_sub;
             }
@@ -766,12 +924,6 @@ crane_status crane__integrate(const crane_model *m, const crane_state *s0, const
                     step(&c, t_sub, &x, final ? (j == 0 ? h : t_q - t_sub) : sub,
                          final ? t_q : t_sub + sub);
             }
-#else
-            if (!c.release_clear)
-                release(&c, t, &x);
-            if (h > 0)
-                step(&c, t, &x, h, t_q);
-#endif
             more = t_q < t_end; /* an int controls the loop (MISRA 14.1) */
             t = t_q;
         } while (more);
@@ -780,7 +932,7 @@ crane_status crane__integrate(const crane_model *m, const crane_state *s0, const
             return CRANE_E_DIVERGED;
         }
         if (last || (k + 1) % sample_every == 0)
-            put_sample(&c, last ? horizon : (crane_real)(k + 1) * dt, &x, cpsi, spsi, &out[next++]);
+            put_sample(&c, last ? horizon : (crane_real)(k + 1) * dt, &x, &out[next++]);
     }
     *n_written = next;
     return CRANE_OK;

@@ -290,17 +290,14 @@ static crane_status check_work(const crane_model *m, const crane_inputs *in, cra
     return CRANE_OK;
 }
 
-/* A validated prediction: the planar integrator with the slew and the extension held (its
- * results are those of the two-joint model, bit for bit), else the four-joint one. */
+/* A validated prediction: the integrator (which picks the planar dynamics kernel when the slew
+ * and the extension are held). */
 static CRANE__ALWAYS_INLINE crane_status integrate(const crane_model *m, const crane_state *s0,
                                                    const crane_inputs *in, crane_real horizon,
                                                    crane_real dt, long n_steps, long sample_every,
                                                    crane_sample *out, size_t *n_written)
 {
-    if (in->drive[CRANE_SLEW].mode == CRANE_DRIVE_HOLD &&
-        in->drive[CRANE_EXTENSION].mode == CRANE_DRIVE_HOLD)
-        return crane__integrate(m, s0, in, horizon, dt, n_steps, sample_every, out, n_written);
-    return crane__integrate4(m, s0, in, horizon, dt, n_steps, sample_every, out, n_written);
+    return crane__integrate(m, s0, in, horizon, dt, n_steps, sample_every, out, n_written);
 }
 
 /* crane_predict_model after its NULL checks, keeping every sample_every-th sample (and the

@@ -52,7 +52,7 @@ def core_run(crane, state, inputs, horizon, dt):
 
 def _id4(crane, q, qd, qdd):
     tau = ffi.new("crane_real[4]")
-    st = lib.crane_inverse_dynamics4(_core.model(crane, crane.geometry.extension_min), list(q),
+    st = lib.crane_inverse_dynamics(_core.model(crane, crane.geometry.extension_min), list(q),
                                      list(qd), list(qdd), tau)
     assert st == lib.CRANE_OK, st
     return np.array(list(tau))
@@ -69,8 +69,8 @@ def _random_states(n, seed, crane):
 
 # -- inverse dynamics --------------------------------------------------------------------------
 
-def test_core_inverse_dynamics4_equals_lagrange_and_the_twin(crane):
-    """crane_inverse_dynamics4 against the oracle (to 1e-9 of the largest force; the extension
+def test_core_inverse_dynamics_equals_lagrange_and_the_twin(crane):
+    """crane_inverse_dynamics against the oracle (to 1e-9 of the largest force; the extension
     force on its own scale) and against the twin's inverse_dynamics4 (to 1e-12), 60 random
     states, loads and extensions."""
     worst_oracle = worst_twin = worst_e = 0.0
@@ -87,7 +87,7 @@ def test_core_inverse_dynamics4_equals_lagrange_and_the_twin(crane):
     assert worst_twin < 1e-12, worst_twin
 
 
-def test_core_inverse_dynamics4_sees_the_slew_terms(crane):
+def test_core_inverse_dynamics_sees_the_slew_terms(crane):
     """The test above can fail: without the pillar's inertia, or with the slew rate's centrifugal
     load dropped (omega_s = 0 in the core, not in the oracle), the core is far off the oracle."""
     q, qd, qdd = (0.3, -1.0, 0.5, 0.6), (0.5, -0.7, 0.8, 0.3), (1.0, 2.0, -1.5, 0.7)
@@ -110,15 +110,15 @@ def test_core_slew_equation_for_a_held_boom(crane):
     assert grav[2] == 0.0
 
 
-def test_core_inverse_dynamics4_checks_its_arguments(crane):
+def test_core_inverse_dynamics_checks_its_arguments(crane):
     m = _core.model(crane, 0.0)
     tau = ffi.new("crane_real[4]")
     z = [0.0, 0.0, 0.0, 0.0]
-    assert lib.crane_inverse_dynamics4(m, [0.3, -1.0, 0.0, 2.0], z, z, tau) == lib.CRANE_E_EXTENSION
-    assert lib.crane_inverse_dynamics4(m, [9.0, -1.0, 0.0, 0.5], z, z, tau) == lib.CRANE_E_ANGLE
-    assert lib.crane_inverse_dynamics4(m, [0.3, -1.0, float("nan"), 0.5], z, z, tau) == \
+    assert lib.crane_inverse_dynamics(m, [0.3, -1.0, 0.0, 2.0], z, z, tau) == lib.CRANE_E_EXTENSION
+    assert lib.crane_inverse_dynamics(m, [9.0, -1.0, 0.0, 0.5], z, z, tau) == lib.CRANE_E_ANGLE
+    assert lib.crane_inverse_dynamics(m, [0.3, -1.0, float("nan"), 0.5], z, z, tau) == \
         lib.CRANE_E_NONFINITE
-    assert lib.crane_inverse_dynamics4(ffi.NULL, z, z, z, tau) == lib.CRANE_E_NULL
+    assert lib.crane_inverse_dynamics(ffi.NULL, z, z, z, tau) == lib.CRANE_E_NULL
 
 
 # -- predictions against the twin ---------------------------------------------------------------

@@ -64,7 +64,7 @@ static crane_state state;
 static crane_inputs inputs;
 static crane_model model;
 static crane_sample out[4];
-static crane_real buf[4 * CRANE_N_POINTS * 3], th[2], w[2], a[2], t[2];
+static crane_real buf[4 * CRANE_N_POINTS * 3], th[4], w[4], a[4], t[4];
 static crane_solid solids[2];
 static crane_part parts[2];
 static crane_guard_config config;

@@ -113,7 +113,7 @@ static int print_substeps(const crane_params *p, const crane_inputs *in, const c
                           size_t n, double dt)
 {
     crane_model m;
-    crane__bodies4 b;
+    crane__bodies b;
     int valve[4], j, any_valve = 0;
     const int ext_moves = in->drive[CRANE_EXTENSION].mode != CRANE_DRIVE_HOLD;
     const double gf = (double)crane__extension_friction_slope(p);
@@ -124,7 +124,7 @@ static int print_substeps(const crane_params *p, const crane_inputs *in, const c
 
     if (crane_model_init(&m, p, o[0].extension) != CRANE_OK)
         return 1;
-    crane__bodies4_init(p, &b);
+    crane__bodies_init(p, &b);
     for (j = 0; j < 4; ++j) {
         valve[j] = in->drive[j].mode == CRANE_DRIVE_VALVE;
         any_valve |= valve[j];
@@ -147,13 +147,13 @@ static int print_substeps(const crane_params *p, const crane_inputs *in, const c
             }
         }
         if (ext_moves) {
-            crane__conf4 cf;
+            crane__conf cf;
             crane_real Mp[6];
             const int free3[3] = {in->drive[0].mode != CRANE_DRIVE_HOLD,
                                   in->drive[1].mode != CRANE_DRIVE_HOLD, 1};
             double minv;
-            crane__conf4_at(&m, x->theta[0], x->theta[1], x->extension, &cf);
-            crane__mass4(&m, &b, &cf, Mp);
+            crane__conf_at(&m, x->theta[0], x->theta[1], x->extension, &cf);
+            crane__mass_spatial(&m, &b, &cf, Mp);
             minv = minv_ee(Mp, free3);
             if (minv > 4 / m_ext)
                 minv = 4 / m_ext;

@@ -22,7 +22,8 @@ DOCS = os.path.join(os.path.dirname(os.path.dirname(HERE)), "docs", "embedding.m
 TOP = 10          # functions listed by name; libm and the soft-float helpers are grouped
 # What each leading function does, for the reader of the table.
 ROLE = {
-    "forces": "integrator.c: trig cache, four-bar, forces, mass matrix",
+    "rk4": "integrator.c: the stages, with the forces inlined",
+    "crane__id_planar": "the planar kernel's inverse dynamics",
     "crane__sincosf": "the float build's own sin/cos",
     "put_sample": "the tip position of each sample",
 }

@@ -258,9 +258,10 @@ static void run_entry_points(const board_scenario *sc)
     static crane_inputs inputs[2];
     static crane_real xyz[2 * CRANE_N_POINTS * 3];
     crane_real theta[4] = {(crane_real)0.1, (crane_real)-0.6, (crane_real)0.2, (crane_real)-0.4};
-    crane_real omega[2] = {(crane_real)0.3, (crane_real)-0.2};
-    crane_real alpha[2] = {(crane_real)1.0, (crane_real)0.5};
-    crane_real tau[2], th = 0, ds = 0, stroke = 0, force = 0;
+    crane_real q[4] = {(crane_real)0.1, (crane_real)-0.6, (crane_real)0.2, (crane_real)0};
+    crane_real qd[4] = {(crane_real)0.3, (crane_real)-0.2, (crane_real)0.1, (crane_real)0.05};
+    crane_real qdd[4] = {(crane_real)1.0, (crane_real)0.5, (crane_real)0.2, (crane_real)0.1};
+    crane_real tau[4], th = 0, ds = 0, stroke = 0, force = 0;
     size_t n = 0, count = 0, failed = 0;
     const char *msg = NULL;
     crane_field field = CRANE_FIELD_NONE;
@@ -304,8 +305,9 @@ static void run_entry_points(const board_scenario *sc)
     expect(st, CRANE_OK, "crane_joint_stroke");
     MEASURED("crane_points", st = crane_points(&model, (crane_real)0.5, 2, theta, xyz));
     expect(st, CRANE_OK, "crane_points");
+    q[3] = sc->state0.extension;
     MEASURED("crane_inverse_dynamics",
-             st = crane_inverse_dynamics(&model, theta, omega, alpha, tau));
+             st = crane_inverse_dynamics(&model, q, qd, qdd, tau));
     expect(st, CRANE_OK, "crane_inverse_dynamics");
     MEASURED("crane_cylinder_force",
              st = crane_cylinder_force(&model, CRANE_LIFT, (crane_real)175e5, (crane_real)0,

@@ -551,11 +551,13 @@ static void run_model(const universe *u)
             fail("crane_cylinder_force wrote on an error");
     }
     {
-        crane_real tau[2] = {(crane_real)21, (crane_real)22};
-        const crane_real th[2] = {u->theta[0], u->theta[1]};
-        st = crane_inverse_dynamics(&model, th, u->omega, u->alpha, tau);
+        crane_real tau[4] = {(crane_real)21, (crane_real)22, (crane_real)23, (crane_real)24};
+        const crane_real q[4] = {u->theta[0], u->theta[1], u->slew, u->extension};
+        const crane_real qd[4] = {u->omega[0], u->omega[1], 0, 0};
+        const crane_real qdd[4] = {u->alpha[0], u->alpha[1], 0, 0};
+        st = crane_inverse_dynamics(&model, q, qd, qdd, tau);
         check_status(st, "crane_inverse_dynamics status");
-        if (st != CRANE_OK && (tau[0] != 21 || tau[1] != 22))
+        if (st != CRANE_OK && (tau[0] != 21 || tau[1] != 22 || tau[2] != 23 || tau[3] != 24))
             fail("crane_inverse_dynamics wrote on an error");
     }
 }

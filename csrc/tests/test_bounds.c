@@ -133,7 +133,8 @@ static void test_time_is_k_dt(void)
 static void test_overflowing_arguments(void)
 {
     crane_model m;
-    crane_real force = 7, tau[2] = {7, 7}, stroke, th[2], w[2] = {0, 0}, a[2] = {0, 0};
+    crane_real force = 7, tau[4] = {7, 7, 7, 7}, stroke, th[4], w[4] = {0, 0, 0, 0},
+               a[4] = {0, 0, 0, 0};
     crane_real xyz[3 * CRANE_N_POINTS];
     const int dbl = sizeof(crane_real) == sizeof(double);
     /* a rate whose viscous force, or a joint rate whose square, is beyond the largest real */
@@ -149,6 +150,8 @@ static void test_overflowing_arguments(void)
 
     th[0] = (m.theta_min[0] + m.theta_max[0]) / 2;
     th[1] = (m.theta_min[1] + m.theta_max[1]) / 2;
+    th[2] = 0;
+    th[3] = m.extension;
     w[1] = big_omega;
     check_status(crane_inverse_dynamics(&m, th, w, a, tau), CRANE_E_OVERFLOW,
                  "crane_inverse_dynamics, omega 1e160");

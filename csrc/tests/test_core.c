@@ -12,6 +12,7 @@
 #include <string.h>
 #include <time.h>
 #include "crane.h"
+#include "crane_internal.h"
 #include "crane_patu655.h"
 #include "golden.h"
 
@@ -333,13 +334,12 @@ static void test_bad_small_calls(void)
 {
     const crane_params p = patu();
     crane_model m;
-    crane_real th = R(123), ds = R(456), s = R(789), f = R(1), tau[2] = {R(5), R(6)};
-    const crane_real z[2] = {0, 0};
-    crane_real nan2[2];
+    crane_real th = R(123), ds = R(456), s = R(789), f = R(1), tau[4] = {R(5), R(6), R(7), R(8)};
+    const crane_real z[4] = {0, 0, 0, 0};
+    crane_real nan4[4] = {0, 0, 0, 0};
     size_t count = 77;
 
-    nan2[0] = (crane_real)NAN;
-    nan2[1] = 0;
+    nan4[0] = (crane_real)NAN;
     crane_model_init(&m, &p, R(0));
     check_status(crane_joint_angle(&m, CRANE_LIFT, R(0.6), &th, &ds), CRANE_E_STROKE, "angle: stroke > max");
     check_status(crane_joint_angle(&m, CRANE_TILT, R(-0.01), &th, &ds), CRANE_E_STROKE, "angle: stroke < min");
@@ -374,9 +374,10 @@ static void test_bad_small_calls(void)
         check_status(crane_cylinder_force(&m, 1, 0, 0, R(-v), &f), CRANE_OK, "force OK 2");
         check_close(D(f), levels + viscous, tol(1e-10, 1e-3), "friction is odd and opposes motion");
     }
-    check_status(crane_inverse_dynamics(&m, nan2, z, z, tau), CRANE_E_NONFINITE, "ID: NaN");
+    check_status(crane_inverse_dynamics(&m, nan4, z, z, tau), CRANE_E_NONFINITE, "ID: NaN");
     check_status(crane_inverse_dynamics(&m, z, z, z, NULL), CRANE_E_NULL, "ID: NULL");
-    check(D(tau[0]) == 5 && D(tau[1]) == 6, "ID: nothing written on bad input");
+    check(D(tau[0]) == 5 && D(tau[1]) == 6 && D(tau[2]) == 7 && D(tau[3]) == 8,
+          "ID: nothing written on bad input");
 
     check_status(crane_sample_count(R(2), R(1e-3), &count), CRANE_OK, "count OK");
     check(count == 2001, "2 s at 1 ms: 2001 samples");
@@ -487,6 +488,19 @@ static void test_bad_predict(void)
 
 /* ---- dynamics ------------------------------------------------------------------------------- */
 
+/* The booms' torques of crane_inverse_dynamics at the extension e, with the slew and the
+ * extension at rest. */
+static void boom_torques(const crane_model *m, crane_real e, const crane_real th[2],
+                         const crane_real w[2], const crane_real a[2], crane_real tau[2])
+{
+    const crane_real q[4] = {th[0], th[1], 0, e}, qd[4] = {w[0], w[1], 0, 0},
+                     qdd[4] = {a[0], a[1], 0, 0};
+    crane_real t[4];
+    check_status(crane_inverse_dynamics(m, q, qd, qdd, t), CRANE_OK, "boom torques");
+    tau[0] = t[0];
+    tau[1] = t[1];
+}
+
 /* small deterministic generator for the random states */
 static double rnd(unsigned long *seed)
 {
@@ -544,7 +558,7 @@ static void test_inverse_dynamics_lagrange(void)
         const double t1 = M12 * a0 + M22 * a1 - m2 * kp * w0 * w0 + G1;
         double err;
 
-        crane_inverse_dynamics(&m, th, w, a, tau);
+        boom_torques(&m, R(e), th, w, a, tau);
         err = (fabs(D(tau[0]) - t0) + fabs(D(tau[1]) - t1)) / (fabs(t0) + fabs(t1) + 1);
         if (err > worst)
             worst = err;
@@ -552,13 +566,56 @@ static void test_inverse_dynamics_lagrange(void)
     check_close(worst, 0, tol(1e-12, 1e-4), "Newton-Euler ID vs Lagrange closed form (200 states)");
 }
 
+/* The planar and the spatial dynamics kernels (dynamics.c) are one physics: at the model's
+ * extension, with the slew and the extension at rest, the spatial kernel's boom torques and the
+ * (lift, tilt) block of its mass matrix are the planar kernel's (which lumps the extension boom
+ * and the load into the outer boom) to rounding, side links included. */
+static void test_kernels_agree(void)
+{
+    const crane_params p = patu();
+    crane_model m;
+    crane__bodies b;
+    unsigned long seed = 11;
+    double worst_tau = 0, worst_m = 0;
+    int k, i;
+
+    crane_model_init(&m, &p, R(0.4));
+    crane__bodies_init(&p, &b);
+    for (k = 0; k < 100; ++k) {
+        const double th0 = D(m.theta_min[0]) + D(m.theta_max[0] - m.theta_min[0]) * rnd(&seed);
+        const double th1 = D(m.theta_min[1]) + D(m.theta_max[1] - m.theta_min[1]) * rnd(&seed);
+        const crane_real w[4] = {R(2 * rnd(&seed) - 1), R(2 * rnd(&seed) - 1), 0, 0};
+        const crane_real a[4] = {R(4 * rnd(&seed) - 2), R(4 * rnd(&seed) - 2), 0, 0};
+        crane__conf cf;
+        crane_real tp[2], ts[4], Mp[6], Ms[6];
+        double e;
+
+        crane__conf_at(&m, R(th0), R(th1), m.extension, &cf);
+        crane__id_planar(&m, &cf, w, a, p.gravity, tp);
+        crane__id_spatial(&m, &b, &cf, w, a, p.gravity, ts);
+        crane__mass_planar(&m, &cf, Mp);
+        crane__mass_spatial(&m, &b, &cf, Ms);
+        e = (fabs(D(tp[0]) - D(ts[0])) + fabs(D(tp[1]) - D(ts[1]))) /
+            (fabs(D(ts[0])) + fabs(D(ts[1])) + 1);
+        if (e > worst_tau)
+            worst_tau = e;
+        for (i = 0; i < 4; i += i == 1 ? 2 : 1) {
+            e = fabs(D(Mp[i]) - D(Ms[i])) / fabs(D(Ms[0]));
+            if (e > worst_m)
+                worst_m = e;
+        }
+    }
+    check_close(worst_tau, 0, tol(1e-12, 1e-4), "planar vs spatial kernel: boom torques (100 states)");
+    check_close(worst_m, 0, tol(1e-12, 1e-5), "planar vs spatial kernel: boom mass matrix");
+}
+
 /* 0.5 omega^T M omega, M from the core's inverse dynamics with g = 0 */
 static double kinetic_energy(const crane_model *m, const crane_real th[2], const crane_real w[2])
 {
     const crane_real z[2] = {0, 0}, e0[2] = {1, 0}, e1[2] = {0, 1};
     crane_real col0[2], col1[2];
-    crane_inverse_dynamics(m, th, z, e0, col0);
-    crane_inverse_dynamics(m, th, z, e1, col1);
+    boom_torques(m, m->extension, th, z, e0, col0);
+    boom_torques(m, m->extension, th, z, e1, col1);
     return 0.5 * (D(w[0]) * (D(col0[0]) * D(w[0]) + D(col1[0]) * D(w[1])) +
                   D(w[1]) * (D(col0[1]) * D(w[0]) + D(col1[1]) * D(w[1])));
 }
@@ -1175,6 +1232,7 @@ int main(void)
     test_bad_small_calls();
     test_bad_predict();
     test_inverse_dynamics_lagrange();
+    test_kernels_agree();
     test_energy();
     test_paper_scenario();
     test_step();

@@ -491,20 +491,13 @@ def joint_stroke(crane: "Crane", joint: int, theta: float, extension: float = 0.
     return float(s[0])
 
 
-def inverse_dynamics(crane: "Crane", extension: float, theta: Sequence[float],
-                     omega: Sequence[float], alpha: Sequence[float]) -> Tuple[float, float]:
-    tau = ffi.new("crane_real[2]")
-    ensure(lib.crane_inverse_dynamics(model(crane, extension), list(theta), list(omega),
-                                      list(alpha), tau), "inverse_dynamics")
-    return float(tau[0]), float(tau[1])
-
-
-def inverse_dynamics4(crane: "Crane", q: Sequence[float], qd: Sequence[float],
-                      qdd: Sequence[float]) -> Tuple[float, float, float, float]:
-    """The generalized forces [lift, tilt, slew, extension] of the four-joint model."""
+def inverse_dynamics(crane: "Crane", q: Sequence[float], qd: Sequence[float],
+                     qdd: Sequence[float]) -> Tuple[float, float, float, float]:
+    """The generalized forces [lift, tilt, slew, extension] (N m, N m, N m, N) at q = (theta0,
+    theta1, slew, extension), rates qd and accelerations qdd, gravity included."""
     tau = ffi.new("crane_real[4]")
-    ensure(lib.crane_inverse_dynamics4(model(crane, q[3]), list(q), list(qd), list(qdd), tau),
-           "inverse_dynamics4")
+    ensure(lib.crane_inverse_dynamics(model(crane, q[3]), list(q), list(qd), list(qdd), tau),
+           "inverse_dynamics")
     return float(tau[0]), float(tau[1]), float(tau[2]), float(tau[3])
 
 

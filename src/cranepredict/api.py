@@ -331,7 +331,7 @@ def _extension_holding_force(crane: Crane, state: State) -> float:
     q = (_core.joint_angle(crane, 0, state.lift_stroke, state.extension)[0],
          _core.joint_angle(crane, 1, state.tilt_stroke, state.extension)[0],
          state.slew, state.extension)
-    return _core.inverse_dynamics4(crane, q, (0.0,) * 4, (0.0,) * 4)[3]
+    return _core.inverse_dynamics(crane, q, (0.0,) * 4, (0.0,) * 4)[3]
 
 
 def _sequence(value: Any, name: str, kind: type) -> list:

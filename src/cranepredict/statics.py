@@ -86,7 +86,7 @@ def holding_forces(crane: Crane, lift_stroke: float, tilt_stroke: float,
         th, ds = _core.joint_angle(crane, j, stroke, extension)
         theta.append(th)
         ratio.append(ds)
-    tau = _core.inverse_dynamics(crane, extension, theta, (0.0, 0.0), (0.0, 0.0))
+    tau = _core.inverse_dynamics(crane, (theta[0], theta[1], 0.0, extension), (0.0,) * 4, (0.0,) * 4)
     return tau[0] / ratio[0], tau[1] / ratio[1]
 
 

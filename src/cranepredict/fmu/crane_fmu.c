@@ -143,7 +143,7 @@ static int holding_pressures(cfmu_instance *f, int j, crane_real force)
 static int state_at_rest(cfmu_instance *f)
 {
     crane_state *s = &f->s.state;
-    crane_real theta[2], ds[2], zero[4] = {0, 0, 0, 0}, tau[2], q[4], tau4[4];
+    crane_real theta[2], ds[2], zero[4] = {0, 0, 0, 0}, tau[4], q[4];
     crane_status st;
     int j;
 
@@ -160,7 +160,11 @@ static int state_at_rest(cfmu_instance *f)
         if (st != CRANE_OK)
             return fail(f, j == 0 ? "lift_stroke_start" : "tilt_stroke_start", st);
     }
-    st = crane_inverse_dynamics(&f->model, theta, zero, zero, tau);
+    q[0] = theta[0];
+    q[1] = theta[1];
+    q[2] = s->slew;
+    q[3] = s->extension;
+    st = crane_inverse_dynamics(&f->model, q, zero, zero, tau);
     if (st != CRANE_OK)
         return fail(f, "the holding forces at the initial pose", st);
     for (j = 0; j < 2; ++j)
@@ -169,14 +173,7 @@ static int state_at_rest(cfmu_instance *f)
     if (valve_driven(CRANE_SLEW) && holding_pressures(f, CRANE_SLEW, 0))
         return 1;
     if (valve_driven(CRANE_EXTENSION)) {
-        q[0] = theta[0];
-        q[1] = theta[1];
-        q[2] = s->slew;
-        q[3] = s->extension;
-        st = crane_inverse_dynamics4(&f->model, q, zero, zero, tau4);
-        if (st != CRANE_OK)
-            return fail(f, "the extension's holding force at the initial pose", st);
-        if (holding_pressures(f, CRANE_EXTENSION, tau4[3]))
+        if (holding_pressures(f, CRANE_EXTENSION, tau[3]))
             return 1;
     }
     return 0;
