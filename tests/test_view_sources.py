@@ -15,9 +15,9 @@ can = pytest.importorskip("can", reason="the [live] extra")
 pytest.importorskip("cantools", reason="the [live] extra")
 
 from cranepredict.cli import main  # noqa: E402
-from cranepredict.live.bus import SensorFrames  # noqa: E402
 from cranepredict.live.episode import demo_setup  # noqa: E402
 from cranepredict.live.loop import LiveTwin  # noqa: E402
+from cranepredict.live.runner import record  # noqa: E402
 from cranepredict.live.sim import LeverScript, Plant, SimCrane, perturbed_crane  # noqa: E402
 from cranepredict.view import Frame, Viewer  # noqa: E402
 from cranepredict.view import scene as sc  # noqa: E402
@@ -36,18 +36,9 @@ def recorded(tmp_path_factory):
     start, _, _ = demo_setup(crane)
     script = LeverScript(((0.0, (0.0,) * 4), (0.1, (0.0, 0.0, 0.0, 1.0))))
     sim = SimCrane(Plant(perturbed_crane(crane), start), script, obey=False)
-    frames, truth = SensorFrames(), {}
     path = str(tmp_path_factory.mktemp("log") / "towards-wall.asc")
-    logger = can.Logger(path)
-    try:
-        for _ in range(int(round(SECONDS / sim.period))):
-            values, request, scale = sim.measure()
-            truth[round(sim.plant.t, 6)] = sim.plant.state
-            for msg in frames.messages(values, request, scale, timestamp=sim.plant.t):
-                logger.on_message_received(msg)
-            sim.step(allowed=True)
-    finally:
-        logger.stop()
+    assert record(sim, SECONDS, path) == 220
+    truth = {round(t, 6): state for t, state, _, _ in sim.history}
     return crane, path, truth
 
 
