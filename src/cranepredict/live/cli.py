@@ -128,6 +128,8 @@ class _Display:
         from ..view.app import serve
 
         self.live.close()
+        print(f"display    drew {self.live.shown} of {self.live.received} cycles as they came "
+              f"({self.live.skipped} skipped for a newer one)", flush=True)
         if self.live.frames:
             self.viewer.play(self.live.frames, start=-1)
             print(f"display    {self.viewer.url}: {len(self.live.frames)} cycles to scrub back "
