@@ -142,6 +142,8 @@ def test_view_replay_refuses_bad_input_before_serving(recorded, tmp_path, capsys
     text.write_text("hello")
     assert main(["view", "--replay", str(text)]) == 2
     assert ".blf, .asc or .log" in capsys.readouterr().err
+    assert main(["view", "--scenario", "paper-fig4", "--crane", path]) == 2
+    assert "--crane is the live twin's crane in a --replay" in capsys.readouterr().err
 
 
 class _Recorded(Viewer):

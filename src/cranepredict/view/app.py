@@ -7,7 +7,7 @@ import argparse
 import os
 import sys
 import time
-from typing import List
+from typing import List, Optional
 
 from .. import scenarios
 from .. import world as world_mod
@@ -73,6 +73,8 @@ def run(args: argparse.Namespace) -> int:
     """Checks everything, serves the page, prints its address and waits (Ctrl-C stops)."""
     require_viser()
     # bad input fails here, before the server starts
+    if args.crane is not None and args.replay is None:
+        raise ValueError("--crane is the live twin's crane in a --replay (a scenario has its own)")
     if args.replay is not None:
         print(f"replaying {args.replay} through the live twin ...", flush=True)
         frames = replay_recording(args)
@@ -101,7 +103,7 @@ def run(args: argparse.Namespace) -> int:
         viewer.close()
 
 
-def serve(seconds) -> None:
+def serve(seconds: Optional[float]) -> None:
     """Keeps the page up for ``seconds`` (None: until Ctrl-C)."""
     if seconds is not None:
         time.sleep(seconds)
