@@ -83,7 +83,7 @@ def _report(benchmark, label: str) -> None:
     mean = stats.stats.mean
     benchmark.extra_info["frames_per_s"] = round(1.0 / mean, 1)
     print(f"\n{label}: {mean * 1e3:.2f} ms per frame = {1.0 / mean:.0f} frames/s "
-          f"(target >= {TARGET_HZ:g})")
+          f"(target >= {TARGET_HZ:g}: {'met' if 1.0 / mean >= TARGET_HZ else 'NOT met'})")
 
 
 def test_view_scene_of_a_frame(benchmark, display):
@@ -127,7 +127,7 @@ def test_view_guard_and_update_rate(benchmark, display):
     _report(benchmark, "guard + display update")
 
 
-def test_view_update_rate_seen_by_the_browser(display):
+def test_view_update_rate_seen_by_the_browser(benchmark, display):
     """The frames a browser page actually receives and draws per second: headless Chromium (no
     GPU: WebGL in software) on the display while frames are pushed at PUSH_HZ for SECONDS s (a
     live loop's pace); the page counts, at each of its animation frames, the distinct frame
@@ -163,12 +163,16 @@ def test_view_update_rate_seen_by_the_browser(display):
                 };
                 requestAnimationFrame(tick);
             }""")
-            pushed, t0 = 0, time.perf_counter()
-            while time.perf_counter() - t0 < SECONDS:     # at the pace of a live loop
-                v.show(frames[pushed % 2])
-                pushed += 1
-                time.sleep(max(0.0, t0 + pushed / PUSH_HZ - time.perf_counter()))
-            wall = time.perf_counter() - t0
+            def push() -> tuple:
+                pushed, t0 = 0, time.perf_counter()
+                while time.perf_counter() - t0 < SECONDS:     # at the pace of a live loop
+                    v.show(frames[pushed % 2])
+                    pushed += 1
+                    time.sleep(max(0.0, t0 + pushed / PUSH_HZ - time.perf_counter()))
+                return pushed, time.perf_counter() - t0
+
+            # one round, through the benchmark fixture so that --benchmark-only runs it too
+            pushed, wall = benchmark.pedantic(push, rounds=1, iterations=1)
             time.sleep(0.5)
             seen, paints = page.evaluate("() => [window.cpSeen.length, window.cpPaints]")
         finally:
@@ -176,6 +180,9 @@ def test_view_update_rate_seen_by_the_browser(display):
             v.close()
     print(f"\nbrowser (headless Chromium, software WebGL): {seen / wall:.0f} frames/s received "
           f"and drawn, {paints / (wall + 0.5):.0f} page paints/s; {pushed / wall:.0f} frames/s "
-          f"pushed (target >= {TARGET_HZ:g})")
+          f"pushed (target >= {TARGET_HZ:g}: {'met' if seen / wall >= TARGET_HZ else 'NOT met'} "
+          f"in this browser)")
     assert pushed >= 0.8 * PUSH_HZ * SECONDS - 1     # the pushing side kept the pace
     assert seen > 1
+    benchmark.extra_info.update(frames_per_s_drawn=round(seen / wall, 1),
+                                paints_per_s=round(paints / (wall + 0.5), 1))

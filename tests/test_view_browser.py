@@ -75,14 +75,15 @@ def shots(tmp_path_factory) -> Path:
 class Page:
     """A browser tab on the display, recording every request it makes."""
 
-    def __init__(self, browser, url: str) -> None:
+    def __init__(self, browser, url: str,
+                 ready: str = "#cp-banner:not([data-signal=FAULT])") -> None:
         self.url = url
         self.requests: list = []
         self.context = browser.new_context(viewport=VIEWPORT)
         self.page = self.context.new_page()
         self.page.on("request", lambda r: self.requests.append(r.url))
         self.page.goto(url)
-        self.page.wait_for_selector("#cp-banner:not([data-signal=FAULT])", timeout=60_000)
+        self.page.wait_for_selector(ready, timeout=60_000)
         self.page.wait_for_selector("canvas", timeout=60_000)
         # the software-WebGL notice (headless has no GPU) covers part of the scene: close it
         self.settle()
@@ -348,6 +349,62 @@ def test_cli_view_serves_the_page_on_localhost(browser, shots):
             b = page.banner()
             assert b["signal"] == "GO"
             page.png(shots / "view-cli-slew-folded-building-edge.png")
+            assert page.foreign_requests() == []
+        finally:
+            page.close()
+    finally:
+        proc.terminate()
+        proc.wait(timeout=30)
+
+
+def test_cli_view_replay_scrubs_a_recorded_log(browser, shots, tmp_path):
+    """`cranepredict view --replay LOG` on a log of the simulated crane driving at the wall: the
+    page opens on the first cycle; a person types a cycle into the recording's box and the
+    banner and the crane follow."""
+    from cranepredict.live.episode import demo_setup
+    from cranepredict.live.runner import record
+    from cranepredict.live.sim import LeverScript, Plant, SimCrane, perturbed_crane
+
+    crane = cp.Crane.patu655()
+    start, _, _ = demo_setup(crane)
+    sim = SimCrane(Plant(perturbed_crane(crane), start),
+                   LeverScript(((0.0, (0.0,) * 4), (0.1, (0.0, 0.0, 0.0, 1.0)))), obey=False)
+    log = str(tmp_path / "towards-wall.asc")
+    record(sim, 2.2, log)
+    proc = subprocess.Popen([sys.executable, "-m", "cranepredict.cli", "view", "--replay", log,
+                             "--world", "wall", "--port", "0", "--serve-for", "180"],
+                            stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    try:
+        lines = []
+        deadline = time.time() + 120
+        while not (lines and lines[-1].startswith("replay ")) and time.time() < deadline:
+            line = proc.stdout.readline()
+            if not line and proc.poll() is not None:
+                pytest.fail(f"cranepredict view exited: {proc.stderr.read()}")
+            lines.append(line)
+        url = next(x for x in lines if x.startswith("display")).split()[1]
+        counts = dict(re.findall(r"(GO|WARN|STOP|FAULT) (\d+)", lines[-1]))
+        assert int(counts["STOP"]) > 0 and "220 cycles" in lines[-1]
+        page = Page(browser, url, ready="#cp-banner[data-frame]:not([data-frame='0'])")
+        try:
+            assert page.banner()["signal"] == "FAULT"           # the estimator settling
+            assert "at 0.00 s" in page.banner()["text"]
+            first = page.png(shots / "view-replay-first-cycle.png")
+            boxes = page.page.locator("input[type=number], input.mantine-NumberInput-input")
+            box = boxes.nth(1)                                   # the recording's (after look ahead)
+            shot = page.page.screenshot()
+            box.fill("219")
+            box.press("Enter")
+            page.page.wait_for_selector("#cp-banner[data-signal=STOP]", timeout=30_000)
+            page.changed(shot)
+            img = page.png(shots / "view-replay-last-cycle-stop.png")
+            b = page.banner()
+            assert "at 2.19 s" in b["text"] and b["fields"]["obstacle"] == "wall"
+            from cranepredict.view.scene import SIGNAL_COLOURS
+
+            assert _rgb(b["background"]) == _hex(SIGNAL_COLOURS["STOP"])
+            # the crane drawn moved: the telescope ran out some 0.4 m towards the wall
+            assert _changed(_scene_region(first, b["box"]), _scene_region(img, b["box"])) > 1500
             assert page.foreign_requests() == []
         finally:
             page.close()

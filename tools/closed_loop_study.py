@@ -7,7 +7,9 @@ An episode: an example world, a start pose clear of every obstacle's margin at r
 combination whose future (on the twin's crane file) comes within the margin between 1.5 and 4 s;
 the plant's load, friction and supply pressure drawn off the crane file (x0.7-1.3, x0.8-1.25,
 x0.95-1.03). Each runs until 2 s after that, once obeying the verdict and once ignoring it. A needless STOP: the obeyed run
-STOPs, while the ignored run never comes within the world's margin of an obstacle.
+STOPs, while the ignored run never comes within the world's margin of an obstacle; also counted:
+the STOPs of episodes whose ignored run came within the margin without touching. Ctrl-C prints
+the table of the episodes done so far (``--json`` is written after every episode).
 """
 
 from __future__ import annotations
@@ -62,7 +64,15 @@ def main() -> None:
     rng = np.random.default_rng(a.seed)
     crane = cp.Crane.patu655()
     rows = []
-    t0 = time.time()
+    t0, cpu0 = time.time(), time.process_time()
+    try:
+        _run(a, rng, crane, rows)
+    except KeyboardInterrupt:       # Ctrl-C: the table of the episodes done so far
+        print(f"\ninterrupted after {len(rows)} episodes")
+    _summary(rows, time.time() - t0, time.process_time() - cpu0)
+
+
+def _run(a: argparse.Namespace, rng: np.random.Generator, crane: cp.Crane, rows: list) -> None:
     for k in range(a.episodes):
         world, start, script, plant, t_contact = draw(rng, crane)
         seconds = t_contact + 2.0
@@ -72,6 +82,9 @@ def main() -> None:
         if ign.collided:
             t_hit = float(ign.contact.rsplit("t = ", 1)[1].split(" s")[0])
         needless = obe.first_stop is not None and ign.min_clearance > world.margin
+        # the stricter count: a STOP although the ignored run never touched (it may have come
+        # within the margin, which the guard is there to keep)
+        untouched = obe.first_stop is not None and not ign.collided
         faults = {}
         for v in obe.verdicts:
             if v.signal == "FAULT" and v.fault != "settling":
@@ -80,24 +93,33 @@ def main() -> None:
                      "ignored_collided": ign.collided, "ignored_contact": ign.contact,
                      "ignored_min_clearance": ign.min_clearance,
                      "obeyed_min_clearance": obe.min_clearance, "obeyed_collided": obe.collided, "obeyed_contact": obe.contact,
-                     "first_stop": obe.first_stop, "needless_stop": needless, "faults": faults,
+                     "first_stop": obe.first_stop, "needless_stop": needless,
+                     "stop_without_touch": untouched, "faults": faults,
                      "stop_cycles": obe.counts.get("STOP", 0)})
         print(f"{k:3d} {world.name:13s} levers {script.steps[1][1]} ignored: "
               f"{ign.contact or 'no contact'} (min {ign.min_clearance:.2f} m); obeyed: {obe.contact or 'no contact'} (min {obe.min_clearance:.2f} m); first STOP "
               f"{obe.first_stop}; faults {faults}", flush=True)
+        if a.json:                  # after every episode: an interrupted run keeps what it did
+            with open(a.json, "w") as f:
+                json.dump(rows, f, indent=1)
+
+
+def _summary(rows: list, wall: float, cpu: float) -> None:
     n = len(rows)
-    print(f"\n{n} episodes ({time.time() - t0:.0f} s)")
+    if not n:
+        return
+    print(f"\n{n} episodes ({wall:.0f} s wall, {cpu:.0f} s CPU)")
     print(f"collisions, interlock ignored: {sum(r['ignored_collided'] for r in rows)}")
     print(f"collisions, interlock obeyed:  {sum(r['obeyed_collided'] for r in rows)}")
     print(f"prevented:                     {sum(r['ignored_collided'] and not r['obeyed_collided'] for r in rows)}")
-    print(f"needless STOPs:                {sum(r['needless_stop'] for r in rows)}")
+    print(f"needless STOPs:                {sum(r['needless_stop'] for r in rows)} "
+          f"(the ignored run never within the margin)")
+    print(f"STOPs, ignored run untouched:  {sum(r['stop_without_touch'] for r in rows)} "
+          f"(it came within the margin without touching)")
     print(f"obeyed runs within the margin: {sum(r['obeyed_min_clearance'] <= r['margin'] for r in rows)} "
           f"(smallest clearance {min(r['obeyed_min_clearance'] for r in rows):.3f} m)")
     print(f"episodes with a FAULT (not settling): {sum(bool(r['faults']) for r in rows)}; by kind: "
           f"{ {k: sum(r['faults'].get(k, 0) for r in rows) for k in sorted({k for r in rows for k in r['faults']})} }")
-    if a.json:
-        with open(a.json, "w") as f:
-            json.dump(rows, f, indent=1)
 
 
 if __name__ == "__main__":

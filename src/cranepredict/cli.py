@@ -345,10 +345,16 @@ def main(argv: Optional[List[str]] = None) -> int:
     grd.set_defaults(func=_guard)
     vw = sub.add_parser("view", help="the operator's display in a browser: the crane now, where it "
                                      "will be and the guard's verdict (needs the [view] extra)")
-    vw.add_argument("--scenario", default="paper-fig4", help="scenario name (default: paper-fig4)")
+    vw.add_argument("--scenario", default=None, help="scenario name (default: paper-fig4)")
+    vw.add_argument("--replay", metavar="LOG", default=None,
+                    help="a recorded CAN log (.blf, .asc, .log) through the live twin, with a "
+                         "timeline over its cycles (needs the [live] extra)")
+    vw.add_argument("--crane", default=None,
+                    help="--replay: the twin's crane file (TOML; default: the PATU 655)")
     vw.add_argument("--world", default="wall",
                     help="world file (TOML), or an example world's name (default: wall)")
-    vw.add_argument("--horizon", type=float, default=None, help="s (default: the scenario's)")
+    vw.add_argument("--horizon", type=float, default=None,
+                    help="s (default: the scenario's; 2 in a replay)")
     vw.add_argument("--reaction", type=float, default=0.2,
                     help="delay from the stop decision to the stop, s (default: 0.2)")
     vw.add_argument("--cycle", type=float, default=0.01, help="control cycle, s (default: 0.01)")

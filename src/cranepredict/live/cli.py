@@ -75,16 +75,76 @@ def _live(args: argparse.Namespace) -> int:
     from .runner import run_twin
 
     twin = _twin(args, crane, world)
-    print(f"live twin on {args.interface}:{args.channel}, world {world.name}; Ctrl-C stops", flush=True)
-    with can.Bus(interface=args.interface, channel=args.channel, bitrate=args.bitrate) as bus:
-        printer = _Printer()
-        out = (lambda v: print(json.dumps(v.to_dict()), flush=True)) if args.json else printer
-        run_twin(bus, twin, on_verdict=out, max_cycles=args.cycles)
+    with _Display(args, crane, world) as display:
+        print(f"live twin on {args.interface}:{args.channel}, world {world.name}; Ctrl-C stops",
+              flush=True)
+        with can.Bus(interface=args.interface, channel=args.channel, bitrate=args.bitrate) as bus:
+            printer = _Printer()
+            out = (lambda v: print(json.dumps(v.to_dict()), flush=True)) if args.json else printer
+            run_twin(bus, twin, on_verdict=display.chain(out), max_cycles=args.cycles)
+        display.end()
     return 0
 
 
+class _Display:
+    """``--view``: the operator's display fed every cycle (a no-op without --view). After the
+    loop, :meth:`end` keeps the page up (--serve-for, or until Ctrl-C); a demo's run is then a
+    recording with its timeline."""
+
+    def __init__(self, args: argparse.Namespace, crane: Any, world: Any, keep: bool = False) -> None:
+        self.args, self.viewer, self.live = args, None, None
+        if not args.view:
+            return
+        from ..view.server import Viewer, require_viser
+        from ..view.sources import LiveDisplay
+
+        require_viser()
+        self.viewer = Viewer(host=args.host, port=args.port, ghosts=args.ghosts)
+        self.live = LiveDisplay(self.viewer, crane, world, keep=keep)
+        print(f"display    {self.viewer.url}  (updated every cycle)", flush=True)
+
+    def __enter__(self) -> "_Display":
+        return self
+
+    def __exit__(self, *exc: Any) -> None:
+        if self.live is not None:
+            self.live.close()
+        if self.viewer is not None:
+            self.viewer.close()
+
+    def chain(self, out: Any) -> Any:
+        if self.live is None:
+            return out
+        live = self.live
+
+        def both(v: LiveVerdict) -> None:
+            out(v)
+            live(v)
+        return both
+
+    def end(self) -> None:
+        if self.live is None:
+            return
+        from ..view.app import serve
+
+        self.live.close()
+        print(f"display    drew {self.live.shown} of {self.live.received} cycles as they came "
+              f"({self.live.skipped} skipped for a newer one)", flush=True)
+        if self.live.frames:
+            self.viewer.play(self.live.frames, start=-1)
+            print(f"display    {self.viewer.url}: {len(self.live.frames)} cycles to scrub back "
+                  f"(the slider 'recording, frame'); "
+                  + ("Ctrl-C stops" if self.args.serve_for is None
+                     else f"serving for {self.args.serve_for:g} s"), flush=True)
+        else:
+            print(f"display    {self.viewer.url}: the last cycle; "
+                  + ("Ctrl-C stops" if self.args.serve_for is None
+                     else f"serving for {self.args.serve_for:g} s"), flush=True)
+        serve(self.args.serve_for)
+
+
 def _demo(args: argparse.Namespace, crane: Any, world: Any) -> int:
-    from .episode import demo_setup, run_episode
+    from .episode import demo_setup
     from .runner import demo
     from .sim import Plant, SimCrane, SensorModel, perturbed_crane
 
@@ -98,7 +158,18 @@ def _demo(args: argparse.Namespace, crane: Any, world: Any) -> int:
           "(valves to neutral on STOP and FAULT)")
     sim = SimCrane(Plant(plant_crane, start, world=world), script)
     twin = _twin(args, crane, world)
-    demo(crane, world, sim, twin, args.seconds, on_verdict=_Printer(), log=args.log)
+    with _Display(args, crane, world, keep=True) as display:
+        demo(crane, world, sim, twin, args.seconds, on_verdict=display.chain(_Printer()),
+             log=args.log)
+        _demo_end(args, crane, world, twin, sim, start, script)
+        display.end()
+    return 0
+
+
+def _demo_end(args: argparse.Namespace, crane: Any, world: Any, twin: Any, sim: Any, start: Any,
+              script: Any) -> None:
+    from .episode import run_episode
+
     obeyed = sim.plant
     counterfactual = run_episode(crane, world, start, script, args.seconds, obey=False,
                                  horizon=args.horizon)
@@ -109,8 +180,8 @@ def _demo(args: argparse.Namespace, crane: Any, world: Any) -> int:
     if counterfactual.collided and not obeyed.collided:
         print("the interlock prevented that contact")
     if args.log:
-        print(f"bus log: {args.log} (cranepredict replay {args.log} --world {world.name})")
-    return 0
+        print(f"bus log: {args.log} (cranepredict replay {args.log} --world {world.name}; "
+              f"cranepredict view --replay {args.log} --world {world.name})")
 
 
 def _replay(args: argparse.Namespace) -> int:
@@ -206,6 +277,17 @@ def add_parsers(sub: Any) -> None:
     live.add_argument("--log", default=None, help="demo: record the bus (.blf, .asc or .log)")
     live.add_argument("--cycles", type=int, default=None, help="stop after this many verdicts")
     live.add_argument("--json", action="store_true", help="one JSON line per verdict")
+    live.add_argument("--view", action="store_true",
+                      help="show the loop on the operator's display, updated every cycle (a local "
+                           "web page; needs the [view] extra)")
+    live.add_argument("--host", default="127.0.0.1",
+                      help="--view: address to listen on (default: 127.0.0.1, this machine only)")
+    live.add_argument("--port", type=int, default=8080,
+                      help="--view: port (default: 8080; 0: any free one)")
+    live.add_argument("--ghosts", type=int, default=4, help="--view: future poses drawn (default: 4)")
+    live.add_argument("--serve-for", type=float, default=None, metavar="S",
+                      help="--view: after the loop ends, keep the page up S seconds (default: "
+                           "until Ctrl-C)")
     common(live)
     live.set_defaults(func=_live)
     rep = sub.add_parser("replay", help="run the live twin over a recorded CAN log (.blf, .asc, .log)")

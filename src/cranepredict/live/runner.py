@@ -2,7 +2,8 @@
 
 :func:`run_twin` serves the twin: frames in, a Verdict frame out per Levers frame (and a FAULT
 verdict when the levers stop coming). :func:`run_sim` plays the crane's ECU. :func:`replay` runs
-the twin over a python-can log (.blf, .asc, .log). :func:`demo` puts the two on one virtual bus.
+the twin over a python-can log (.blf, .asc, .log); :func:`record` writes one of the simulated
+crane alone. :func:`demo` puts the two on one virtual bus.
 """
 
 from __future__ import annotations
@@ -19,7 +20,7 @@ from .bus import VERDICT_FRAME, Codec, MeasurementAssembler, SensorFrames, Verdi
 from .loop import LiveTwin, LiveVerdict
 from .sim import SimCrane
 
-__all__ = ["run_twin", "run_sim", "replay", "verdict_message", "demo"]
+__all__ = ["run_twin", "run_sim", "replay", "record", "verdict_message", "demo"]
 
 
 def verdict_message(frame: VerdictFrame, v: LiveVerdict, crane: Crane, world: World,
@@ -121,6 +122,30 @@ def replay(path: str, twin: LiveTwin) -> List[LiveVerdict]:
             out.append(twin.cycle(m, faults) if m is not None else
                        twin.fault(float(msg.timestamp), "levers stale", "; ".join(faults)))
     return out
+
+
+def record(sim: SimCrane, seconds: float, path: str) -> int:
+    """Writes the simulated crane's frames (sensors and levers, no verdict) for ``seconds`` of
+    simulated time to a python-can log (.blf, .asc, .log), the valves following the levers
+    (the crane's true states are in ``sim.history``); returns the number of cycles. A log to try
+    ``cranepredict replay`` and ``cranepredict view --replay`` on without a bus."""
+    import can
+
+    if not isinstance(seconds, (int, float)) or isinstance(seconds, bool) \
+            or not 0 < seconds <= 3600:
+        raise ValueError(f"seconds must be in (0, 3600], got {seconds!r}")
+    frames = SensorFrames()
+    n = int(round(seconds / sim.period))
+    logger = can.Logger(path)
+    try:
+        for _ in range(n):
+            values, request, scale = sim.measure()
+            for msg in frames.messages(values, request, scale, timestamp=sim.plant.t):
+                logger.on_message_received(msg)
+            sim.step(allowed=True)
+    finally:
+        logger.stop()
+    return n
 
 
 def demo(crane: Crane, world: World, sim: SimCrane, twin: LiveTwin, seconds: float, *,

@@ -174,25 +174,55 @@ class Viewer:
             self._draw_scrub()
             self.frames_shown += 1
 
-    def play(self, frames: Sequence[Frame]) -> None:
-        """A recording: a slider over the frames' clocks picks the frame shown (the first now)."""
+    def play(self, frames: Sequence[Frame], start: int = 0) -> None:
+        """A recording: a slider over the frames (their clocks increase) picks the frame shown;
+        ``start``: the index shown first (-1: the last)."""
         frames = list(frames)
         if not frames or not all(isinstance(f, Frame) for f in frames):
             raise ValueError("play needs a non-empty sequence of cranepredict.view.Frame")
         clocks = [f.clock for f in frames]
         if any(b <= a for a, b in zip(clocks, clocks[1:])):
             raise ValueError("the frames' clocks must increase (a recording in time order)")
-        self._recording = frames
+        if isinstance(start, bool) or not isinstance(start, int) \
+                or not -len(frames) <= start < len(frames):
+            raise ValueError(f"start must index the frames (-{len(frames)}..{len(frames) - 1}), "
+                             f"got {start!r}")
+        start %= len(frames)
+        with self._lock:
+            self._recording = frames
+            if self._log_slider is None:
+                self._log_slider = self.server.gui.add_slider(
+                    "recording, frame", min=0, max=max(1, len(frames) - 1), step=1,
+                    initial_value=start, order=5)
+                self._log_slider.on_update(lambda _: self._show_recorded())
+            else:
+                self._log_slider.max = max(1, len(frames) - 1)
+                self._log_slider.value = start
+            self.show(frames[start])
+
+    @property
+    def recording(self) -> Sequence[Frame]:
+        """The frames of the recording being played (empty without one)."""
+        return self._recording
+
+    @property
+    def position(self) -> Optional[int]:
+        """The recording slider's frame index (None without a recording)."""
+        return None if self._log_slider is None else int(self._log_slider.value)
+
+    def seek(self, index: int) -> None:
+        """Moves the recording slider to frame ``index`` (as dragging it in the page does)."""
         if self._log_slider is None:
-            self._log_slider = self.server.gui.add_slider(
-                "recording, frame", min=0, max=max(1, len(frames) - 1), step=1, initial_value=0,
-                order=5)
-            self._log_slider.on_update(lambda _: self.show(
-                self._recording[min(int(self._log_slider.value), len(self._recording) - 1)]))
-        else:
-            self._log_slider.max = max(1, len(frames) - 1)
-            self._log_slider.value = 0
-        self.show(frames[0])
+            raise ValueError("seek needs a recording (Viewer.play)")
+        n = len(self._recording)
+        if isinstance(index, bool) or not isinstance(index, int) or not 0 <= index < n:
+            raise ValueError(f"index must be in 0..{n - 1}, got {index!r}")
+        self._log_slider.value = index
+
+    def _show_recorded(self) -> None:
+        frames = self._recording
+        if frames:
+            self.show(frames[min(max(int(self._log_slider.value), 0), len(frames) - 1)])
 
     def follow(self, source: Iterable[Frame]) -> int:
         """Shows each frame of a source as it comes (a live loop's generator); returns how many."""
