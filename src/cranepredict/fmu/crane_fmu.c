@@ -207,7 +207,8 @@ static int advance(cfmu_instance *f, double h, int at_start)
 
 /* The guard's verdict on the future from the current state under the current inputs (held
  * over the guard horizon): a prediction sampled about every 10 ms, judged by crane_guard
- * (docs/guard.md) with its stop that freezes the crane after the reaction time. */
+ * (docs/guard.md) with its stop that freezes the crane after the reaction time; the signal is
+ * STOP for any contact within the horizon. */
 static int judge(cfmu_instance *f)
 {
     const double horizon = f->s.value[Q_GUARD_HORIZON], step = f->s.value[Q_STEP];
@@ -254,7 +255,10 @@ static int judge(cfmu_instance *f)
     least = f->part_clearance[0];
     for (k = 1; k < cfmu_n_parts; ++k)
         least = f->part_clearance[k] < least ? f->part_clearance[k] : least;
-    f->s.signal = r.signal;
+    /* crane_guard's stop freezes the crane after the reaction time; a real stop (valves to
+     * neutral, the oil and the inertia carrying on) takes longer, so a WARN by that stop could
+     * be optimistic: any predicted contact is a STOP here (conservative, never optimistic). */
+    f->s.signal = r.contact ? CRANE_STOP : r.signal;
     f->s.time_to_contact = r.contact ? r.t : horizon;
     f->s.stop_latest = r.contact ? r.stop_latest : horizon;
     f->s.min_clearance = least;
