@@ -11,7 +11,7 @@
  */
 #include "crane_internal.h"
 
-enum { N = CRANE_EST_N, N_FUTURES = CRANE_EST_N + 1 };
+enum estimator_sizes { N = CRANE_EST_N, N_FUTURES = CRANE_EST_N + 1 };
 
 /* The smallest eigenvalue of the scaled covariance: positive definite with room for rounding
  * (the covariance spans 1e-9 m^2 to 1e12 Pa^2; unscaled, rounding alone makes small eigenvalues
@@ -20,7 +20,7 @@ static const crane_real CRANE__EST_FLOOR = (crane_real)1e-12;
 
 /* Cyclic Jacobi sweeps before the eigen-decomposition gives up (it converges quadratically: a
  * 16 x 16 matrix needs 6-10). */
-enum { JACOBI_SWEEPS = 50 };
+enum estimator_jacobi { JACOBI_SWEEPS = 50 };
 
 static int config_ok(const crane_estimator_config *c)
 {
