@@ -453,9 +453,9 @@ def load_study(spec: Union[str, Path, Study]) -> Study:
 @dataclass(frozen=True)
 class Nominal:
     """What the twin with the nominal parameters said for each case: the signal (index into
-    SIGNALS), when its decision stops the crane (s: WARN its latest stop time, STOP at once (0); nan: GO,
-    never), the obstacle of its first contact (-1: none), and that decision's clearance per
-    obstacle (m) for the nominal crane."""
+    SIGNALS), when its decision stops the crane (s: WARN its latest stop time, STOP at once, 0;
+    nan: GO, never), the obstacle of its first contact (-1: none), and that decision's clearance
+    per obstacle (m) for the nominal crane."""
 
     signal: np.ndarray
     stop_time: np.ndarray
