@@ -86,8 +86,9 @@ crane_real crane__actuator_force(const crane_model *m, int joint, crane_real p_a
     const crane_params *p = m->params;
     crane_real a_a, a_b;
 
-    if (joint < 2)
+    if (joint < 2) {
         return crane__cylinder_force(m, joint, p_a, p_b, v);
+    }
     crane__actuator_areas(m, joint, &a_a, &a_b);
     return p_a * a_a - p_b * a_b -
            crane__friction(joint == CRANE_SLEW ? &p->slew_drive.friction
@@ -100,18 +101,23 @@ crane_status crane_cylinder_force(const crane_model *model, int joint, crane_rea
     const crane_real pmax = (crane_real)CRANE_PRESSURE_MAX;
     crane_real f;
 
-    if (!model || !force)
+    if (!model || !force) {
         return CRANE_E_NULL;
-    if (joint != CRANE_LIFT && joint != CRANE_TILT)
+    }
+    if (joint != CRANE_LIFT && joint != CRANE_TILT) {
         return CRANE_E_CYLINDER;
-    if (!crane__finite(p_a) || !crane__finite(p_b) || !crane__finite(stroke_rate))
+    }
+    if (!crane__finite(p_a) || !crane__finite(p_b) || !crane__finite(stroke_rate)) {
         return CRANE_E_NONFINITE;
-    if (p_a < 0 || p_a > pmax || p_b < 0 || p_b > pmax)
+    }
+    if (p_a < 0 || p_a > pmax || p_b < 0 || p_b > pmax) {
         return CRANE_E_PRESSURE;
+    }
     /* The viscous term overflows for stroke rates near the largest real (1e307 m/s). */
     f = crane__cylinder_force(model, joint, p_a, p_b, stroke_rate);
-    if (!crane__finite(f))
+    if (!crane__finite(f)) {
         return CRANE_E_OVERFLOW;
+    }
     *force = f;
     return CRANE_OK;
 }

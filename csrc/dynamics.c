@@ -56,8 +56,9 @@ void crane__id_planar(const crane_model *m, const crane__conf *cf, const crane_r
                           crane__cross(r12, f2) + n2;
     tau[0] = n1;
     tau[1] = n2;
-    if (m->links)
+    if (m->links) {
         side_links(&cf->tk, cf->c0, cf->s0, omega, alpha, g, tau);
+    }
 }
 
 /* The Newton-Euler recursion with omega = 0, g = 0 and alpha = e_j, simplified by hand:
@@ -248,8 +249,9 @@ void crane__slew_inertia(const crane_model *m, const crane__bodies *b, const cra
      * its turn rate per unit tilt rate kl and cos cl, sin sl of its turn relative to the lift
      * boom (R(phi1) takes link_pin to qp, R(phi2) link2_end to aq: the dot and cross products
      * over the equal lengths). Worked here from the four-bar rather than kept (the stack). */
-    if (m->links)
+    if (m->links) {
         crane__link_vectors(m, &cf->tk, &l);
+    }
     for (k = 0; m->links && k < 2; ++k) {
         const crane_body *lbody = k == 0 ? &p->side_link1 : &p->side_link2;
         const crane_vec2 pin = k == 0 ? p->link_pin : p->link2_end, rel = k == 0 ? l.qp : l.aq;
@@ -318,19 +320,25 @@ crane_status crane_inverse_dynamics(const crane_model *model, const crane_real q
     crane_real t[4];
     int i;
 
-    if (!model || !q || !qd || !qdd || !tau)
+    if (!model || !q || !qd || !qdd || !tau) {
         return CRANE_E_NULL;
+    }
     p = model->params;
-    for (i = 0; i < 4; ++i)
-        if (!crane__finite(q[i]) || !crane__finite(qd[i]) || !crane__finite(qdd[i]))
+    for (i = 0; i < 4; ++i) {
+        if (!crane__finite(q[i]) || !crane__finite(qd[i]) || !crane__finite(qdd[i])) {
             return CRANE_E_NONFINITE;
+        }
+    }
     /* The model holds only between the angle limits: beyond them the four-bar may not close
      * (crane_joint_stroke and crane_points reject the same angles). */
-    for (i = 0; i < 2; ++i)
-        if (q[i] < model->theta_min[i] || q[i] > model->theta_max[i])
+    for (i = 0; i < 2; ++i) {
+        if (q[i] < model->theta_min[i] || q[i] > model->theta_max[i]) {
             return CRANE_E_ANGLE;
-    if (q[3] < p->extension_min || q[3] > p->extension_max)
+        }
+    }
+    if (q[3] < p->extension_min || q[3] > p->extension_max) {
         return CRANE_E_EXTENSION;
+    }
     crane__bodies_init(p, &b);
     crane__conf_at(model, q[0], q[1], q[3], &cf);
     crane__id_spatial(model, &b, &cf, qd, qdd, p->gravity, t);
@@ -340,10 +348,13 @@ crane_status crane_inverse_dynamics(const crane_model *model, const crane_real q
         t[2] = crane__slew_torque(jz, jdot, qd[2], qdd[2]);
     }
     /* squares of rates near 1e160 (double) overflow */
-    for (i = 0; i < 4; ++i)
-        if (!crane__finite(t[i]))
+    for (i = 0; i < 4; ++i) {
+        if (!crane__finite(t[i])) {
             return CRANE_E_OVERFLOW;
-    for (i = 0; i < 4; ++i)
+        }
+    }
+    for (i = 0; i < 4; ++i) {
         tau[i] = t[i];
+    }
     return CRANE_OK;
 }

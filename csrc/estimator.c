@@ -26,17 +26,22 @@ static int config_ok(const crane_estimator_config *c)
 {
     int i;
 
-    if (!crane__finite(c->dt) || !(c->dt > 0))
+    if (!crane__finite(c->dt) || !(c->dt > 0)) {
         return 0;
+    }
     for (i = 0; i < N; ++i) {
-        if (!crane__finite(c->lo[i]) || !crane__finite(c->hi[i]) || !(c->lo[i] < c->hi[i]))
+        if (!crane__finite(c->lo[i]) || !crane__finite(c->hi[i]) || !(c->lo[i] < c->hi[i])) {
             return 0;
-        if (!crane__finite(c->noise[i]) || !(c->noise[i] >= 0))
+        }
+        if (!crane__finite(c->noise[i]) || !(c->noise[i] >= 0)) {
             return 0;
-        if (!crane__finite(c->fd_step[i]) || !(c->fd_step[i] > 0))
+        }
+        if (!crane__finite(c->fd_step[i]) || !(c->fd_step[i] > 0)) {
             return 0;
-        if (!crane__finite(c->scale[i]) || !(c->scale[i] > 0))
+        }
+        if (!crane__finite(c->scale[i]) || !(c->scale[i] > 0)) {
             return 0;
+        }
     }
     return 1;
 }
@@ -50,18 +55,21 @@ static int cholesky(const crane_real *a, int m, crane_real *l)
     for (i = 0; i < m; ++i) {
         for (j = 0; j <= i; ++j) {
             crane_real s = a[i * N + j];
-            for (k = 0; k < j; ++k)
+            for (k = 0; k < j; ++k) {
                 s -= l[i * N + k] * l[j * N + k];
+            }
             if (i == j) {
-                if (!(s > 0) || !crane__finite(s))
+                if (!(s > 0) || !crane__finite(s)) {
                     return 0;
+                }
                 l[i * N + i] = crane__sqrt(s);
             } else {
                 l[i * N + j] = s / l[j * N + j];
             }
         }
-        for (j = i + 1; j < m; ++j)
+        for (j = i + 1; j < m; ++j) {
             l[i * N + j] = 0;
+        }
     }
     return 1;
 }
@@ -73,14 +81,16 @@ static void chol_solve(const crane_real *l, int m, crane_real *v)
 
     for (i = 0; i < m; ++i) {
         crane_real s = v[i];
-        for (k = 0; k < i; ++k)
+        for (k = 0; k < i; ++k) {
             s -= l[i * N + k] * v[k];
+        }
         v[i] = s / l[i * N + i];
     }
     for (i = m - 1; i >= 0; --i) {
         crane_real s = v[i];
-        for (k = i + 1; k < m; ++k)
+        for (k = i + 1; k < m; ++k) {
             s -= l[k * N + i] * v[k];
+        }
         v[i] = s / l[i * N + i];
     }
 }
@@ -90,13 +100,15 @@ static void mul_abt(const crane_real *a, const crane_real *b, crane_real *c)
 {
     int i, j, k;
 
-    for (i = 0; i < N; ++i)
+    for (i = 0; i < N; ++i) {
         for (j = 0; j < N; ++j) {
             crane_real s = 0;
-            for (k = 0; k < N; ++k)
+            for (k = 0; k < N; ++k) {
                 s += a[i * N + k] * b[j * N + k];
+            }
             c[i * N + j] = s;
         }
+    }
 }
 
 /* c = a b (N x N, row-major); c must not alias a or b. */
@@ -104,13 +116,15 @@ static void mul_ab(const crane_real *a, const crane_real *b, crane_real *c)
 {
     int i, j, k;
 
-    for (i = 0; i < N; ++i)
+    for (i = 0; i < N; ++i) {
         for (j = 0; j < N; ++j) {
             crane_real s = 0;
-            for (k = 0; k < N; ++k)
+            for (k = 0; k < N; ++k) {
                 s += a[i * N + k] * b[k * N + j];
+            }
             c[i * N + j] = s;
         }
+    }
 }
 
 /* Eigen-decomposition of the symmetric a (destroyed: its diagonal ends as the eigenvalues) by
@@ -119,26 +133,32 @@ static int jacobi(crane_real *a, crane_real *v)
 {
     int sweep, p, q, k;
 
-    for (p = 0; p < N; ++p)
-        for (q = 0; q < N; ++q)
+    for (p = 0; p < N; ++p) {
+        for (q = 0; q < N; ++q) {
             v[p * N + q] = p == q ? 1 : 0;
+        }
+    }
     for (sweep = 0; sweep < JACOBI_SWEEPS; ++sweep) {
         crane_real off = 0, diag = 0;
         for (p = 0; p < N; ++p) {
             diag += a[p * N + p] * a[p * N + p];
-            for (q = p + 1; q < N; ++q)
+            for (q = p + 1; q < N; ++q) {
                 off += a[p * N + q] * a[p * N + q];
+            }
         }
-        if (!crane__finite(off) || !crane__finite(diag))
+        if (!crane__finite(off) || !crane__finite(diag)) {
             return 0;
-        if (off <= diag * (crane_real)1e-30 || off == 0)
+        }
+        if (off <= diag * (crane_real)1e-30 || off == 0) {
             return 1;
-        for (p = 0; p < N; ++p)
+        }
+        for (p = 0; p < N; ++p) {
             for (q = p + 1; q < N; ++q) {
                 const crane_real apq = a[p * N + q];
                 crane_real theta, t, c, s;
-                if (apq == 0)
+                if (apq == 0) {
                     continue;
+                }
                 theta = (a[q * N + q] - a[p * N + p]) / (2 * apq);
                 t = (theta >= 0 ? (crane_real)1 : (crane_real)-1) /
                     (crane__fabs(theta) + crane__sqrt(theta * theta + 1));
@@ -160,6 +180,7 @@ static int jacobi(crane_real *a, crane_real *v)
                     v[k * N + q] = s * vkp + c * vkq;
                 }
             }
+        }
     }
     return 0;
 }
@@ -173,22 +194,28 @@ static CRANE__NOINLINE int make_positive(crane_estimator *est)
     crane_real *p = est->covariance, *ps = est->a, *l = est->b, *v = est->k;
     int i, j, k;
 
-    for (i = 0; i < N; ++i)
-        for (j = 0; j < N; ++j)
+    for (i = 0; i < N; ++i) {
+        for (j = 0; j < N; ++j) {
             ps[i * N + j] = (crane_real)0.5 * (p[i * N + j] + p[j * N + i]) / (s[i] * s[j]);
+        }
+    }
     /* the smallest eigenvalue is above the floor if and only if ps - floor I is positive definite */
-    for (i = 0; i < N; ++i)
+    for (i = 0; i < N; ++i) {
         ps[i * N + i] -= CRANE__EST_FLOOR;
+    }
     j = cholesky(ps, N, l);
-    for (i = 0; i < N; ++i)
+    for (i = 0; i < N; ++i) {
         ps[i * N + i] += CRANE__EST_FLOOR;
+    }
     if (!j) {
         /* l: the eigenvalues floored on the diagonal of ps, then v diag v^T */
-        for (i = 0; i < N * N; ++i)
+        for (i = 0; i < N * N; ++i) {
             l[i] = ps[i];
-        if (!jacobi(l, v))
+        }
+        if (!jacobi(l, v)) {
             return 0;
-        for (i = 0; i < N; ++i)
+        }
+        for (i = 0; i < N; ++i) {
             for (j = 0; j < N; ++j) {
                 crane_real acc = 0;
                 for (k = 0; k < N; ++k) {
@@ -197,16 +224,21 @@ static CRANE__NOINLINE int make_positive(crane_estimator *est)
                 }
                 ps[i * N + j] = acc;
             }
-        for (i = 0; i < N; ++i)
-            for (j = 0; j < i; ++j)
+        }
+        for (i = 0; i < N; ++i) {
+            for (j = 0; j < i; ++j) {
                 ps[i * N + j] = ps[j * N + i] = (crane_real)0.5 * (ps[i * N + j] + ps[j * N + i]);
+            }
+        }
     }
-    for (i = 0; i < N; ++i)
+    for (i = 0; i < N; ++i) {
         for (j = 0; j < N; ++j) {
             p[i * N + j] = ps[i * N + j] * (s[i] * s[j]);
-            if (!crane__finite(p[i * N + j]))
+            if (!crane__finite(p[i * N + j])) {
                 return 0;
+            }
         }
+    }
     return 1;
 }
 
@@ -217,33 +249,44 @@ crane_status crane_estimator_init(crane_estimator *est, const crane_estimator_co
 {
     int i;
 
-    if (!est || !config || !x0 || !covariance0 || !spool0)
+    if (!est || !config || !x0 || !covariance0 || !spool0) {
         return CRANE_E_NULL;
-    if (!config_ok(config))
+    }
+    if (!config_ok(config)) {
         return CRANE_E_ESTIMATOR;
-    for (i = 0; i < N; ++i)
-        if (!crane__finite(x0[i]) || x0[i] < config->lo[i] || x0[i] > config->hi[i])
+    }
+    for (i = 0; i < N; ++i) {
+        if (!crane__finite(x0[i]) || x0[i] < config->lo[i] || x0[i] > config->hi[i]) {
             return CRANE_E_ESTIMATOR;
-    for (i = 0; i < N * N; ++i)
-        if (!crane__finite(covariance0[i]))
+        }
+    }
+    for (i = 0; i < N * N; ++i) {
+        if (!crane__finite(covariance0[i])) {
             return CRANE_E_NONFINITE;
-    for (i = 0; i < 4; ++i)
-        if (!crane__in_range(spool0[i], -1, 1))
+        }
+    }
+    for (i = 0; i < 4; ++i) {
+        if (!crane__in_range(spool0[i], -1, 1)) {
             return CRANE_E_VALVE;
+        }
+    }
     est->config = *config;
     for (i = 0; i < N; ++i) {
         est->x[i] = x0[i];
         est->field_nis[i] = 0;
     }
-    for (i = 0; i < N * N; ++i)
+    for (i = 0; i < N * N; ++i) {
         est->covariance[i] = covariance0[i];
-    for (i = 0; i < 4; ++i)
+    }
+    for (i = 0; i < 4; ++i) {
         est->spool[i] = spool0[i];
+    }
     est->nis = 0;
     est->n_measured = 0;
     est->projected = 0;
-    if (!make_positive(est))
+    if (!make_positive(est)) {
         return CRANE_E_ESTIMATOR;
+    }
     return CRANE_OK;
 }
 
@@ -266,14 +309,18 @@ static void state_of(const crane_estimator *est, const crane_real *x, const cran
         s->p_b[j] = x[CRANE_EST_PRESSURES + 2 * j + 1];
         s->spool[j] = est->spool[j];
     }
-    if (in->drive[CRANE_LIFT].mode == CRANE_DRIVE_HOLD)
+    if (in->drive[CRANE_LIFT].mode == CRANE_DRIVE_HOLD) {
         s->stroke_rate[0] = 0;
-    if (in->drive[CRANE_TILT].mode == CRANE_DRIVE_HOLD)
+    }
+    if (in->drive[CRANE_TILT].mode == CRANE_DRIVE_HOLD) {
         s->stroke_rate[1] = 0;
-    if (in->drive[CRANE_SLEW].mode == CRANE_DRIVE_HOLD)
+    }
+    if (in->drive[CRANE_SLEW].mode == CRANE_DRIVE_HOLD) {
         s->slew_rate = 0;
-    if (in->drive[CRANE_EXTENSION].mode == CRANE_DRIVE_HOLD)
+    }
+    if (in->drive[CRANE_EXTENSION].mode == CRANE_DRIVE_HOLD) {
         s->extension_rate = 0;
+    }
 }
 
 /* The nominal future and one per perturbed field: futures[0] from x, futures[1 + i] from x with
@@ -288,8 +335,9 @@ static CRANE__NOINLINE void perturb(crane_estimator *est, const crane_inputs *in
         crane_real xi[CRANE_EST_N];
         int k;
         const crane_real h = est->config.fd_step[i];
-        for (k = 0; k < N; ++k)
+        for (k = 0; k < N; ++k) {
             xi[k] = est->x[k];
+        }
         est->step[i] = est->x[i] + h <= est->config.hi[i] ? h : -h;
         xi[i] += est->step[i];
         state_of(est, xi, in, &est->futures[1 + i]);
@@ -310,8 +358,9 @@ static crane_status finals(const crane_model *m, const crane_sample *s, crane_re
     for (j = 0; j < 2; ++j) {
         crane_real th, ds;
         const crane_status st = crane_joint_angle(m, j, s->stroke[j], &th, &ds);
-        if (st != CRANE_OK)
+        if (st != CRANE_OK) {
             return st;
+        }
         y[CRANE_EST_RATES + j] = s->omega[j] * ds;
     }
     y[CRANE_EST_RATES + 2] = s->slew_rate;
@@ -332,26 +381,32 @@ static CRANE__NOINLINE crane_status jacobian(crane_estimator *est, const crane_m
     int i, k, j;
     crane_status st = finals(m, &est->samples[1], y0);
 
-    if (st != CRANE_OK)
+    if (st != CRANE_OK) {
         return st;
+    }
     for (i = 0; i < N; ++i) {
         st = finals(m, &est->samples[2 * (1 + i) + 1], yi);
-        if (st != CRANE_OK)
+        if (st != CRANE_OK) {
             return st;
-        for (k = 0; k < N; ++k)
+        }
+        for (k = 0; k < N; ++k) {
             f[k * N + i] = (yi[k] - y0[k]) / est->step[i];
-    }
-    for (j = 0; j < 4; ++j) {
-        if (in->drive[j].mode != CRANE_DRIVE_HOLD)
-            continue;
-        for (k = CRANE_EST_PRESSURES + 2 * j; k < CRANE_EST_PRESSURES + 2 * j + 2; ++k) {
-            y0[k] = est->x[k];
-            for (i = 0; i < N; ++i)
-                f[k * N + i] = i == k ? 1 : 0;
         }
     }
-    for (j = 0; j < 4; ++j)
+    for (j = 0; j < 4; ++j) {
+        if (in->drive[j].mode != CRANE_DRIVE_HOLD) {
+            continue;
+        }
+        for (k = CRANE_EST_PRESSURES + 2 * j; k < CRANE_EST_PRESSURES + 2 * j + 2; ++k) {
+            y0[k] = est->x[k];
+            for (i = 0; i < N; ++i) {
+                f[k * N + i] = i == k ? 1 : 0;
+            }
+        }
+    }
+    for (j = 0; j < 4; ++j) {
         est->spool[j] = est->samples[1].spool[j];
+    }
     return CRANE_OK;
 }
 
@@ -362,8 +417,9 @@ static CRANE__NOINLINE void time_update(crane_estimator *est, crane_real period)
 
     mul_ab(est->a, est->covariance, est->b);
     mul_abt(est->b, est->a, est->covariance);
-    for (i = 0; i < N; ++i)
+    for (i = 0; i < N; ++i) {
         est->covariance[i * N + i] += est->config.noise[i] * period;
+    }
 }
 
 /* The measurement update over the measured fields rows[0..m): gain, estimate, Joseph form, the
@@ -378,49 +434,65 @@ static CRANE__NOINLINE int measurement_update(crane_estimator *est, const int *r
 
     for (i = 0; i < m; ++i) {
         innov[i] = z[rows[i]] - x[rows[i]];
-        for (j = 0; j < m; ++j)
+        for (j = 0; j < m; ++j) {
             s[i * N + j] = (crane_real)0.5 * (p[rows[i] * N + rows[j]] + p[rows[j] * N + rows[i]]);
+        }
         s[i * N + i] += variance[rows[i]];
     }
-    for (i = 0; i < N; ++i)
+    for (i = 0; i < N; ++i) {
         est->field_nis[i] = 0;
-    for (i = 0; i < m; ++i)
+    }
+    for (i = 0; i < m; ++i) {
         est->field_nis[rows[i]] = innov[i] * innov[i] / s[i * N + i];
-    if (!cholesky(s, m, l))
+    }
+    if (!cholesky(s, m, l)) {
         return 0;
+    }
     /* K^T (m x N): column c of K^T solves S k = P[c, rows]^T */
     for (i = 0; i < N; ++i) {
-        for (r = 0; r < m; ++r)
+        for (r = 0; r < m; ++r) {
             w[r] = p[i * N + rows[r]];
+        }
         chol_solve(l, m, w);
-        for (r = 0; r < m; ++r)
+        for (r = 0; r < m; ++r) {
             kt[r * N + i] = w[r];
+        }
     }
-    for (r = 0; r < m; ++r)
+    for (r = 0; r < m; ++r) {
         w[r] = innov[r];
+    }
     chol_solve(l, m, w);
     est->nis = 0;
-    for (r = 0; r < m; ++r)
+    for (r = 0; r < m; ++r) {
         est->nis += innov[r] * w[r];
-    for (i = 0; i < N; ++i)
-        for (r = 0; r < m; ++r)
+    }
+    for (i = 0; i < N; ++i) {
+        for (r = 0; r < m; ++r) {
             x[i] += kt[r * N + i] * innov[r];
+        }
+    }
     /* Joseph form: (I - K H) P (I - K H)^T + K R K^T */
-    for (i = 0; i < N; ++i)
-        for (j = 0; j < N; ++j)
+    for (i = 0; i < N; ++i) {
+        for (j = 0; j < N; ++j) {
             ikh[i * N + j] = i == j ? 1 : 0;
-    for (r = 0; r < m; ++r)
-        for (i = 0; i < N; ++i)
+        }
+    }
+    for (r = 0; r < m; ++r) {
+        for (i = 0; i < N; ++i) {
             ikh[i * N + rows[r]] -= kt[r * N + i];
+        }
+    }
     mul_ab(ikh, p, l);             /* l = (I - K H) P */
     mul_abt(l, ikh, p);            /* P = l (I - K H)^T */
-    for (i = 0; i < N; ++i)
+    for (i = 0; i < N; ++i) {
         for (j = 0; j < N; ++j) {
             crane_real acc = 0;
-            for (r = 0; r < m; ++r)
+            for (r = 0; r < m; ++r) {
                 acc += kt[r * N + i] * variance[rows[r]] * kt[r * N + j];
+            }
             p[i * N + j] += acc;
         }
+    }
     return 1;
 }
 
@@ -435,18 +507,23 @@ crane_status crane_estimator_update(crane_estimator *est, const crane_model *mod
     size_t failed, count;
     crane_status st;
 
-    if (!est || !model || !inputs || !z || !variance)
+    if (!est || !model || !inputs || !z || !variance) {
         return CRANE_E_NULL;
-    if (!crane__finite(period))
+    }
+    if (!crane__finite(period)) {
         return CRANE_E_NONFINITE;
-    if (!(period > 0))
+    }
+    if (!(period > 0)) {
         return CRANE_E_HORIZON;
+    }
     for (i = 0; i < N; ++i) {
-        if (!crane__finite(variance[i]) || variance[i] < 0)
+        if (!crane__finite(variance[i]) || variance[i] < 0) {
             return CRANE_E_ESTIMATOR;
+        }
         if (variance[i] > 0) {
-            if (!crane__finite(z[i]))
+            if (!crane__finite(z[i])) {
                 return CRANE_E_NONFINITE;
+            }
             rows[m] = i;
             ++m;
         }
@@ -456,38 +533,48 @@ crane_status crane_estimator_update(crane_estimator *est, const crane_model *mod
         size_t every;
         long n_steps;
         crane_real q = crane__ceil(period / dt - (crane_real)1e-9);
-        if (!(q <= (crane_real)CRANE_MAX_STEPS))
+        if (!(q <= (crane_real)CRANE_MAX_STEPS)) {
             return CRANE_E_STEPS;
+        }
         n_steps = q < 1 ? 1 : (long)q;
         every = (size_t)n_steps;
         st = crane_sample_count_every(period, dt, every, &count);
-        if (st != CRANE_OK)
+        if (st != CRANE_OK) {
             return st;
-        if (count != 2)
+        }
+        if (count != 2) {
             return CRANE_E_CAPACITY;
+        }
         perturb(est, inputs);
         st = crane_predict_many(model->params, 1, N_FUTURES, est->futures, est->inputs, period, dt,
                                 every, est->samples, 2, &failed);
-        if (st != CRANE_OK)
+        if (st != CRANE_OK) {
             return st;
+        }
     }
     st = jacobian(est, model, inputs, y0);
-    if (st != CRANE_OK)
+    if (st != CRANE_OK) {
         return st;
+    }
     time_update(est, period);
     est->n_measured = m;
     est->nis = 0;
-    if (m > 0 && !measurement_update(est, rows, m, z, variance, y0))
+    if (m > 0 && !measurement_update(est, rows, m, z, variance, y0)) {
         return CRANE_E_ESTIMATOR;
-    if (m == 0)
-        for (i = 0; i < N; ++i)
+    }
+    if (m == 0) {
+        for (i = 0; i < N; ++i) {
             est->field_nis[i] = 0;
-    if (!make_positive(est))
+        }
+    }
+    if (!make_positive(est)) {
         return CRANE_E_ESTIMATOR;
+    }
     est->projected = 0;
     for (i = 0; i < N; ++i) {
-        if (!crane__finite(y0[i]))
+        if (!crane__finite(y0[i])) {
             return CRANE_E_DIVERGED;
+        }
         if (y0[i] < est->config.lo[i]) {
             y0[i] = est->config.lo[i];
             est->projected = 1;
@@ -502,8 +589,9 @@ crane_status crane_estimator_update(crane_estimator *est, const crane_model *mod
 
 const char *crane__estimator_status_message(crane_status status)
 {
-    if (status == CRANE_E_ESTIMATOR)
+    if (status == CRANE_E_ESTIMATOR) {
         return "an estimator setting, estimate or measurement variance is out of range, or its "
                "covariance cannot be kept positive definite";
+    }
     return "unknown status";
 }

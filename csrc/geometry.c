@@ -66,8 +66,9 @@ static CRANE__NOINLINE crane_real seg_seg(crane__v3 p0, crane__v3 p1, crane__v3 
     den = a * e - b * b;
     if (den > 0) {
         const crane_real s = (b * f - cc * e) / den, t = (a * f - b * cc) / den;
-        if (s >= 0 && s <= 1 && t >= 0 && t <= 1)
+        if (s >= 0 && s <= 1 && t >= 0 && t <= 1) {
             seg_try(&c, s, t);
+        }
     }
     *pa = lerp3(c.p0, c.d1, c.s);
     *pb = lerp3(c.q0, c.d2, c.t);
@@ -121,12 +122,14 @@ static crane_real next_break(const crane_real p0[3], const crane_real d[3], cons
     crane_real next = 1;
     int i, k;
     for (i = 0; i < 3; ++i) {
-        if (d[i] == 0)
+        if (d[i] == 0) {
             continue;
+        }
         for (k = -1; k <= 1; k += 2) {
             const crane_real b = ((crane_real)k * h[i] - p0[i]) / d[i];
-            if (b > t && b < next)
+            if (b > t && b < next) {
                 next = b;
+            }
         }
     }
     return next;
@@ -220,8 +223,9 @@ static CRANE__NOINLINE crane_real box_box(const crane_solid *x, const crane_soli
                 const int w = v | (1 << i);
                 crane__v3 qa, qb;
                 crane_real dd;
-                if (w == v)
+                if (w == v) {
                     continue;
+                }
                 dd = seg_box(box_vertex(m, v), box_vertex(m, w), o, &qa, &qb);
                 if (best < 0 || dd < best) {
                     best = dd;
@@ -289,10 +293,11 @@ static int core_distance(const crane_solid *a, const crane_solid *b, crane_real 
         return 1;
     }
     if (a->kind == CRANE_SOLID_BOX) {
-        if (b->kind == CRANE_SOLID_BOX)
+        if (b->kind == CRANE_SOLID_BOX) {
             *d = box_box(a, b, pa, pb);
-        else
+        } else {
             *d = box_plane(a, crane__v3_load(b->a), crane__v3_load(b->b), pa, pb);
+        }
         return 1;
     }
     return 0;
@@ -314,8 +319,9 @@ int crane__solid_distance(const crane_solid *a, const crane_solid *b, crane_real
     crane__v3 px, py;
     crane_real d, rx, ry;
 
-    if (!core_distance(x, y, &d, &px, &py))
+    if (!core_distance(x, y, &d, &px, &py)) {
         return 0;
+    }
     rx = radius_of(x);
     ry = radius_of(y);
     if (d > rx + ry) {
@@ -348,42 +354,53 @@ int crane__solid_field(const crane_solid *s)
     const crane_real tol = unit_tol();
     int i, j;
 
-    if (s->kind < CRANE_SOLID_PLANE || s->kind > CRANE_SOLID_CYLINDER)
+    if (s->kind < CRANE_SOLID_PLANE || s->kind > CRANE_SOLID_CYLINDER) {
         return CRANE_GUARD_FIELD_KIND;
-    if (!finite3(s->a))
+    }
+    if (!finite3(s->a)) {
         return CRANE_GUARD_FIELD_A;
+    }
     if (s->kind == CRANE_SOLID_PLANE) {
         const crane__v3 n = crane__v3_load(s->b);
-        if (!finite3(s->b) || crane__fabs(crane__v3_dot(n, n) - 1) > tol)
+        if (!finite3(s->b) || crane__fabs(crane__v3_dot(n, n) - 1) > tol) {
             return CRANE_GUARD_FIELD_B;
+        }
         return 0;
     }
     if (s->kind == CRANE_SOLID_BOX) {
-        for (i = 0; i < 3; ++i)
-            if (!(crane__length_ok(s->half[i]) && s->half[i] > 0))
+        for (i = 0; i < 3; ++i) {
+            if (!(crane__length_ok(s->half[i]) && s->half[i] > 0)) {
                 return CRANE_GUARD_FIELD_HALF;
-        for (i = 0; i < 9; ++i)
-            if (!crane__finite(s->axes[i]))
+            }
+        }
+        for (i = 0; i < 9; ++i) {
+            if (!crane__finite(s->axes[i])) {
                 return CRANE_GUARD_FIELD_AXES;
+            }
+        }
         for (i = 0; i < 3; ++i) {
             const crane__v3 ui = crane__v3_load(s->axes + 3 * i);
             for (j = i; j < 3; ++j) {
                 const crane_real want = i == j ? 1 : 0;
-                if (crane__fabs(crane__v3_dot(ui, crane__v3_load(s->axes + 3 * j)) - want) > tol)
+                if (crane__fabs(crane__v3_dot(ui, crane__v3_load(s->axes + 3 * j)) - want) > tol) {
                     return CRANE_GUARD_FIELD_AXES;
+                }
             }
         }
         return 0;
     }
-    if (s->kind != CRANE_SOLID_SPHERE && !finite3(s->b))
+    if (s->kind != CRANE_SOLID_SPHERE && !finite3(s->b)) {
         return CRANE_GUARD_FIELD_B;
+    }
     if (!(crane__length_ok(s->radius) && s->radius >= 0) ||
-        (s->kind != CRANE_SOLID_CAPSULE && !(s->radius > 0)))
+        (s->kind != CRANE_SOLID_CAPSULE && !(s->radius > 0))) {
         return CRANE_GUARD_FIELD_RADIUS;
+        }
     if (s->kind == CRANE_SOLID_CYLINDER) {
         const crane__v3 g = crane__v3_sub(crane__v3_load(s->b), crane__v3_load(s->a));
-        if (!(crane__v3_dot(g, g) > 0))
+        if (!(crane__v3_dot(g, g) > 0)) {
             return CRANE_GUARD_FIELD_B;
+        }
     }
     return 0;
 }
@@ -391,8 +408,9 @@ int crane__solid_field(const crane_solid *s)
 crane_status crane_solid_check(const crane_solid *s, int *field)
 {
     int f;
-    if (!s || !field)
+    if (!s || !field) {
         return CRANE_E_NULL;
+    }
     f = crane__solid_field(s);
     *field = f;
     return f ? CRANE_E_SOLID : CRANE_OK;
@@ -404,12 +422,15 @@ crane_status crane_solid_distance(const crane_solid *a, const crane_solid *b, cr
     crane__v3 qa, qb;
     crane_real d;
 
-    if (!a || !b || !distance || !pa || !pb)
+    if (!a || !b || !distance || !pa || !pb) {
         return CRANE_E_NULL;
-    if (crane__solid_field(a) || crane__solid_field(b))
+    }
+    if (crane__solid_field(a) || crane__solid_field(b)) {
         return CRANE_E_SOLID;
-    if (!crane__solid_distance(a, b, &d, &qa, &qb))
+    }
+    if (!crane__solid_distance(a, b, &d, &qa, &qb)) {
         return CRANE_E_SOLID;
+    }
     *distance = d;
     crane__v3_store(pa, qa);
     crane__v3_store(pb, qb);

@@ -28,8 +28,9 @@ static crane_real coord_rate(const crane_sample *s, int j)
 static void pose_at(const crane_model *m, const crane_real q[4], pose *p)
 {
     int j;
-    for (j = 0; j < 4; ++j)
+    for (j = 0; j < 4; ++j) {
         p->q[j] = q[j];
+    }
     crane__sincos(q[0], &p->s0, &p->c0);
     crane__sincos(q[1], &p->s1, &p->c1);
     crane__sincos(q[CRANE_SLEW], &p->spsi, &p->cpsi);
@@ -40,8 +41,9 @@ static void pose_sample(const crane_model *m, const crane_sample *s, pose *p)
 {
     crane_real q[4];
     int j;
-    for (j = 0; j < 4; ++j)
+    for (j = 0; j < 4; ++j) {
         q[j] = coord(s, j);
+    }
     pose_at(m, q, p);
 }
 
@@ -106,10 +108,12 @@ static void part_solid(const crane_model *m, const crane_part *pt, const pose *p
 
     s->kind = pt->kind;
     s->radius = pt->radius;
-    for (i = 0; i < 9; ++i)
+    for (i = 0; i < 9; ++i) {
         s->axes[i] = 0;
-    for (i = 0; i < 3; ++i)
+    }
+    for (i = 0; i < 3; ++i) {
         s->half[i] = pt->half[i];
+    }
     if (pt->kind == CRANE_SOLID_CAPSULE) {
         crane__v3_store(s->a, a);
         crane__v3_store(s->b, to_world(plane_point(m, p, pt->b), p));
@@ -146,8 +150,9 @@ static void anchor_rates(const crane_model *m, crane_anchor an, crane_real e_lo,
 {
     const crane_real r = crane__norm(an.at);
     int j;
-    for (j = 0; j < RATES; ++j)
+    for (j = 0; j < RATES; ++j) {
         k[j] = 0;
+    }
     switch (an.frame) {
     case CRANE_FRAME_BASE:
         k[CRANE_SLEW] = crane__fabs(an.at.x);
@@ -185,8 +190,9 @@ static void part_rates(const crane_model *m, const crane_part *pt, crane_real e_
         crane_real kb[RATES];
         /* every point of the segment is a convex combination of its ends */
         anchor_rates(m, pt->b, e_lo, e_hi, kb);
-        for (i = 0; i < RATES; ++i)
+        for (i = 0; i < RATES; ++i) {
             k[i] = larger(k[i], kb[i]);
+        }
     } else if (pt->kind == CRANE_SOLID_BOX) {
         /* the box turns with the slew about the vertical axis: its corners lie up to its
          * horizontal half diagonal further out than its centre */
@@ -231,10 +237,12 @@ static crane_real cubic_at(const crane_real c[4], crane_real u)
 
 static void widen(crane_real v, crane_real *lo, crane_real *hi)
 {
-    if (v < *lo)
+    if (v < *lo) {
         *lo = v;
-    if (v > *hi)
+    }
+    if (v > *hi) {
         *hi = v;
+    }
 }
 
 /* The range [lo, hi] of q_j over [ua, ub]: its values at the ends and at the cubic's
@@ -254,15 +262,18 @@ static void coord_range(const crane_sample *s0, const crane_sample *s1, int j, c
         if (disc >= 0) {
             const crane_real sq = crane__sqrt(disc);
             const crane_real r0 = (-qb - sq) / (2 * qa), r1 = (-qb + sq) / (2 * qa);
-            if (r0 > ua && r0 < ub)
+            if (r0 > ua && r0 < ub) {
                 widen(cubic_at(c, r0), lo, hi);
-            if (r1 > ua && r1 < ub)
+            }
+            if (r1 > ua && r1 < ub) {
                 widen(cubic_at(c, r1), lo, hi);
+            }
         }
     } else if (qb != 0) {
         const crane_real r = -qc / qb;
-        if (r > ua && r < ub)
+        if (r > ua && r < ub) {
             widen(cubic_at(c, r), lo, hi);
+        }
     }
 }
 
@@ -379,11 +390,13 @@ static CRANE__NOINLINE int advance(scene *sc, size_t i, size_t j, const crane_re
 static crane_status check_config(const crane_guard_config *c)
 {
     if (!crane__finite(c->margin) || !crane__finite(c->reaction) || !crane__finite(c->cycle) ||
-        !crane__finite(c->time_tolerance) || !crane__finite(c->clearance_tolerance))
+        !crane__finite(c->time_tolerance) || !crane__finite(c->clearance_tolerance)) {
         return CRANE_E_NONFINITE;
+        }
     if (c->margin < 0 || c->reaction < 0 || !(c->cycle > 0) || !(c->time_tolerance > 0) ||
-        c->clearance_tolerance < 0)
+        c->clearance_tolerance < 0) {
         return CRANE_E_GUARD;
+        }
     return CRANE_OK;
 }
 
@@ -396,24 +409,32 @@ static int anchor_ok(crane_anchor an)
 static int part_field(const crane_part *p)
 {
     int i;
-    if (p->kind != CRANE_SOLID_CAPSULE && p->kind != CRANE_SOLID_SPHERE && p->kind != CRANE_SOLID_BOX)
+    if (p->kind != CRANE_SOLID_CAPSULE && p->kind != CRANE_SOLID_SPHERE && p->kind != CRANE_SOLID_BOX) {
         return CRANE_GUARD_FIELD_KIND;
-    if (!anchor_ok(p->a))
+    }
+    if (!anchor_ok(p->a)) {
         return CRANE_GUARD_FIELD_A;
+    }
     if (p->kind == CRANE_SOLID_CAPSULE) {
-        if (!anchor_ok(p->b))
+        if (!anchor_ok(p->b)) {
             return CRANE_GUARD_FIELD_B;
-        if (!(crane__length_ok(p->radius) && p->radius >= 0))
+        }
+        if (!(crane__length_ok(p->radius) && p->radius >= 0)) {
             return CRANE_GUARD_FIELD_RADIUS;
+        }
         return 0;
     }
-    if (!crane__length_ok(p->drop))
+    if (!crane__length_ok(p->drop)) {
         return CRANE_GUARD_FIELD_DROP;
-    if (p->kind == CRANE_SOLID_SPHERE)
+    }
+    if (p->kind == CRANE_SOLID_SPHERE) {
         return crane__length_ok(p->radius) && p->radius > 0 ? 0 : CRANE_GUARD_FIELD_RADIUS;
-    for (i = 0; i < 3; ++i)
-        if (!(crane__length_ok(p->half[i]) && p->half[i] > 0))
+    }
+    for (i = 0; i < 3; ++i) {
+        if (!(crane__length_ok(p->half[i]) && p->half[i] > 0)) {
             return CRANE_GUARD_FIELD_HALF;
+        }
+    }
     return 0;
 }
 
@@ -421,8 +442,9 @@ crane_status crane_guard_check(const crane_part *parts, size_t n_parts, const cr
                                size_t n_obstacles, size_t *which, int *field)
 {
     size_t i;
-    if ((n_parts && !parts) || (n_obstacles && !obstacles) || !which || !field)
+    if ((n_parts && !parts) || (n_obstacles && !obstacles) || !which || !field) {
         return CRANE_E_NULL;
+    }
     for (i = 0; i < n_parts; ++i) {
         const int f = part_field(&parts[i]);
         if (f) {
@@ -452,23 +474,28 @@ crane_status crane_part_solids(const crane_model *model, const crane_part *parts
     pose p;
     crane_status st;
 
-    if (!model || !theta || (n_parts && (!parts || !out)))
+    if (!model || !theta || (n_parts && (!parts || !out))) {
         return CRANE_E_NULL;
+    }
     st = crane_guard_check(parts, n_parts, NULL, 0, &which, &field);
-    if (st != CRANE_OK)
+    if (st != CRANE_OK) {
         return st;
+    }
     if (!crane__finite(slew) || !crane__finite(extension) || !crane__finite(theta[0]) ||
-        !crane__finite(theta[1]))
+        !crane__finite(theta[1])) {
         return CRANE_E_NONFINITE;
-    if (extension < model->params->extension_min || extension > model->params->extension_max)
+        }
+    if (extension < model->params->extension_min || extension > model->params->extension_max) {
         return CRANE_E_EXTENSION;
+    }
     q[0] = theta[0];
     q[1] = theta[1];
     q[CRANE_SLEW] = slew;
     q[CRANE_EXTENSION] = extension;
     pose_at(model, q, &p);
-    for (i = 0; i < n_parts; ++i)
+    for (i = 0; i < n_parts; ++i) {
         part_solid(model, &parts[i], &p, &out[i]);
+    }
     return CRANE_OK;
 }
 
@@ -477,18 +504,25 @@ static crane_status check_samples(const crane_model *m, const crane_sample *s, s
     size_t k;
     int j;
     for (k = 0; k < n; ++k) {
-        if (!crane__finite(s[k].t))
+        if (!crane__finite(s[k].t)) {
             return CRANE_E_NONFINITE;
-        if (k > 0 && !(s[k].t > s[k - 1].t))
+        }
+        if (k > 0 && !(s[k].t > s[k - 1].t)) {
             return CRANE_E_SAMPLES;
-        for (j = 0; j < 4; ++j)
-            if (!crane__finite(coord(&s[k], j)) || !crane__finite(coord_rate(&s[k], j)))
+        }
+        for (j = 0; j < 4; ++j) {
+            if (!crane__finite(coord(&s[k], j)) || !crane__finite(coord_rate(&s[k], j))) {
                 return CRANE_E_NONFINITE;
-        for (j = 0; j < 2; ++j)
-            if (s[k].theta[j] < m->theta_min[j] || s[k].theta[j] > m->theta_max[j])
+            }
+        }
+        for (j = 0; j < 2; ++j) {
+            if (s[k].theta[j] < m->theta_min[j] || s[k].theta[j] > m->theta_max[j]) {
                 return CRANE_E_ANGLE;
-        if (s[k].extension < m->params->extension_min || s[k].extension > m->params->extension_max)
+            }
+        }
+        if (s[k].extension < m->params->extension_min || s[k].extension > m->params->extension_max) {
             return CRANE_E_EXTENSION;
+        }
     }
     return CRANE_OK;
 }
@@ -612,21 +646,27 @@ crane_status crane_guard(const crane_model *model, const crane_part *parts, size
     crane_status st;
 
     if (!model || !samples || !config || !result || (n_parts && (!parts || !part_clearance)) ||
-        (n_obstacles && !obstacles) || (n_parts && !work))
+        (n_obstacles && !obstacles) || (n_parts && !work)) {
         return CRANE_E_NULL;
+        }
     st = check_config(config);
-    if (st == CRANE_OK)
+    if (st == CRANE_OK) {
         st = crane_guard_check(parts, n_parts, obstacles, n_obstacles, &which, &field);
-    if (st != CRANE_OK)
+    }
+    if (st != CRANE_OK) {
         return st;
-    if (n_samples == 0)
+    }
+    if (n_samples == 0) {
         return CRANE_E_SAMPLES;
+    }
     st = check_samples(model, samples, n_samples);
-    if (st != CRANE_OK)
+    if (st != CRANE_OK) {
         return st;
+    }
     if (n_parts && (n_obstacles > ((size_t)-1) / n_parts - CRANE_GUARD_PART_WORK ||
-                    work_capacity < n_pairs + CRANE_GUARD_PART_WORK * n_parts))
+                    work_capacity < n_pairs + CRANE_GUARD_PART_WORK * n_parts)) {
         return CRANE_E_CAPACITY;
+                    }
 
     sc.m = model;
     sc.parts = parts;
@@ -649,11 +689,13 @@ crane_status crane_guard(const crane_model *model, const crane_part *parts, size
     result->t = 0;
     result->part = result->obstacle = -1;
     result->clearance = (crane_real)INFINITY;
-    for (k = 0; k < 3; ++k)
+    for (k = 0; k < 3; ++k) {
         result->on_part[k] = result->on_obstacle[k] = 0;
+    }
     result->theta[0] = result->theta[1] = result->slew = result->extension = 0;
-    for (k = 0; k < 4; ++k)
+    for (k = 0; k < 4; ++k) {
         result->gradient[k] = result->approach[k] = 0;
+    }
     result->stop_latest = 0;
     margin = config->margin;
 
@@ -667,15 +709,18 @@ crane_status crane_guard(const crane_model *model, const crane_part *parts, size
         for (j = 0; j < n_obstacles; ++j) {
             const crane_real d = clearance(&sc, j, NULL, NULL);
             key[i * n_obstacles + j] = d;
-            if (d < pp[MIN_KEY])
+            if (d < pp[MIN_KEY]) {
                 pp[MIN_KEY] = d;
-            if (d < part_clearance[i])
+            }
+            if (d < part_clearance[i]) {
                 part_clearance[i] = d;
+            }
             if (d <= margin && (!result->contact || d < result->clearance)) {
                 record_contact(&sc, result, i, j, samples[0].t, &cur); /* re-poses ps: same pose */
                 result->at_start = 1;
-                for (k = 0; k < 4; ++k)
+                for (k = 0; k < 4; ++k) {
                     hit_rate[k] = coord_rate(&samples[0], (int)k);
+                }
             }
         }
     }
@@ -692,11 +737,13 @@ crane_status crane_guard(const crane_model *model, const crane_part *parts, size
             const crane_real floor_min = part_clearance[i] - config->clearance_tolerance;
             crane_real least, min_key = (crane_real)INFINITY;
             int r, posed = 0; /* ps: the part at this sample, posed when first needed */
-            for (r = 0; r < RATES; ++r)
+            for (r = 0; r < RATES; ++r) {
                 pp[CUM] += pp[r] * ex[r];
+            }
             least = pp[MIN_KEY] - pp[CUM];
-            if ((!searching || least > margin) && least >= floor_min)
+            if ((!searching || least > margin) && least >= floor_min) {
                 continue;
+            }
             for (j = 0; j < n_obstacles; ++j) {
                 crane_real *kj = &key[i * n_obstacles + j];
                 const crane_real lb = *kj - pp[CUM];
@@ -707,32 +754,38 @@ crane_status crane_guard(const crane_model *model, const crane_part *parts, size
                                 u_tolerance(config->time_tolerance, s1->t - s0->t), &u_hit, &d)) {
                         if (!found || s0->t + u_hit * (s1->t - s0->t) < result->t) {
                             note_contact(&sc, result, i, j, s0, s1, u_hit, hit_rate);
-                            if (result->clearance < part_clearance[i])
+                            if (result->clearance < part_clearance[i]) {
                                 part_clearance[i] = result->clearance;
+                            }
                             found = 1;
                         }
                         d = pair_distance(&sc, i, j, &cur, NULL, NULL);
                     }
                     posed = 1; /* both ways end with ps posed at this sample */
                     *kj = d + pp[CUM];
-                    if (d < part_clearance[i])
+                    if (d < part_clearance[i]) {
                         part_clearance[i] = d;
+                    }
                 } else if (lb < floor_min) {
-                    if (!posed)
+                    if (!posed) {
                         part_solid(model, &parts[i], &cur, &ps);
+                    }
                     posed = 1;
                     d = clearance(&sc, j, NULL, NULL);
                     *kj = d + pp[CUM];
-                    if (d < part_clearance[i])
+                    if (d < part_clearance[i]) {
                         part_clearance[i] = d;
+                    }
                 }
-                if (*kj < min_key)
+                if (*kj < min_key) {
                     min_key = *kj;
+                }
             }
             pp[MIN_KEY] = min_key;
         }
-        if (found)
+        if (found) {
             searching = 0;
+        }
     }
 
     if (result->contact) {

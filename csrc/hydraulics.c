@@ -20,10 +20,12 @@ static CRANE__ALWAYS_INLINE crane_real orifice(crane_real dp, crane_real dl)
 {
     crane_real x;
 
-    if (dp >= dl)
+    if (dp >= dl) {
         return crane__sqrt(dp);
-    if (dp <= -dl)
+    }
+    if (dp <= -dl) {
         return -crane__sqrt(-dp);
+    }
     x = dp / dl;
     return crane__sqrt(dl) * x * (5 - x * x) * (crane_real)0.25;
 }
@@ -32,10 +34,12 @@ static CRANE__ALWAYS_INLINE crane_real orifice(crane_real dp, crane_real dl)
  * chamber above the supply pressure; C1 between 0 and 1. */
 static CRANE__ALWAYS_INLINE crane_real saturation(crane_real x)
 {
-    if (x <= 0)
+    if (x <= 0) {
         return 0;
-    if (x >= 1)
+    }
+    if (x >= 1) {
         return 1;
+    }
     return x * (3 - x * x) * (crane_real)0.5;
 }
 
@@ -102,12 +106,13 @@ const crane_hydraulics *crane__circuit(const crane_model *m, int joint)
     const crane_params *p = m->params;
     const crane_hydraulics *h;
 
-    if (joint < 2)
+    if (joint < 2) {
         h = &p->cylinder[joint].hydraulics;
-    else if (joint == CRANE_SLEW)
+    } else if (joint == CRANE_SLEW) {
         h = p->slew_drive.present ? &p->slew_drive.hydraulics : NULL;
-    else
+    } else {
         h = p->extension_cylinder.present ? &p->extension_cylinder.hydraulics : NULL;
+    }
     return h && h->valve != CRANE_VALVE_NONE ? h : NULL;
 }
 
@@ -160,8 +165,9 @@ void crane__limit_valves(const crane__limits *l, crane_real dt, crane_real *p, i
             crane_real ref = h->cavitation_pressure;
             if (*pk > ref) {
                 ref = h->relief_pressure;
-                if (*pk < ref)
+                if (*pk < ref) {
                     ref = *pk;
+                }
             }
             *pk = ref + (*pk - ref) / (1 + dt * l->coef[i]);
         }
@@ -174,8 +180,9 @@ static crane_real substep_count(crane_real lam, crane_real h)
     /* Bounded so that a long fits: a prediction that would need more substeps than
      * CRANE_MAX_STEPS is refused before it runs (predict.c, check_work), so this never binds
      * while integrating. */
-    if (!(n <= (crane_real)CRANE_MAX_STEPS))
+    if (!(n <= (crane_real)CRANE_MAX_STEPS)) {
         return (crane_real)CRANE_MAX_STEPS + 1;
+    }
     return n < 1 ? 1 : n;
 }
 
@@ -199,10 +206,12 @@ static crane_real stiffness(const crane_model *m, int joint, crane_real stroke, 
     g = 2 * (gradient(h) + h->leakage);
     la = g / c_a;
     lb = g / c_b;
-    if (lb > la)
+    if (lb > la) {
         la = lb;
-    if (h->spool_time_constant > 0 && 1 / h->spool_time_constant > la)
+    }
+    if (h->spool_time_constant > 0 && 1 / h->spool_time_constant > la) {
         la = 1 / h->spool_time_constant;
+    }
     return la;
 }
 
@@ -212,12 +221,14 @@ long crane__substeps(const crane_model *m, const crane_real stroke[4], const int
     crane_real lam = 0;
     int j;
 
-    for (j = 0; j < 4; ++j)
+    for (j = 0; j < 4; ++j) {
         if (valve[j]) {
             const crane_real l = stiffness(m, j, stroke[j], &coef[2 * j]);
-            if (l > lam)
+            if (l > lam) {
                 lam = l;
+            }
         }
+    }
     return (long)substep_count(lam, h);
 }
 
@@ -226,17 +237,20 @@ long crane__substeps_bound(const crane_model *m, const int valve[4], crane_real 
     crane_real lam = 0;
     int j;
 
-    for (j = 0; j < 4; ++j)
+    for (j = 0; j < 4; ++j) {
         if (valve[j]) {
             crane_real s_min, s_max, l, coef[2];
             crane__actuator_range(m, j, &s_min, &s_max);
             l = stiffness(m, j, s_min, coef);
-            if (l > lam)
+            if (l > lam) {
                 lam = l;
+            }
             l = stiffness(m, j, s_max, coef);
-            if (l > lam)
+            if (l > lam) {
                 lam = l;
+            }
         }
+    }
     return (long)substep_count(lam, h);
 }
 #endif /* CRANE_HYDRAULICS */

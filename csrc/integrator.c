@@ -82,23 +82,26 @@ __attribute__((optimize("no-tree-loop-distribute-patterns")))
 static void copy_state(const ctx_t *c, xstate *dst, const xstate *src)
 {
     int i;
-    for (i = 0; i < n_used(c); ++i)
+    for (i = 0; i < n_used(c); ++i) {
         dst->v[i] = src->v[i];
+    }
 }
 
 /* The lower (upper) limit of q of joint j: the angle limits, [slew_min, slew_max], the extension
  * range. Read where needed rather than kept in the context (the stack). */
 static crane_real lo_q(const ctx_t *c, int j)
 {
-    if (j < 2)
+    if (j < 2) {
         return c->lim.m->theta_min[j];
+    }
     return j == CRANE_SLEW ? c->lim.m->params->slew_drive.slew_min : c->lim.m->params->extension_min;
 }
 
 static crane_real hi_q(const ctx_t *c, int j)
 {
-    if (j < 2)
+    if (j < 2) {
         return c->lim.m->theta_max[j];
+    }
     return j == CRANE_SLEW ? c->lim.m->params->slew_drive.slew_max : c->lim.m->params->extension_max;
 }
 
@@ -147,12 +150,14 @@ static crane_real ratio(ctx_t *c, int j, crane_real q, crane_real *stroke)
         ds = d->cf.tk.ds;
         s = d->cf.tk.stroke;
     } else {
-        if (j == CRANE_SLEW)
+        if (j == CRANE_SLEW) {
             ds = c->lim.m->params->slew_drive.pinion_radius;
+        }
         s = ds * (q - lo_q(c, j));
     }
-    if (stroke)
+    if (stroke) {
         *stroke = s;
+    }
     return ds;
 }
 
@@ -192,8 +197,9 @@ static CRANE__ALWAYS_INLINE void valve_rates(ctx_t *c, crane_real t, xstate *x, 
     int k;
 
     crane__chamber_rates(c->lim.m, j, lever(c, j, t), s, v, &x->v[H + 3 * j], x->v[H + 3 * j + 2], r);
-    for (k = 0; k < 3; ++k)
+    for (k = 0; k < 3; ++k) {
         x->v[H + 3 * j + k] = r[k];
+    }
 }
 #endif
 
@@ -239,15 +245,17 @@ static CRANE__ALWAYS_INLINE void forces(ctx_t *c, crane_real t, const xstate *x,
                 d->b[CRANE_SLEW] = crane__slew_torque(d->jz, jdot, x->v[W + CRANE_SLEW], 0);
             }
         }
-        for (j = 0; j < 4; ++j)
+        for (j = 0; j < 4; ++j) {
             d->b[j] = -d->b[j];
+        }
     }
     /* the actuators of the joints that can move: the planar kernel's slew and extension are held */
     for (j = 0; j < (c->planar ? 2 : 4); ++j) {
         crane_real stroke = 0, v = 0;
         if (in_set(lk, j)) {
-            if (valve(c, j))
+            if (valve(c, j)) {
                 stroke = locked_stroke(c, j);
+            }
         } else {
             const crane_real ds = ratio(c, j, x->v[Q + j], &stroke);
             crane_real p_a, p_b;
@@ -261,8 +269,9 @@ static CRANE__ALWAYS_INLINE void forces(ctx_t *c, crane_real t, const xstate *x,
             d->b[j] += crane__actuator_force(m, j, p_a, p_b, v) * ds;
         }
 #if CRANE_HYDRAULICS
-        if (rates && valve(c, j))
+        if (rates && valve(c, j)) {
             valve_rates(c, t, rates, j, stroke, v);
+        }
 #else
         (void)stroke;
         (void)rates;
@@ -343,28 +352,33 @@ static CRANE__NOINLINE void solve_spatial(const ctx_t *c, const crane_real *Mp,
             ++n;
         }
     }
-    if (n == 0)
+    if (n == 0) {
         return;
+    }
     if (!Mp) {
         crane__mass_spatial(c->lim.m, &c->b, &c->d.cf, &A[6]);
         M = &A[6];
     }
     for (r = 0; r < n; ++r) {
-        for (k = 0; k < n; ++k)
+        for (k = 0; k < n; ++k) {
             A[4 * r + k] = mp(M, free_at(f, r), free_at(f, k));
+        }
         A[4 * r + n] = b[PLANE[free_at(f, r)]];
     }
     /* (column i below the pivot is not read again: its update is skipped) */
-    for (i = 0; i < n; ++i)
+    for (i = 0; i < n; ++i) {
         for (r = i + 1; r < n; ++r) {
             const crane_real l = A[4 * r + i] / A[4 * i + i];
-            for (k = i + 1; k <= n; ++k)
+            for (k = i + 1; k <= n; ++k) {
                 A[4 * r + k] -= l * A[4 * i + k];
+            }
         }
+    }
     for (i = n - 1; i >= 0; --i) {
         crane_real s = A[4 * i + n];
-        for (k = i + 1; k < n; ++k)
+        for (k = i + 1; k < n; ++k) {
             s -= A[4 * i + k] * a[PLANE[free_at(f, k)]];
+        }
         a[PLANE[free_at(f, i)]] = s / A[4 * i + i];
     }
 }
@@ -373,10 +387,11 @@ static CRANE__NOINLINE void solve_spatial(const ctx_t *c, const crane_real *Mp,
 static CRANE__ALWAYS_INLINE void solve(const ctx_t *c, const crane_real *Mp, const crane_real b[4],
                                        unsigned lk, crane_real a[4])
 {
-    if (c->planar)
+    if (c->planar) {
         solve_planar(c, Mp, b, lk, a);
-    else
+    } else {
         solve_spatial(c, Mp, b, lk, a);
+    }
 }
 
 /* The joints that are held or stopped. */
@@ -384,9 +399,11 @@ static unsigned lock_mask(const ctx_t *c)
 {
     unsigned lk = 0;
     int j;
-    for (j = 0; j < 4; ++j)
-        if (locked(c, j))
+    for (j = 0; j < 4; ++j) {
+        if (locked(c, j)) {
             lk |= 1u << j;
+        }
+    }
     return lk;
 }
 
@@ -413,8 +430,9 @@ static CRANE__NOINLINE void stage(const xstate *x, xstate *xs, xstate *y, int fr
             xs->v[i] = x->v[i] + cs * k;
         }
     } else {
-        for (i = from; i < to; ++i)
+        for (i = from; i < to; ++i) {
             y->v[i] = x->v[i] + h6 * (y->v[i] + xs->v[i + off]);
+        }
     }
 }
 
@@ -478,9 +496,11 @@ static void impact(ctx_t *c, xstate *x, int i)
             int j;
             e[i] = 1;
             solve(c, NULL, e, lk, col);
-            for (j = 0; j < 4; ++j)
-                if (j != i && !in_set(lk, j))
+            for (j = 0; j < 4; ++j) {
+                if (j != i && !in_set(lk, j)) {
                     x->v[W + j] -= col[j] * (x->v[W + i] / col[i]);
+                }
+            }
         }
     }
     x->v[W + i] = 0;
@@ -509,13 +529,15 @@ static int release_set(ctx_t *c, crane_real t, const xstate *x)
     int j;
 
     for (j = 0; j < 4; ++j) {
-        if (c->mode[j] == CRANE__HELD)
+        if (c->mode[j] == CRANE__HELD) {
             held |= 1u << j;
-        else if (c->mode[j] >= CRANE__STOP_LO)
+        } else if (c->mode[j] >= CRANE__STOP_LO) {
             stopped |= 1u << j;
+        }
     }
-    if (!stopped)
+    if (!stopped) {
         return 0;
+    }
     /* the stopped joints' actuator forces decide their release: only held joints are locked */
     forces(c, t, x, held, NULL);
     mass(c, Mp);
@@ -524,25 +546,30 @@ static int release_set(ctx_t *c, crane_real t, const xstate *x)
         int ok = 1;
         crane_real a[4], r[4];
         /* only stopped joints can be released */
-        if (cand & ~stopped)
+        if (cand & ~stopped) {
             continue;
+        }
         solve(c, Mp, d->b, held | (stopped & ~cand), a);
         /* M a, for the reactions of the kept joints */
-        for (j = 0; j < 3; ++j)
+        for (j = 0; j < 3; ++j) {
             r[PLANE[j]] = mp(Mp, j, 0) * a[CRANE_LIFT] + mp(Mp, j, 1) * a[CRANE_TILT] +
                           mp(Mp, j, 2) * a[CRANE_EXTENSION];
+        }
         r[CRANE_SLEW] = d->jz * a[CRANE_SLEW];
         for (j = 0; j < 4; ++j) {
             const crane_real inward = c->mode[j] == CRANE__STOP_LO ? 1 : -1;
-            if (!in_set(stopped, j))
+            if (!in_set(stopped, j)) {
                 continue;
-            if (in_set(cand, j))
+            }
+            if (in_set(cand, j)) {
                 ok = ok && inward * a[j] > 0;
-            else
+            } else {
                 ok = ok && inward * (r[j] - d->b[j]) >= 0;
+            }
         }
-        if (ok)
+        if (ok) {
             return (int)cand;
+        }
     }
     /* No candidate consistent (only in a degenerate tie, e.g. an acceleration exactly 0): none. */
     return 0;
@@ -554,9 +581,11 @@ static void release(ctx_t *c, crane_real t, const xstate *x)
     const int cand = release_set(c, t, x);
     int j;
 
-    for (j = 0; j < 4; ++j)
-        if ((cand >> j) & 1)
+    for (j = 0; j < 4; ++j) {
+        if ((cand >> j) & 1) {
             c->mode[j] = CRANE__FREE;
+        }
+    }
 }
 
 static int any_stopped(const ctx_t *c)
@@ -577,10 +606,11 @@ static crane_real release_in_piece(ctx_t *c, crane_real t, xstate *x, crane_real
     for (k = 0; k < CRANE__RELEASE_BISECTIONS; ++k) {
         const crane_real mid = (lo + hi) / 2;
         rk4(c, t, x, mid, y);
-        if (release_set(c, t + mid, y))
+        if (release_set(c, t + mid, y)) {
             hi = mid;
-        else
+        } else {
             lo = mid;
+        }
     }
     rk4(c, t, x, hi, y);
     copy_state(c, x, y);
@@ -608,12 +638,14 @@ static void step(ctx_t *c, crane_real t, xstate *x, crane_real h, crane_real t_e
 
         rk4(c, t, x, rem, &x1);
         for (i = 0; i < 4; ++i) {
-            if (c->mode[i] != CRANE__FREE)
+            if (c->mode[i] != CRANE__FREE) {
                 continue;
-            if (x1.v[Q + i] > hi_q(c, i))
+            }
+            if (x1.v[Q + i] > hi_q(c, i)) {
                 upper |= 1u << i;
-            else if (!(x1.v[Q + i] < lo_q(c, i)))
+            } else if (!(x1.v[Q + i] < lo_q(c, i))) {
                 continue;
+            }
             out |= 1u << i;
         }
         if (!out) {
@@ -635,9 +667,11 @@ static void step(ctx_t *c, crane_real t, xstate *x, crane_real h, crane_real t_e
         }
         if (piece == CRANE__MAX_PIECES - 1) {
             copy_state(c, x, &x1);
-            for (i = 0; i < 4; ++i)
-                if ((out >> i) & 1)
+            for (i = 0; i < 4; ++i) {
+                if ((out >> i) & 1) {
                     stop_joint(c, x, i, (upper >> i) & 1);
+                }
+            }
             return;
         }
         for (i = 0; i < 4; ++i) {
@@ -646,8 +680,9 @@ static void step(ctx_t *c, crane_real t, xstate *x, crane_real h, crane_real t_e
                 const crane_real tau = crane__crossing_time(x->v[Q + i], x->v[W + i], x1.v[Q + i],
                                                             x1.v[W + i], rem,
                                                             up ? hi_q(c, i) : lo_q(c, i), up);
-                if (tau < tmin)
+                if (tau < tmin) {
                     tmin = tau;
+                }
             }
         }
         rk4(c, t, x, tmin, &x1); /* x1 is free again: rk4 cannot write over its x */
@@ -656,12 +691,14 @@ static void step(ctx_t *c, crane_real t, xstate *x, crane_real h, crane_real t_e
         rem -= tmin;
         /* In joint order, every free joint at or beyond a limit goes onto it. */
         for (i = 0; i < 4; ++i) {
-            if (c->mode[i] != CRANE__FREE)
+            if (c->mode[i] != CRANE__FREE) {
                 continue;
-            if (x->v[Q + i] <= lo_q(c, i))
+            }
+            if (x->v[Q + i] <= lo_q(c, i)) {
                 stop_joint(c, x, i, 0);
-            else if (x->v[Q + i] >= hi_q(c, i))
+            } else if (x->v[Q + i] >= hi_q(c, i)) {
                 stop_joint(c, x, i, 1);
+            }
         }
     }
 }
@@ -682,13 +719,15 @@ static CRANE__NOINLINE long substeps(ctx_t *c, const xstate *x, crane_real h)
         const int driven[4] = {valve(c, 0), valve(c, 1), valve(c, 2), valve(c, 3)};
         crane_real stroke[4] = {0, 0, 0, 0};
         int j;
-        for (j = 0; j < 4; ++j)
+        for (j = 0; j < 4; ++j) {
             if (driven[j]) {
-                if (c->mode[j] != CRANE__FREE)
+                if (c->mode[j] != CRANE__FREE) {
                     stroke[j] = locked_stroke(c, j);
-                else
+                } else {
                     (void)ratio(c, j, x->v[Q + j], &stroke[j]);
+                }
             }
+        }
         n = crane__substeps(c->lim.m, stroke, driven, h, c->lim.coef);
     }
 #endif
@@ -696,19 +735,23 @@ static CRANE__NOINLINE long substeps(ctx_t *c, const xstate *x, crane_real h)
         crane_real e[4] = {0, 0, 0, 0}, col[4], ne, minv;
         unsigned lk = 1u << CRANE_SLEW;
         int j;
-        for (j = 0; j < 4; ++j)
-            if (c->mode[j] == CRANE__HELD)
+        for (j = 0; j < 4; ++j) {
+            if (c->mode[j] == CRANE__HELD) {
                 lk |= 1u << j;
+            }
+        }
         e[CRANE_EXTENSION] = 1;
         solve(c, NULL, e, lk, col);
         /* (M^-1)_ee at most 4 / m_ext: the bound that check_work counts (crane_internal.h) */
         minv = col[CRANE_EXTENSION];
-        if (minv > 4 / c->lim.m->params->extension_boom.mass)
+        if (minv > 4 / c->lim.m->params->extension_boom.mass) {
             minv = 4 / c->lim.m->params->extension_boom.mass;
+        }
         ne = crane__ceil(h * crane__extension_friction_slope(c->lim.m->params) * minv /
                          (crane_real)2.5);
-        if (ne > (crane_real)n)
+        if (ne > (crane_real)n) {
             n = (long)ne;
+        }
     }
     return n;
 }
@@ -726,10 +769,11 @@ static void put_sample(ctx_t *c, crane_real t, const xstate *x, crane_sample *o)
     for (i = 0; i < 4; ++i) {
         crane_real coord = x->v[Q + i];
         /* a held joint reports its initial coordinate, a stopped one exactly its limit */
-        if (c->mode[i] == CRANE__STOP_LO)
+        if (c->mode[i] == CRANE__STOP_LO) {
             coord = lo_q(c, i);
-        else if (c->mode[i] == CRANE__STOP_HI)
+        } else if (c->mode[i] == CRANE__STOP_HI) {
             coord = hi_q(c, i);
+        }
         if (i == CRANE_SLEW) {
             o->slew = c->mode[i] == CRANE__HELD ? c->s0->slew : coord;
             o->slew_rate = c->mode[i] == CRANE__HELD ? 0 : x->v[W + i];
@@ -747,10 +791,11 @@ static void put_sample(ctx_t *c, crane_real t, const xstate *x, crane_sample *o)
                 /* The stroke -> angle -> stroke round trip can land a few 1e-16 m outside the
                  * range (docs/model.md, "End stops"): the reported stroke is clamped, the angle
                  * is not. */
-                if (s < crane__stroke_min(m, i))
+                if (s < crane__stroke_min(m, i)) {
                     s = crane__stroke_min(m, i);
-                else if (s > crane__stroke_max(m, i))
+                } else if (s > crane__stroke_max(m, i)) {
                     s = crane__stroke_max(m, i);
+                }
                 break;
             }
             o->stroke[i] = s;
@@ -800,14 +845,17 @@ static int finite_state(const ctx_t *c, const xstate *x)
     /* the joints that can move (held ones keep their validated initial state) */
     const int nq = c->planar ? 2 : 4;
     int i;
-    for (i = 0; i < nq; ++i)
-        if (!crane__finite(x->v[Q + i]) || !crane__finite(x->v[W + i]))
+    for (i = 0; i < nq; ++i) {
+        if (!crane__finite(x->v[Q + i]) || !crane__finite(x->v[W + i])) {
             return 0;
+        }
+    }
     for (i = H; i < n_used(c); ++i) {
         /* the pressures, then the spool, of each valve-driven joint from H on (x_slot) */
         const crane_real lim = (i - H) % 3 == 2 ? 1 : (crane_real)CRANE_PRESSURE_MAX;
-        if (!crane__in_range(x->v[i], -lim, lim))
+        if (!crane__in_range(x->v[i], -lim, lim)) {
             return 0;
+        }
     }
     return 1;
 }
@@ -832,8 +880,9 @@ crane_status crane__integrate(const crane_model *m, const crane_state *s0, const
     c.release_clear = 0;
     c.planar = (unsigned char)(in->drive[CRANE_SLEW].mode == CRANE_DRIVE_HOLD &&
                                in->drive[CRANE_EXTENSION].mode == CRANE_DRIVE_HOLD);
-    for (i = 0; i < N_ALL; ++i)
+    for (i = 0; i < N_ALL; ++i) {
         x.v[i] = 0;
+    }
     for (i = 0; i < 4; ++i) {
         c.cursor[i] = 0;
         c.mode[i] = (signed char)(in->drive[i].mode == CRANE_DRIVE_HOLD ? CRANE__HELD : CRANE__FREE);
@@ -845,15 +894,17 @@ crane_status crane__integrate(const crane_model *m, const crane_state *s0, const
         }
         if (i < 2) {
             crane_real ds;
-            if (i == CRANE_LIFT)
+            if (i == CRANE_LIFT) {
                 crane__lift_from_stroke(m, s0->stroke[i], &x.v[Q + i], &ds);
-            else
+            } else {
                 (void)crane__tilt_from_stroke(m, s0->stroke[i], &x.v[Q + i], &ds, NULL, NULL);
+            }
             x.v[W + i] = s0->stroke_rate[i] / ds;
             /* Which stroke limit is the lower angle limit follows the sign of ds/dtheta, which
              * the crane check keeps constant over the stroke. */
-            if (!(ds > 0))
+            if (!(ds > 0)) {
                 c.lo_is_max = (unsigned char)(c.lo_is_max | (1u << i));
+            }
         } else {
             x.v[Q + i] = i == CRANE_SLEW ? s0->slew : s0->extension;
             x.v[W + i] = i == CRANE_SLEW ? s0->slew_rate : s0->extension_rate;
@@ -864,23 +915,26 @@ crane_status crane__integrate(const crane_model *m, const crane_state *s0, const
      * stop, in joint order, with a plastic impact. */
     for (i = 0; i < 4; ++i) {
         int flag; /* the stop's flag: -1 stroke_min, +1 stroke_max */
-        if (c.mode[i] != CRANE__FREE)
+        if (c.mode[i] != CRANE__FREE) {
             continue;
+        }
         if (i < 2) {
             const crane_real s = s0->stroke[i], v = s0->stroke_rate[i];
-            if (s <= crane__stroke_min(m, i) && v <= 0)
+            if (s <= crane__stroke_min(m, i) && v <= 0) {
                 flag = -1;
-            else if (s >= crane__stroke_max(m, i) && v >= 0)
+            } else if (s >= crane__stroke_max(m, i) && v >= 0) {
                 flag = 1;
-            else
+            } else {
                 continue;
+            }
         } else {
-            if (x.v[Q + i] <= lo_q(&c, i) && x.v[W + i] <= 0)
+            if (x.v[Q + i] <= lo_q(&c, i) && x.v[W + i] <= 0) {
                 flag = -1;
-            else if (x.v[Q + i] >= hi_q(&c, i) && x.v[W + i] >= 0)
+            } else if (x.v[Q + i] >= hi_q(&c, i) && x.v[W + i] >= 0) {
                 flag = 1;
-            else
+            } else {
                 continue;
+            }
         }
         /* the upper limit of q is the one whose flag is not lo_flag */
         stop_joint(&c, &x, i, flag != lo_flag(&c, i));
@@ -889,8 +943,9 @@ crane_status crane__integrate(const crane_model *m, const crane_state *s0, const
     /* A state that stops being finite (only with absurd parameters, e.g. gravity 1e135) ends
      * the prediction with CRANE_E_DIVERGED and the samples written before it, all finite. */
     *n_written = 0;
-    if (!finite_state(&c, &x))
+    if (!finite_state(&c, &x)) {
         return CRANE_E_DIVERGED;
+    }
     put_sample(&c, 0, &x, &out[0]);
     /* Samples after every sample_every-th step and after the last one. The kinematic cache is
      * keyed by the angles themselves, so it stays valid whatever happens in between. */
@@ -918,11 +973,13 @@ crane_status crane__integrate(const crane_model *m, const crane_state *s0, const
             for (j = 0; j < n_sub; ++j) {
                 const int final = j == n_sub - 1;
                 const crane_real t_sub = j == 0 ? t : t + (crane_real)j * sub;
-                if (!c.release_clear)
+                if (!c.release_clear) {
                     release(&c, t_sub, &x);
-                if (h > 0)
+                }
+                if (h > 0) {
                     step(&c, t_sub, &x, final ? (j == 0 ? h : t_q - t_sub) : sub,
                          final ? t_q : t_sub + sub);
+                }
             }
             more = t_q < t_end; /* an int controls the loop (MISRA 14.1) */
             t = t_q;
@@ -931,8 +988,9 @@ crane_status crane__integrate(const crane_model *m, const crane_state *s0, const
             *n_written = next;
             return CRANE_E_DIVERGED;
         }
-        if (last || (k + 1) % sample_every == 0)
+        if (last || (k + 1) % sample_every == 0) {
             put_sample(&c, last ? horizon : (crane_real)(k + 1) * dt, &x, &out[next++]);
+        }
     }
     *n_written = next;
     return CRANE_OK;

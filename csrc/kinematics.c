@@ -37,10 +37,11 @@ crane_real crane__wrap_tilt(crane_real theta)
     const crane_real lo = -3 * crane__pi() / 2;
 
     /* atan2 - alpha_a lies in (-2pi, 2pi), so one turn either way is enough. */
-    if (theta > hi)
+    if (theta > hi) {
         theta -= two_pi;
-    else if (theta <= lo)
+    } else if (theta <= lo) {
         theta += two_pi;
+    }
     return theta;
 }
 
@@ -53,10 +54,11 @@ void crane__lift_from_stroke(const crane_model *m, crane_real stroke, crane_real
     crane_real gamma;
 
     /* The crane check keeps |cg| < 1 over the stroke; the clamp only guards rounding. */
-    if (cg > 1)
+    if (cg > 1) {
         cg = 1;
-    else if (cg < -1)
+    } else if (cg < -1) {
         cg = -1;
+    }
     gamma = crane__acos(cg);
     /* theta = gamma - eps + beta (eps, beta: crane__lift_offsets; this inverse runs only at the
      * start of a prediction and in queries, so they are not kept in the model) */
@@ -78,10 +80,12 @@ void crane__lift_from_angle(const crane_model *m, crane_real c0, crane_real s0,
     const crane_real L2 = db * db + dr * dr - 2 * db * dr * cg;
     const crane_real L = crane__sqrt(L2 > 0 ? L2 : 0);
 
-    if (stroke)
+    if (stroke) {
         *stroke = L - m->params->cylinder[CRANE_LIFT].length_retracted;
-    if (ds)
+    }
+    if (ds) {
         *ds = db * dr * sg / L;
+    }
 }
 
 /* ds/dtheta1 by virtual velocities: A turns about O2, Q about P1, and QA is rigid. */
@@ -102,19 +106,23 @@ int crane__tilt_from_stroke(const crane_model *m, crane_real stroke, crane_real 
     crane_vec2 Q, A, oa;
     int ok = 1;
 
-    if (!(circle(p->link1_pivot, m->tilt_l1, p->tilt_cylinder_base, L, -1, &Q) > 0))
+    if (!(circle(p->link1_pivot, m->tilt_l1, p->tilt_cylinder_base, L, -1, &Q) > 0)) {
         ok = 0;
-    if (!(circle(p->tilt_pivot, crane__norm(p->link2_attach), Q, m->tilt_l2, -1, &A) > 0))
+    }
+    if (!(circle(p->tilt_pivot, crane__norm(p->link2_attach), Q, m->tilt_l2, -1, &A) > 0)) {
         ok = 0;
+    }
     oa = crane__sub(A, p->tilt_pivot);
     /* alpha_a = atan2(A.y, A.x) of link2_attach in the outer boom frame */
     *theta = crane__wrap_tilt(crane__atan2(oa.y, oa.x) -
                               crane__atan2(p->link2_attach.y, p->link2_attach.x));
     *ds = tilt_ds(p, Q, A, L);
-    if (q)
+    if (q) {
         *q = Q;
-    if (a)
+    }
+    if (a) {
         *a = A;
+    }
     return ok;
 }
 
@@ -128,14 +136,18 @@ void crane__tilt_from_angle(const crane_model *m, crane_real c1, crane_real s1,
 
     (void)circle(p->link1_pivot, m->tilt_l1, A, m->tilt_l2, m->tilt_branch, &Q);
     L = crane__norm(crane__sub(Q, p->tilt_cylinder_base));
-    if (stroke)
+    if (stroke) {
         *stroke = L - p->cylinder[CRANE_TILT].length_retracted;
-    if (ds)
+    }
+    if (ds) {
         *ds = tilt_ds(p, Q, A, L);
-    if (q)
+    }
+    if (q) {
         *q = Q;
-    if (a)
+    }
+    if (a) {
         *a = A;
+    }
 }
 
 static void side_links(const crane_model *m, crane__tilt_kin *tk)
@@ -189,8 +201,9 @@ void crane__tilt_kinematics(const crane_model *m, crane_real c1, crane_real s1,
     L = crane__norm(crane__sub(tk->q, p->tilt_cylinder_base));
     tk->stroke = L - p->cylinder[CRANE_TILT].length_retracted;
     tk->ds = tilt_ds(p, tk->q, tk->a, L);
-    if (m->links)
+    if (m->links) {
         side_links(m, tk);
+    }
 }
 
 /* x reduced to [0, 2pi): its callers' arguments lie in (-3pi, 5pi). */
@@ -200,10 +213,11 @@ static crane_real wrap_2pi(crane_real x)
     int k;
 
     for (k = 0; k < 2; ++k) {
-        if (x < 0)
+        if (x < 0) {
             x += two_pi;
-        else if (x >= two_pi)
+        } else if (x >= two_pi) {
             x -= two_pi;
+        }
     }
     return x;
 }
@@ -251,51 +265,63 @@ crane_field crane__fourbar_check(crane_model *m)
     crane_vec2 u;
     int k, j, n;
 
-    if (!(l1 > 0))
+    if (!(l1 > 0)) {
         return CRANE_FIELD_GEOMETRY_LINK_PIN;
-    if (!(l2 > 0))
+    }
+    if (!(l2 > 0)) {
         return CRANE_FIELD_GEOMETRY_LINK2_END;
-    if (!(ra > 0))
+    }
+    if (!(ra > 0)) {
         return CRANE_FIELD_GEOMETRY_LINK2_ATTACH;
-    if (!(d > 0))
+    }
+    if (!(d > 0)) {
         return CRANE_FIELD_GEOMETRY_TILT_CYLINDER_BASE;
+    }
     u = crane__scale(1 / d, b);
     /* Triangle P1 B2 Q at the stroke limits (L grows with the stroke, so psi does too). */
-    if (!(len[0] > crane__fabs(l1 - d)))
+    if (!(len[0] > crane__fabs(l1 - d))) {
         return end_field[0];
-    if (!(len[1] < l1 + d))
+    }
+    if (!(len[1] < l1 + d)) {
         return end_field[1];
+    }
     for (k = 0; k < 2; ++k) {
         crane_real sp, cp;
         psi[k] = crane__acos((l1 * l1 + d * d - len[k] * len[k]) / (2 * l1 * d));
         crane__sincos(psi[k], &sp, &cp);
         e[k] = crane__norm(crane__add(cv, crane__scale(l1, crane__rot(cp, -sp, u))));
-        if (!(e[k] > crane__fabs(ra - l2) && e[k] < ra + l2))
+        if (!(e[k] > crane__fabs(ra - l2) && e[k] < ra + l2)) {
             return end_field[k];
+        }
     }
     /* Triangle O2 Q A inside the arc: e's extremes at psi_c (c + l1) and psi_c + pi (|c - l1|). */
     e_lo = e[0] < e[1] ? e[0] : e[1];
     e_hi = e[0] < e[1] ? e[1] : e[0];
     psi_c = wrap_2pi(crane__atan2(u.y, u.x) - crane__atan2(cv.y, cv.x));
-    if (c > 0 && psi_c > psi[0] && psi_c < psi[1])
+    if (c > 0 && psi_c > psi[0] && psi_c < psi[1]) {
         e_hi = c + l1;
-    if (c > 0 && wrap_2pi(psi_c + crane__pi()) > psi[0] && wrap_2pi(psi_c + crane__pi()) < psi[1])
+    }
+    if (c > 0 && wrap_2pi(psi_c + crane__pi()) > psi[0] && wrap_2pi(psi_c + crane__pi()) < psi[1]) {
         e_lo = crane__fabs(c - l1);
-    if (!(e_lo > crane__fabs(ra - l2) && e_hi < ra + l2))
+    }
+    if (!(e_lo > crane__fabs(ra - l2) && e_hi < ra + l2)) {
         return CRANE_FIELD_GEOMETRY_LINK2_END;
+    }
     /* The angles where D may vanish, in increasing order with the ends. */
     pts[0] = psi[0];
     n = 1;
     for (k = 0; k < 2 && c > 0; ++k) {
         const crane_real kk = k == 0 ? l1 + l2 : l1 - l2;
         const crane_real r = (ra * ra - c * c - kk * kk) / (2 * kk * c);
-        if (kk == 0 || !(r >= -1 && r <= 1))
+        if (kk == 0 || !(r >= -1 && r <= 1)) {
             continue;
+        }
         for (j = 0; j < 2; ++j) {
             const crane_real x = wrap_2pi(psi_c + (j == 0 ? 1 : -1) * crane__acos(r));
             int i = n;
-            if (!(x > psi[0] && x < psi[1]))
+            if (!(x > psi[0] && x < psi[1])) {
                 continue;
+            }
             while (i > 1 && pts[i - 1] > x) {
                 pts[i] = pts[i - 1];
                 --i;
@@ -311,8 +337,9 @@ crane_field crane__fourbar_check(crane_model *m)
         for (j = 0; j < (k + 1 < n ? 2 : 1); ++j) {
             const crane_real x = j == 0 ? pts[k] : (pts[k] + pts[k + 1]) / 2;
             const crane_real dk = fourbar_d(m, u, x);
-            if (!(dk != 0) || (sign != 0 && (dk > 0 ? 1 : -1) != sign))
+            if (!(dk != 0) || (sign != 0 && (dk > 0 ? 1 : -1) != sign)) {
                 return CRANE_FIELD_GEOMETRY_LINK2_END;
+            }
             sign = dk > 0 ? 1 : -1;
         }
     }
@@ -322,11 +349,13 @@ crane_field crane__fourbar_check(crane_model *m)
         const crane_real s =
             k == 0 ? crane__stroke_min(m, CRANE_TILT) : crane__stroke_max(m, CRANE_TILT);
         (void)crane__tilt_from_stroke(m, s, &theta[k], &ds[k], NULL, NULL);
-        if (!(theta[k] > lo && theta[k] < hi) || !crane__finite(ds[k]) || !(ds[k] != 0))
+        if (!(theta[k] > lo && theta[k] < hi) || !crane__finite(ds[k]) || !(ds[k] != 0)) {
             return CRANE_FIELD_GEOMETRY_LINK2_ATTACH;
+        }
     }
-    if (!((theta[1] - theta[0]) * ds[0] > 0))
+    if (!((theta[1] - theta[0]) * ds[0] > 0)) {
         return CRANE_FIELD_GEOMETRY_LINK2_ATTACH;
+    }
     return CRANE_FIELD_NONE;
 }
 
@@ -335,18 +364,23 @@ crane_status crane_joint_angle(const crane_model *model, int joint, crane_real s
 {
     crane_real th, ds;
 
-    if (!model || !theta || !dstroke_dtheta)
+    if (!model || !theta || !dstroke_dtheta) {
         return CRANE_E_NULL;
-    if (joint != CRANE_LIFT && joint != CRANE_TILT)
+    }
+    if (joint != CRANE_LIFT && joint != CRANE_TILT) {
         return CRANE_E_CYLINDER;
-    if (!crane__finite(stroke))
+    }
+    if (!crane__finite(stroke)) {
         return CRANE_E_NONFINITE;
-    if (stroke < crane__stroke_min(model, joint) || stroke > crane__stroke_max(model, joint))
+    }
+    if (stroke < crane__stroke_min(model, joint) || stroke > crane__stroke_max(model, joint)) {
         return CRANE_E_STROKE;
-    if (joint == CRANE_LIFT)
+    }
+    if (joint == CRANE_LIFT) {
         crane__lift_from_stroke(model, stroke, &th, &ds);
-    else
+    } else {
         (void)crane__tilt_from_stroke(model, stroke, &th, &ds, NULL, NULL);
+    }
     *theta = th;
     *dstroke_dtheta = ds;
     return CRANE_OK;
@@ -357,19 +391,24 @@ crane_status crane_joint_stroke(const crane_model *model, int joint, crane_real 
 {
     crane_real s, c1, s1;
 
-    if (!model || !stroke)
+    if (!model || !stroke) {
         return CRANE_E_NULL;
-    if (joint != CRANE_LIFT && joint != CRANE_TILT)
+    }
+    if (joint != CRANE_LIFT && joint != CRANE_TILT) {
         return CRANE_E_CYLINDER;
-    if (!crane__finite(theta))
+    }
+    if (!crane__finite(theta)) {
         return CRANE_E_NONFINITE;
-    if (theta < model->theta_min[joint] || theta > model->theta_max[joint])
+    }
+    if (theta < model->theta_min[joint] || theta > model->theta_max[joint]) {
         return CRANE_E_ANGLE;
+    }
     crane__sincos(theta, &s1, &c1);
-    if (joint == CRANE_LIFT)
+    if (joint == CRANE_LIFT) {
         crane__lift_from_angle(model, c1, s1, &s, NULL);
-    else
+    } else {
         crane__tilt_from_angle(model, c1, s1, &s, NULL, NULL, NULL);
+    }
     *stroke = s;
     return CRANE_OK;
 }
@@ -392,26 +431,34 @@ crane_status crane_points(const crane_model *model, crane_real slew, size_t n,
     crane_real cpsi, spsi;
     size_t k;
 
-    if (!model)
+    if (!model) {
         return CRANE_E_NULL;
-    if (n > 0 && (!theta || !xyz))
+    }
+    if (n > 0 && (!theta || !xyz)) {
         return CRANE_E_NULL;
+    }
     /* n poses are 2 n angles in and 3 CRANE_N_POINTS n coordinates out: a count whose sizes do
      * not fit a size_t describes no caller's array (and 2 n would wrap). */
-    if (n > SIZE_MAX / (3 * (size_t)CRANE_N_POINTS * sizeof(crane_real)))
+    if (n > SIZE_MAX / (3 * (size_t)CRANE_N_POINTS * sizeof(crane_real))) {
         return CRANE_E_OVERFLOW;
-    if (!crane__finite(slew))
+    }
+    if (!crane__finite(slew)) {
         return CRANE_E_NONFINITE;
+    }
     /* Validate every pose before the first write. */
-    for (k = 0; k < 2 * n; ++k)
-        if (!crane__finite(theta[k]))
+    for (k = 0; k < 2 * n; ++k) {
+        if (!crane__finite(theta[k])) {
             return CRANE_E_NONFINITE;
+        }
+    }
     for (k = 0; k < n; ++k) {
         int j;
-        for (j = 0; j < 2; ++j)
+        for (j = 0; j < 2; ++j) {
             if (theta[2 * k + (size_t)j] < model->theta_min[j] ||
-                theta[2 * k + (size_t)j] > model->theta_max[j])
+                theta[2 * k + (size_t)j] > model->theta_max[j]) {
                 return CRANE_E_ANGLE;
+                }
+        }
     }
 
     p = model->params;
@@ -440,8 +487,9 @@ crane_status crane_points(const crane_model *model, crane_real slew, size_t n,
                                                      crane__rot(c1, s1, p->extension_mount))));
         pts[10] = crane__add(o1, crane__rot(c0, s0, crane__add(p->tilt_pivot,
                                                       crane__rot(c1, s1, crane__tip(model)))));
-        for (i = 0; i < CRANE_N_POINTS; ++i)
+        for (i = 0; i < CRANE_N_POINTS; ++i) {
             put_world(dst + 3 * i, pts[i], cpsi, spsi);
+        }
     }
     return CRANE_OK;
 }
@@ -467,8 +515,9 @@ void crane__sincosf(float x, float *sp, float *cp)
     float r, z, s, c, fk;
     int k;
 
-    if (!(fabsf(x) <= 64.0f))
+    if (!(fabsf(x) <= 64.0f)) {
         x = fmodf(x, 6.2831854820e+00f);
+    }
     if (!(x == x)) {
         *sp = *cp = x;
         return;

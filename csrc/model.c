@@ -16,8 +16,9 @@ typedef struct {
 /* x must be finite and keep its rule (ok, computed by the caller), else status `bad`. */
 static void rule(verdict *v, crane_field f, crane_real x, int ok, crane_status bad)
 {
-    if (v->status != CRANE_OK)
+    if (v->status != CRANE_OK) {
         return;
+    }
     if (!crane__finite(x)) {
         v->status = CRANE_E_NONFINITE;
         v->field = f;
@@ -71,8 +72,9 @@ static void hydraulics_rules(verdict *v, crane_field first, const crane_hydrauli
     const crane_status bad = CRANE_E_HYDRAULICS;
     const crane_field lift = CRANE_FIELD_LIFT_CYLINDER_HYDRAULICS_VALVE;
 
-    if (h->valve == CRANE_VALVE_NONE)
+    if (h->valve == CRANE_VALVE_NONE) {
         return;
+    }
     rule(v, block_field(first, lift, CRANE_FIELD_LIFT_CYLINDER_HYDRAULICS_VALVE), 0,
          h->valve == CRANE_VALVE_ORIFICE || comp, bad);
     rule(v, block_field(first, lift, CRANE_FIELD_LIFT_CYLINDER_HYDRAULICS_TANK_PRESSURE), h->tank_pressure,
@@ -200,8 +202,9 @@ crane_status crane__check_params(const crane_params *p, crane_field *field)
     body_rules(&v, CRANE_FIELD_EXTENSION_BOOM_MASS, &p->extension_boom, 0);
     body_rules(&v, CRANE_FIELD_SIDE_LINK1_MASS, &p->side_link1, 1);
     body_rules(&v, CRANE_FIELD_SIDE_LINK2_MASS, &p->side_link2, 1);
-    for (i = 0; i < 2; ++i)
+    for (i = 0; i < 2; ++i) {
         cylinder_rules(&v, i, &p->cylinder[i]);
+    }
     body_rules(&v, CRANE_FIELD_PILLAR_MASS, &p->pillar, 1);
     actuator_rules(&v, p);
     *field = v.field;
@@ -229,10 +232,12 @@ static const char *block_rule(crane_field f, crane_field coulomb, crane_field va
 {
     const int k = (int)f - (int)coulomb, j = (int)f - (int)valve;
 
-    if (k >= 0 && k < N_FRICTION)
+    if (k >= 0 && k < N_FRICTION) {
         return FRICTION_RULES[k];
-    if (j >= 0 && j < N_HYDRAULICS)
+    }
+    if (j >= 0 && j < N_HYDRAULICS) {
         return HYDRAULICS_RULES[j];
+    }
     return NULL;
 }
 
@@ -248,8 +253,9 @@ const char *crane_field_rule(crane_field field)
 
     for (k = 0; k < 4; ++k) {
         const char *r = block_rule(field, blocks[k][0], blocks[k][1]);
-        if (r)
+        if (r) {
             return r;
+        }
     }
     switch (field) {
     case CRANE_FIELD_GRAVITY:
@@ -332,14 +338,17 @@ static crane_field lift_triangle_check(const crane_model *m)
                                 l0 + crane__stroke_max(m, CRANE_LIFT)};
     int k;
 
-    if (!(db > 0))
+    if (!(db > 0)) {
         return CRANE_FIELD_GEOMETRY_LIFT_CYLINDER_BASE;
-    if (!(dr > 0))
+    }
+    if (!(dr > 0)) {
         return CRANE_FIELD_GEOMETRY_LIFT_CYLINDER_ROD;
+    }
     for (k = 0; k < 2; ++k) {
         const crane_real cg = (db * db + dr * dr - ends[k] * ends[k]) / (2 * db * dr);
-        if (!(cg > -1 && cg < 1))
+        if (!(cg > -1 && cg < 1)) {
             return k == 0 ? CRANE_FIELD_LIFT_CYLINDER_STROKE_MIN : CRANE_FIELD_LIFT_CYLINDER_STROKE_MAX;
+        }
     }
     return CRANE_FIELD_NONE;
 }
@@ -354,12 +363,15 @@ crane_status crane__model_derive(crane_model *m, const crane_params *params, cra
     int i;
 
     st = crane__check_params(p, field);
-    if (st != CRANE_OK)
+    if (st != CRANE_OK) {
         return st;
-    if (!crane__finite(extension))
+    }
+    if (!crane__finite(extension)) {
         return CRANE_E_NONFINITE;
-    if (extension < p->extension_min || extension > p->extension_max)
+    }
+    if (extension < p->extension_min || extension > p->extension_max) {
         return CRANE_E_EXTENSION;
+    }
 
     m->params = p;
     m->extension = extension;
@@ -404,17 +416,20 @@ crane_status crane__model_derive(crane_model *m, const crane_params *params, cra
             const crane_real n2 = crane__norm2(v[i]);
             m->link_ca[i] = n2 > 0 ? crane__dot(link[i]->com, v[i]) / n2 : 0;
             m->link_cb[i] = n2 > 0 ? crane__cross(v[i], link[i]->com) / n2 : 0;
-            if (link[i]->mass > 0 || link[i]->izz > 0)
+            if (link[i]->mass > 0 || link[i]->izz > 0) {
                 m->links = 1;
+            }
         }
     }
 
     *field = lift_triangle_check(m);
-    if (*field != CRANE_FIELD_NONE)
+    if (*field != CRANE_FIELD_NONE) {
         return CRANE_E_GEOMETRY;
+    }
     *field = crane__fourbar_check(m);
-    if (*field != CRANE_FIELD_NONE)
+    if (*field != CRANE_FIELD_NONE) {
         return CRANE_E_FOURBAR;
+    }
 
     /* Angle limits from the stroke limits; the smaller angle is the lower limit whatever the
      * sign of ds/dtheta (on the PATU the tilt's lower limit is at stroke_max). */
@@ -441,11 +456,13 @@ crane_status crane_model_init(crane_model *model, const crane_params *params, cr
     crane_field field;
     crane_status st;
 
-    if (!model || !params)
+    if (!model || !params) {
         return CRANE_E_NULL;
+    }
     st = crane__model_derive(&m, params, extension, &field);
-    if (st == CRANE_OK)
+    if (st == CRANE_OK) {
         *model = m;
+    }
     return st;
 }
 
@@ -457,13 +474,16 @@ crane_status crane_params_check(const crane_params *params, crane_field *field)
     crane_field f = CRANE_FIELD_NONE;
     crane_status st;
 
-    if (field)
+    if (field) {
         *field = CRANE_FIELD_NONE;
-    if (!params)
+    }
+    if (!params) {
         return CRANE_E_NULL;
+    }
     st = crane__model_derive(&m, params, params->extension_min, &f);
-    if (field)
+    if (field) {
         *field = st == CRANE_OK ? CRANE_FIELD_NONE : f;
+    }
     return st;
 }
 

@@ -16,20 +16,25 @@ static crane_status step_count(crane_real horizon, crane_real dt, long *n_steps)
 {
     double q, n;
 
-    if (!crane__finite(horizon) || !crane__finite(dt))
+    if (!crane__finite(horizon) || !crane__finite(dt)) {
         return CRANE_E_NONFINITE;
-    if (!(horizon > 0))
+    }
+    if (!(horizon > 0)) {
         return CRANE_E_HORIZON;
-    if (!(dt > 0) || dt > horizon)
+    }
+    if (!(dt > 0) || dt > horizon) {
         return CRANE_E_DT;
+    }
     q = (double)horizon / (double)dt;
     q -= 1e-9 + (sizeof(crane_real) < sizeof(double) ? q * 4.0 * (double)FLT_EPSILON : 0.0);
     n = ceil(q);
-    if (n < 1)
+    if (n < 1) {
         n = 1;
+    }
     /* Bounded work (crane.h); it also keeps the step index exact in a float and in a 32-bit long. */
-    if (!(n <= (double)CRANE_MAX_STEPS))
+    if (!(n <= (double)CRANE_MAX_STEPS)) {
         return CRANE_E_STEPS;
+    }
     *n_steps = (long)n;
     return CRANE_OK;
 }
@@ -39,11 +44,13 @@ crane_status crane_sample_count(crane_real horizon, crane_real dt, size_t *count
     long n;
     crane_status st;
 
-    if (!count)
+    if (!count) {
         return CRANE_E_NULL;
+    }
     st = step_count(horizon, dt, &n);
-    if (st != CRANE_OK)
+    if (st != CRANE_OK) {
         return st;
+    }
     *count = (size_t)n + 1;
     return CRANE_OK;
 }
@@ -61,11 +68,14 @@ static crane_status check_times(const crane_real *t, size_t n, crane_real horizo
 {
     size_t k;
 
-    if (n < 2)
+    if (n < 2) {
         return CRANE_E_SAMPLES;
-    for (k = 1; k < n; ++k)
-        if (!(t[k] > t[k - 1]))
+    }
+    for (k = 1; k < n; ++k) {
+        if (!(t[k] > t[k - 1])) {
             return CRANE_E_SAMPLES;
+        }
+    }
     return t[0] <= 0 && t[n - 1] >= horizon ? CRANE_OK : CRANE_E_SAMPLES;
 }
 
@@ -83,29 +93,38 @@ static crane_status check_valve(const crane_model *model, int i, const crane_sta
     size_t k;
 
 #if CRANE_HYDRAULICS
-    if (!crane__circuit(model, i))
+    if (!crane__circuit(model, i)) {
         return CRANE_E_VALVE;
+    }
 #else
     (void)model;
     return CRANE_E_VALVE;
 #endif
-    if (!crane__finite(s->p_a[i]) || !crane__finite(s->p_b[i]) || !crane__finite(s->spool[i]))
+    if (!crane__finite(s->p_a[i]) || !crane__finite(s->p_b[i]) || !crane__finite(s->spool[i])) {
         return CRANE_E_NONFINITE;
-    if (!chamber_ok(s->p_a[i]) || !chamber_ok(s->p_b[i]) || !lever_ok(s->spool[i]))
+    }
+    if (!chamber_ok(s->p_a[i]) || !chamber_ok(s->p_b[i]) || !lever_ok(s->spool[i])) {
         return CRANE_E_VALVE;
+    }
     if (d->n_samples == 0) {
-        if (!crane__finite(d->u))
+        if (!crane__finite(d->u)) {
             return CRANE_E_NONFINITE;
+        }
         return lever_ok(d->u) ? CRANE_OK : CRANE_E_VALVE;
     }
-    if (!d->t || !d->u_samples)
+    if (!d->t || !d->u_samples) {
         return CRANE_E_NULL;
-    for (k = 0; k < d->n_samples; ++k)
-        if (!crane__finite(d->t[k]) || !crane__finite(d->u_samples[k]))
+    }
+    for (k = 0; k < d->n_samples; ++k) {
+        if (!crane__finite(d->t[k]) || !crane__finite(d->u_samples[k])) {
             return CRANE_E_NONFINITE;
-    for (k = 0; k < d->n_samples; ++k)
-        if (!lever_ok(d->u_samples[k]))
+        }
+    }
+    for (k = 0; k < d->n_samples; ++k) {
+        if (!lever_ok(d->u_samples[k])) {
             return CRANE_E_VALVE;
+        }
+    }
     return check_times(d->t, d->n_samples, horizon);
 }
 
@@ -113,25 +132,34 @@ static crane_status check_drive(const crane_drive *d, crane_real stroke_rate, cr
 {
     size_t k;
 
-    if (d->mode != CRANE_DRIVE_PRESSURE && d->mode != CRANE_DRIVE_HOLD)
+    if (d->mode != CRANE_DRIVE_PRESSURE && d->mode != CRANE_DRIVE_HOLD) {
         return CRANE_E_DRIVE;
-    if (!crane__finite(d->p_a) || !crane__finite(d->p_b))
+    }
+    if (!crane__finite(d->p_a) || !crane__finite(d->p_b)) {
         return CRANE_E_NONFINITE;
-    if (d->mode == CRANE_DRIVE_HOLD)
+    }
+    if (d->mode == CRANE_DRIVE_HOLD) {
         /* A closed valve ignores the pressures and samples. */
         return stroke_rate != 0 ? CRANE_E_STROKE_RATE : CRANE_OK;
-    if (d->n_samples == 0)
+    }
+    if (d->n_samples == 0) {
         return pressure_ok(d->p_a) && pressure_ok(d->p_b) ? CRANE_OK : CRANE_E_PRESSURE;
+    }
 
-    if (!d->t || !d->p_a_samples || !d->p_b_samples)
+    if (!d->t || !d->p_a_samples || !d->p_b_samples) {
         return CRANE_E_NULL;
-    for (k = 0; k < d->n_samples; ++k)
+    }
+    for (k = 0; k < d->n_samples; ++k) {
         if (!crane__finite(d->t[k]) || !crane__finite(d->p_a_samples[k]) ||
-            !crane__finite(d->p_b_samples[k]))
+            !crane__finite(d->p_b_samples[k])) {
             return CRANE_E_NONFINITE;
-    for (k = 0; k < d->n_samples; ++k)
-        if (!pressure_ok(d->p_a_samples[k]) || !pressure_ok(d->p_b_samples[k]))
+            }
+    }
+    for (k = 0; k < d->n_samples; ++k) {
+        if (!pressure_ok(d->p_a_samples[k]) || !pressure_ok(d->p_b_samples[k])) {
             return CRANE_E_PRESSURE;
+        }
+    }
     return check_times(d->t, d->n_samples, horizon);
 }
 
@@ -146,16 +174,21 @@ static crane_status check_joint4(const crane_model *model, int j, const crane_st
     const int present = j == CRANE_SLEW ? p->slew_drive.present : p->extension_cylinder.present;
 
     if (j == CRANE_SLEW && present &&
-        (s->slew < p->slew_drive.slew_min || s->slew > p->slew_drive.slew_max))
+        (s->slew < p->slew_drive.slew_min || s->slew > p->slew_drive.slew_max)) {
         return CRANE_E_ANGLE;
-    if (d->mode == CRANE_DRIVE_HOLD)
+        }
+    if (d->mode == CRANE_DRIVE_HOLD) {
         return rate != 0 ? CRANE_E_STROKE_RATE : CRANE_OK;
-    if (d->mode != CRANE_DRIVE_PRESSURE && d->mode != CRANE_DRIVE_VALVE)
+    }
+    if (d->mode != CRANE_DRIVE_PRESSURE && d->mode != CRANE_DRIVE_VALVE) {
         return CRANE_E_DRIVE;
-    if (!present)
+    }
+    if (!present) {
         return CRANE_E_ACTUATOR;
-    if (d->mode == CRANE_DRIVE_VALVE)
+    }
+    if (d->mode == CRANE_DRIVE_VALVE) {
         return check_valve(model, j, s, d, horizon);
+    }
     return check_drive(d, rate, horizon);
 }
 
@@ -167,28 +200,34 @@ static crane_status check_future(const crane_model *model, const crane_state *st
     crane_status st;
     int i;
 
-    for (i = 0; i < 2; ++i)
-        if (!crane__finite(state0->stroke[i]) || !crane__finite(state0->stroke_rate[i]))
+    for (i = 0; i < 2; ++i) {
+        if (!crane__finite(state0->stroke[i]) || !crane__finite(state0->stroke_rate[i])) {
             return CRANE_E_NONFINITE;
+        }
+    }
     if (!crane__finite(state0->slew) || !crane__finite(state0->slew_rate) ||
-        !crane__finite(state0->extension_rate))
+        !crane__finite(state0->extension_rate)) {
         return CRANE_E_NONFINITE;
+        }
     for (i = 0; i < 2; ++i) {
         if (state0->stroke[i] < crane__stroke_min(model, i) ||
-            state0->stroke[i] > crane__stroke_max(model, i))
+            state0->stroke[i] > crane__stroke_max(model, i)) {
             return CRANE_E_STROKE;
+            }
     }
     for (i = 0; i < 2; ++i) {
         st = inputs->drive[i].mode == CRANE_DRIVE_VALVE
                  ? check_valve(model, i, state0, &inputs->drive[i], horizon)
                  : check_drive(&inputs->drive[i], state0->stroke_rate[i], horizon);
-        if (st != CRANE_OK)
+        if (st != CRANE_OK) {
             return st;
+        }
     }
     for (i = CRANE_SLEW; i <= CRANE_EXTENSION; ++i) {
         st = check_joint4(model, i, state0, &inputs->drive[i], horizon);
-        if (st != CRANE_OK)
+        if (st != CRANE_OK) {
             return st;
+        }
     }
     return CRANE_OK;
 }
@@ -208,18 +247,21 @@ crane_real crane__next_knot(const crane_inputs *in, int n_joints, crane_real t, 
     for (j = 0; j < n_joints; ++j) {
         const crane_drive *d = &in->drive[j];
         size_t a = 0, b = d->n_samples;
-        if (d->mode == CRANE_DRIVE_HOLD)
+        if (d->mode == CRANE_DRIVE_HOLD) {
             continue;
+        }
         /* the first sample after lo: bisection, so that long lever records cost log n a step */
         while (a < b) {
             const size_t mid = a + (b - a) / 2;
-            if (d->t[mid] > lo)
+            if (d->t[mid] > lo) {
                 b = mid;
-            else
+            } else {
                 a = mid + 1;
+            }
         }
-        if (a < d->n_samples && d->t[a] < hi && d->t[a] < knot)
+        if (a < d->n_samples && d->t[a] < hi && d->t[a] < knot) {
             knot = d->t[a];
+        }
     }
     return knot;
 }
@@ -233,11 +275,14 @@ static long knot_count(const crane_inputs *in, crane_real horizon)
     for (j = 0; j < 4; ++j) {
         const crane_drive *d = &in->drive[j];
         size_t k;
-        if (d->mode == CRANE_DRIVE_HOLD)
+        if (d->mode == CRANE_DRIVE_HOLD) {
             continue;
-        for (k = 0; k < d->n_samples; ++k)
-            if (d->t[k] > 0 && d->t[k] < horizon)
+        }
+        for (k = 0; k < d->n_samples; ++k) {
+            if (d->t[k] > 0 && d->t[k] < horizon) {
                 ++n;
+            }
+        }
     }
     return n;
 }
@@ -261,30 +306,36 @@ static crane_status check_work(const crane_model *m, const crane_inputs *in, cra
         valve[j] = in->drive[j].mode == CRANE_DRIVE_VALVE;
         any = any || valve[j];
     }
-    if (any)
+    if (any) {
         n_max = crane__substeps_bound(m, valve, h);
+    }
 #endif
     /* docs/model.md "Four joints": a moving extension's friction substeps, at their bound */
     if (in->drive[CRANE_EXTENSION].mode != CRANE_DRIVE_HOLD) {
         const crane_real ne = crane__ceil(h * crane__extension_rate_bound(m->params) / (crane_real)2.5);
-        if (!(ne <= (crane_real)CRANE_MAX_STEPS))
+        if (!(ne <= (crane_real)CRANE_MAX_STEPS)) {
             return CRANE_E_STEPS;
-        if ((long)ne > n_max)
+        }
+        if ((long)ne > n_max) {
             n_max = (long)ne;
+        }
     }
     /* Every knot cuts a step into one more piece, with its own substeps; a step's pieces sum to
      * its length, so their counts ceil(h_i c) sum to at most the whole step's ceil(h c) plus one
      * per knot (ceil(a) + ceil(b) <= ceil(a + b) + 1): a dense lever log costs a substep a knot,
      * not a step's worth. */
-    if (n_max > (long)CRANE_MAX_STEPS / n_steps)
+    if (n_max > (long)CRANE_MAX_STEPS / n_steps) {
         return CRANE_E_STEPS;
+    }
     work = n_steps * n_max;
-    if (knots > (long)CRANE_MAX_STEPS - work)
+    if (knots > (long)CRANE_MAX_STEPS - work) {
         return CRANE_E_STEPS;
+    }
     work += knots;
     if (total) {
-        if (work > (long)CRANE_MAX_BATCH_STEPS - *total)
+        if (work > (long)CRANE_MAX_BATCH_STEPS - *total) {
             return CRANE_E_BATCH;
+        }
         *total += work;
     }
     return CRANE_OK;
@@ -313,21 +364,27 @@ static CRANE__ALWAYS_INLINE crane_status predict(const crane_model *model,
     crane_status st;
     long n_steps;
 
-    if (!crane__finite(state0->extension))
+    if (!crane__finite(state0->extension)) {
         return CRANE_E_NONFINITE;
-    if (state0->extension != model->extension)
+    }
+    if (state0->extension != model->extension) {
         return CRANE_E_EXTENSION;
+    }
     st = step_count(horizon, dt, &n_steps);
-    if (st != CRANE_OK)
+    if (st != CRANE_OK) {
         return st;
+    }
     st = check_future(model, state0, inputs, horizon);
-    if (st != CRANE_OK)
+    if (st != CRANE_OK) {
         return st;
+    }
     st = check_work(model, inputs, horizon, dt, n_steps, NULL);
-    if (st != CRANE_OK)
+    if (st != CRANE_OK) {
         return st;
-    if (crane__decimated_count(n_steps, sample_every) > capacity)
+    }
+    if (crane__decimated_count(n_steps, sample_every) > capacity) {
         return CRANE_E_CAPACITY;
+    }
 
     return integrate(model, state0, inputs, horizon, dt, n_steps, sample_every, out, n_written);
 }
@@ -340,11 +397,13 @@ crane_status crane_predict(const crane_params *params, const crane_state *state0
     crane_field field;
     crane_status st;
 
-    if (!params || !state0 || !inputs || !out || !n_written)
+    if (!params || !state0 || !inputs || !out || !n_written) {
         return CRANE_E_NULL;
+    }
     st = crane__model_derive(&model, params, state0->extension, &field);
-    if (st != CRANE_OK)
+    if (st != CRANE_OK) {
         return st;
+    }
     return predict(&model, state0, inputs, horizon, dt, 1, out, capacity, n_written);
 }
 
@@ -352,8 +411,9 @@ crane_status crane_predict_model(const crane_model *model, const crane_state *st
                                  const crane_inputs *inputs, crane_real horizon, crane_real dt,
                                  crane_sample *out, size_t capacity, size_t *n_written)
 {
-    if (!model || !state0 || !inputs || !out || !n_written)
+    if (!model || !state0 || !inputs || !out || !n_written) {
         return CRANE_E_NULL;
+    }
     return crane__predict_every(model, state0, inputs, horizon, dt, 1, out, capacity, n_written);
 }
 
@@ -371,13 +431,16 @@ crane_status crane_sample_count_every(crane_real horizon, crane_real dt, size_t 
     long n;
     crane_status st;
 
-    if (!count)
+    if (!count) {
         return CRANE_E_NULL;
-    if (sample_every == 0 || sample_every > (size_t)LONG_MAX)
+    }
+    if (sample_every == 0 || sample_every > (size_t)LONG_MAX) {
         return CRANE_E_SAMPLE_EVERY;
+    }
     st = step_count(horizon, dt, &n);
-    if (st != CRANE_OK)
+    if (st != CRANE_OK) {
         return st;
+    }
     *count = crane__decimated_count(n, (long)sample_every);
     return CRANE_OK;
 }
@@ -413,8 +476,9 @@ static CRANE__NOINLINE crane_status check_futures(crane_model *model, const cran
         st = check_future(model, s, &inputs[k], horizon);
         /* the substeps of valve-driven and extension-driven futures count against the bounds too (CRANE_E_BATCH
          * here names the future that takes the batch over) */
-        if (st == CRANE_OK)
+        if (st == CRANE_OK) {
             st = check_work(model, &inputs[k], horizon, dt, n_steps, &total);
+        }
         if (st != CRANE_OK) {
             *failed = k;
             return st;
@@ -436,37 +500,47 @@ crane_status crane_predict_many(const crane_params *params, size_t n_params, siz
     /* 1: params[k] is future k's crane; 0: params[0] is every future's */
     const size_t each = n_params != 1;
 
-    if (!failed)
+    if (!failed) {
         return CRANE_E_NULL;
+    }
     *failed = n_futures;
-    if (!params || (n_futures > 0 && (!states || !inputs || !out)))
+    if (!params || (n_futures > 0 && (!states || !inputs || !out))) {
         return CRANE_E_NULL;
-    if (each && n_params != n_futures)
+    }
+    if (each && n_params != n_futures) {
         return CRANE_E_PARAMS;
+    }
     /* one crane for all: checked as a shared argument; a crane per future: with its future */
     st = each ? CRANE_OK : crane__check_params(params, &field);
-    if (st != CRANE_OK)
+    if (st != CRANE_OK) {
         return st;
+    }
     st = crane_sample_count_every(horizon, dt, sample_every, &count);
-    if (st != CRANE_OK)
+    if (st != CRANE_OK) {
         return st;
+    }
     (void)step_count(horizon, dt, &n_steps);
     /* Bounded work and memory of the whole call (crane.h), before the buffers are looked at. */
-    if (n_futures > 0 && count > (size_t)CRANE_MAX_SAMPLES / n_futures)
+    if (n_futures > 0 && count > (size_t)CRANE_MAX_SAMPLES / n_futures) {
         return CRANE_E_SAMPLE_COUNT;
-    if (n_futures > 0 && (size_t)n_steps > (size_t)CRANE_MAX_BATCH_STEPS / n_futures)
+    }
+    if (n_futures > 0 && (size_t)n_steps > (size_t)CRANE_MAX_BATCH_STEPS / n_futures) {
         return CRANE_E_BATCH;
-    if (count > stride || (n_futures > 0 && stride > SIZE_MAX / n_futures))
+    }
+    if (count > stride || (n_futures > 0 && stride > SIZE_MAX / n_futures)) {
         return CRANE_E_CAPACITY;
+    }
 
     /* Validate every future before the first write. */
     st = check_futures(&model, params, each, n_futures, states, inputs, horizon, dt, n_steps,
                        failed);
-    if (st != CRANE_OK)
+    if (st != CRANE_OK) {
         return st;
+    }
     for (k = 0; k < n_futures; ++k) {
-        if (k == 0 || each || !(states[k].extension == states[k - 1].extension))
+        if (k == 0 || each || !(states[k].extension == states[k - 1].extension)) {
             (void)crane__model_derive(&model, params + k * each, states[k].extension, &field);
+        }
         st = integrate(&model, &states[k], &inputs[k], horizon, dt, n_steps, (long)sample_every,
                        out + k * stride, &count);
         if (st != CRANE_OK) {

@@ -18,8 +18,9 @@ static void state_at(const crane_model *m, const crane_sample *o, crane_state *s
     for (i = 0; i < 2; ++i) {
         crane_real theta, ds = 0;
         s->stroke[i] = o->stroke[i];
-        if (o->omega[i] != 0)
+        if (o->omega[i] != 0) {
             (void)crane_joint_angle(m, i, o->stroke[i], &theta, &ds);
+        }
         s->stroke_rate[i] = o->omega[i] != 0 ? o->omega[i] * ds : 0;
     }
     s->slew = o->slew;
@@ -40,12 +41,14 @@ crane_status crane_step(const crane_model *model, const crane_state *state,
     crane_status st;
     size_t n_written;
 
-    if (!model || !state || !inputs || !next || !out)
+    if (!model || !state || !inputs || !next || !out) {
         return CRANE_E_NULL;
+    }
     /* LONG_MAX: no step but the last is kept, so out[2] holds the period's two ends */
     st = crane__predict_every(model, state, inputs, period, dt, LONG_MAX, out, 2, &n_written);
-    if (st != CRANE_OK)
+    if (st != CRANE_OK) {
         return st;
+    }
     state_at(model, &out[1], next);
     return CRANE_OK;
 }
