@@ -432,3 +432,28 @@ int cfmu_restore(cfmu_instance *f, const cfmu_snapshot *snap)
     f->model_valid = 0;
     return f->s.initialized ? ensure_model(f) : 0;
 }
+
+const char *cfmu_serialize(const void *state, unsigned char *serialized, size_t size)
+{
+    if (size < sizeof(cfmu_snapshot))
+        return "serializing a state into a buffer too small";
+    memcpy(serialized, state, sizeof(cfmu_snapshot));
+    return NULL;
+}
+
+const char *cfmu_deserialize(const unsigned char *serialized, size_t size, void **state)
+{
+    cfmu_snapshot snap;
+    if (size != sizeof snap)
+        return "a serialized state of another size than this FMU's";
+    memcpy(&snap, serialized, sizeof snap);
+    if (snap.magic != CFMU_MAGIC || snap.size != (unsigned)sizeof snap)
+        return "a serialized state of another FMU";
+    if (!*state) {
+        *state = malloc(sizeof snap);
+        if (!*state)
+            return "deserializing a state (out of memory)";
+    }
+    memcpy(*state, &snap, sizeof snap);
+    return NULL;
+}

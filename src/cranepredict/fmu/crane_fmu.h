@@ -102,5 +102,9 @@ int cfmu_get(cfmu_instance *f, unsigned vr, int type, double *value);
 int cfmu_set(cfmu_instance *f, unsigned vr, int type, double value);
 /* A snapshot read back (get/set state, deserialization): checked, then the model re-made. */
 int cfmu_restore(cfmu_instance *f, const cfmu_snapshot *snap);
+/* The serialization both FMI versions share: a snapshot into bytes, and bytes (checked: size, magic)
+ * into a snapshot allocated if *state is NULL. NULL on success, else what went wrong. */
+const char *cfmu_serialize(const void *state, unsigned char *serialized, size_t size);
+const char *cfmu_deserialize(const unsigned char *serialized, size_t size, void **state);
 
 #endif /* CRANE_FMU_H */

@@ -259,32 +259,21 @@ fmi2Status fmi2SerializedFMUstateSize(fmi2Component inst, fmi2FMUstate state, si
 fmi2Status fmi2SerializeFMUstate(fmi2Component inst, fmi2FMUstate state, fmi2Byte serialized[],
                                  size_t size)
 {
+    const char *why;
     if (!inst || !state || !serialized)
         return fmi2Error;
-    if (size < sizeof(cfmu_snapshot))
-        return unsupported(inst, "fmi2SerializeFMUstate into a buffer too small");
-    memcpy(serialized, state, sizeof(cfmu_snapshot));
-    return fmi2OK;
+    why = cfmu_serialize(state, (unsigned char *)serialized, size);
+    return why ? unsupported(inst, why) : fmi2OK;
 }
 
 fmi2Status fmi2DeSerializeFMUstate(fmi2Component inst, const fmi2Byte serialized[], size_t size,
                                    fmi2FMUstate *state)
 {
-    cfmu_snapshot snap;
+    const char *why;
     if (!inst || !serialized || !state)
         return fmi2Error;
-    if (size != sizeof(cfmu_snapshot))
-        return unsupported(inst, "a serialized state of another size than this FMU's");
-    memcpy(&snap, serialized, sizeof snap);
-    if (snap.magic != CFMU_MAGIC || snap.size != (unsigned)sizeof snap)
-        return unsupported(inst, "a serialized state of another FMU");
-    if (!*state) {
-        *state = malloc(sizeof snap);
-        if (!*state)
-            return unsupported(inst, "fmi2DeSerializeFMUstate (out of memory)");
-    }
-    memcpy(*state, &snap, sizeof snap);
-    return fmi2OK;
+    why = cfmu_deserialize((const unsigned char *)serialized, size, state);
+    return why ? unsupported(inst, why) : fmi2OK;
 }
 
 fmi2Status fmi2GetDirectionalDerivative(fmi2Component inst, const fmi2ValueReference u[],

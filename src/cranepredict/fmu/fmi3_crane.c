@@ -376,32 +376,21 @@ fmi3Status fmi3SerializedFMUStateSize(fmi3Instance inst, fmi3FMUState state, siz
 fmi3Status fmi3SerializeFMUState(fmi3Instance inst, fmi3FMUState state, fmi3Byte serialized[],
                                  size_t size)
 {
+    const char *why;
     if (!inst || !state || !serialized)
         return fmi3Error;
-    if (size < sizeof(cfmu_snapshot))
-        return unsupported(inst, "fmi3SerializeFMUState into a buffer too small");
-    memcpy(serialized, state, sizeof(cfmu_snapshot));
-    return fmi3OK;
+    why = cfmu_serialize(state, (unsigned char *)serialized, size);
+    return why ? unsupported(inst, why) : fmi3OK;
 }
 
 fmi3Status fmi3DeserializeFMUState(fmi3Instance inst, const fmi3Byte serialized[], size_t size,
                                    fmi3FMUState *state)
 {
-    cfmu_snapshot snap;
+    const char *why;
     if (!inst || !serialized || !state)
         return fmi3Error;
-    if (size != sizeof(cfmu_snapshot))
-        return unsupported(inst, "a serialized state of another size than this FMU's");
-    memcpy(&snap, serialized, sizeof snap);
-    if (snap.magic != CFMU_MAGIC || snap.size != (unsigned)sizeof snap)
-        return unsupported(inst, "a serialized state of another FMU");
-    if (!*state) {
-        *state = malloc(sizeof snap);
-        if (!*state)
-            return unsupported(inst, "fmi3DeserializeFMUState (out of memory)");
-    }
-    memcpy(*state, &snap, sizeof snap);
-    return fmi3OK;
+    why = cfmu_deserialize((const unsigned char *)serialized, size, state);
+    return why ? unsupported(inst, why) : fmi3OK;
 }
 
 fmi3Status fmi3GetDirectionalDerivative(fmi3Instance inst, const fmi3ValueReference unknowns[],
