@@ -219,15 +219,18 @@ def test_go_scenario_shows_green_banner_ghosts_and_obstacles(browser, shots):
         assert _changed(no_ghosts, bare) > 5000
         page.toggle("obstacles")
         page.toggle("ghosts (the crane ahead)")
-        # a software renderer on a loaded machine may take seconds to draw the layers again
-        bound = 0.2 * _changed(scene, no_ghosts) + 200
+        # both layers drawn again: the same presence tests as above, on the restored page (its
+        # pixels need not equal the first render's: the translucent ghosts are blended in the
+        # order the renderer sorts them); a software renderer on a loaded machine may take
+        # seconds to draw them
         deadline = time.monotonic() + 20.0
         while True:
             again = _scene_region(page.png(shots / "view-go-again.png"), b["box"])
-            if _changed(scene, again) < bound or time.monotonic() > deadline:
+            back = _changed(again, no_ghosts) > 1500 and _changed(again, bare) > 5000
+            if back or time.monotonic() > deadline:
                 break
             time.sleep(0.5)
-        assert _changed(scene, again) < bound
+        assert _changed(again, no_ghosts) > 1500 and _changed(again, bare) > 5000
         assert page.foreign_requests() == []
         assert any(u.startswith(v.url) for u in page.requests)
     finally:
