@@ -197,9 +197,20 @@ static crane_status check_joint4(const crane_model *model, int j, const crane_st
 static crane_status check_future(const crane_model *model, const crane_state *state0,
                                  const crane_inputs *inputs, crane_real horizon)
 {
+    const crane_solver *sv = &inputs->solver;
     crane_status st;
     int i;
 
+    /* the solver (a zero tolerance is the default; NaN fails every range) */
+    if (sv->method != CRANE_METHOD_DEFAULT && sv->method != CRANE_METHOD_ROSW &&
+        sv->method != CRANE_METHOD_RK4) {
+        return CRANE_E_METHOD;
+    }
+    if (sv->method != CRANE_METHOD_RK4 &&
+        ((sv->tip_tolerance != 0 && !crane__in_range(sv->tip_tolerance, (crane_real)1e-9, 1)) ||
+         (sv->pressure_tolerance != 0 && !crane__in_range(sv->pressure_tolerance, 1, (crane_real)1e7)))) {
+        return CRANE_E_METHOD;
+    }
     for (i = 0; i < 2; ++i) {
         if (!crane__finite(state0->stroke[i]) || !crane__finite(state0->stroke_rate[i])) {
             return CRANE_E_NONFINITE;
@@ -299,6 +310,21 @@ static crane_status check_work(const crane_model *m, const crane_inputs *in, cra
     const crane_real h = dt * (crane_real)1.25;
     const long knots = knot_count(in, horizon);
     long n_max = 1, work;
+
+    /* the error-controlled method: its attempt cap (docs/model.md, "Integration") */
+    if (in->solver.method != CRANE_METHOD_RK4) {
+        work = crane__attempt_cap(horizon);
+        if (work > (long)CRANE_MAX_STEPS) {
+            return CRANE_E_STEPS;
+        }
+        if (total) {
+            if (work > (long)CRANE_MAX_BATCH_STEPS - *total) {
+                return CRANE_E_BATCH;
+            }
+            *total += work;
+        }
+        return CRANE_OK;
+    }
 #if CRANE_HYDRAULICS
     int valve[4], j, any = 0;
 
