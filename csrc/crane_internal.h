@@ -412,9 +412,11 @@ void crane__limit_valves(const crane__limits *l, crane_real dt, crane_real *p, i
  * stroke for crane__limit_valves (coef[2j], coef[2j + 1]). */
 /* The relief and anti-cavitation valves' flows as rates (the error-controlled method integrates
  * them with the chamber equations, docs/model.md "Integration"): subtracts G_lim (p - setting) /
- * C(V) from each chamber beyond its setting. */
+ * C(V) from each chamber whose valve is open (bit 0 the a side, bit 1 the b side; the setting the
+ * nearer one, crane__limit_side). A valve's opening and closing are events of the integrator: a
+ * step keeps each valve as it was at its start, so that its rates stay smooth over the step. */
 void crane__limit_rates(const crane_model *m, int joint, crane_real stroke, const crane_real p[2],
-                        crane_real rate[2]);
+                        unsigned open, crane_real rate[2]);
 /* The chamber equations' Jacobian of actuator joint at spool y, the stroke and pressures p:
  * jac = (dpa'/dpa, dpa'/dpb, dpb'/dpa, dpb'/dpb, dpa'/dv, dpb'/dv), v the stroke rate; the valve's
  * pressure slopes, the leakage and the slopes of the limit valves open (bit 0: the a side's, bit 1

@@ -152,16 +152,6 @@ void crane__chamber_rates(const crane_model *m, int joint, crane_real lever, cra
     rate[1] = (ab[1] * v - q_b + q_l) / compliance(h, v_b, h->hose_volume_b);
 }
 
-/* The relief or anti-cavitation valve's setting that a chamber at p is beyond, or p itself
- * (inside both settings: no flow). */
-static CRANE__ALWAYS_INLINE crane_real limit_reference(const crane_hydraulics *h, crane_real p)
-{
-    if (p < h->cavitation_pressure) {
-        return h->cavitation_pressure;
-    }
-    return p > h->relief_pressure ? h->relief_pressure : p;
-}
-
 /* d g(dp) / d dp of orifice (the root's slope, the cubic's inside d_l). */
 static CRANE__ALWAYS_INLINE crane_real orifice_slope(crane_real dp, crane_real dl)
 {
@@ -218,15 +208,21 @@ static void valve_slopes(const crane_hydraulics *h, crane_real y, crane_real p_a
 }
 
 void crane__limit_rates(const crane_model *m, int joint, crane_real stroke, const crane_real p[2],
-                        crane_real rate[2])
+                        unsigned open, crane_real rate[2])
 {
     const crane_hydraulics *const h = crane__circuit(m, joint);
     const crane_real g = h->nominal_flow / LIMIT_OVERRIDE;   /* G_lim */
-    crane_real v_a, v_b, ab[4];
+    crane_real v_a, v_b, set, ab[4];
 
     volumes(m, joint, h, stroke, ab, &v_a, &v_b);
-    rate[0] -= g * (p[0] - limit_reference(h, p[0])) / compliance(h, v_a, h->hose_volume_a);
-    rate[1] -= g * (p[1] - limit_reference(h, p[1])) / compliance(h, v_b, h->hose_volume_b);
+    if ((open & 1u) != 0u) {
+        (void)crane__limit_side(m, joint, p[0], &set);
+        rate[0] -= g * (p[0] - set) / compliance(h, v_a, h->hose_volume_a);
+    }
+    if ((open & 2u) != 0u) {
+        (void)crane__limit_side(m, joint, p[1], &set);
+        rate[1] -= g * (p[1] - set) / compliance(h, v_b, h->hose_volume_b);
+    }
 }
 
 int crane__limit_side(const crane_model *m, int joint, crane_real p, crane_real *setting)

@@ -213,7 +213,7 @@ static CRANE__ALWAYS_INLINE void valve_rates(ctx_t *c, crane_real t, xstate *x, 
 
     crane__chamber_rates(c->lim.m, j, lever(c, j, t), s, v, &x->v[H + 3 * j], x->v[H + 3 * j + 2], r);
     if (c->rosw) {
-        crane__limit_rates(c->lim.m, j, s, &x->v[H + 3 * j], r);
+        crane__limit_rates(c->lim.m, j, s, &x->v[H + 3 * j], (c->open >> (2 * j)) & 3u, r);
     }
     for (k = 0; k < 3; ++k) {
         x->v[H + 3 * j + k] = r[k];
@@ -974,15 +974,13 @@ static void limits_open(ctx_t *c, const xstate *x, const xstate *f)
     }
 }
 
-/* J at (t, x), right after f = rates at (t, x) (which left J_z in c->d). */
-static CRANE__NOINLINE void jacobian(ctx_t *c, crane_real t, const xstate *x, const xstate *f,
-                                     wjac *J)
+/* J at (t, x), right after rates at (t, x) (which left J_z in c->d). */
+static CRANE__NOINLINE void jacobian(ctx_t *c, crane_real t, const xstate *x, wjac *J)
 {
     const crane_model *m = c->lim.m;
     const int nq = c->planar ? 2 : 4;
     int j, k;
 
-    limits_open(c, x, f);
     (void)configure(c, x, 1);
     mass(c, J->mp);
     J->jz = c->d.jz;
@@ -1096,6 +1094,23 @@ static crane_real tolerance(const ctx_t *c, int i)
         return i < W ? tol : tol * ROS_RATE_SCALE;
     }
     return (i - H) % 3 == 2 ? ROS_SPOOL_TOLERANCE : c->tol_p;
+}
+
+/* A step's start at (t, x): the limit valves' modes (limits_open, from f = f(t, x) as the last
+ * step left it, or computed here if valid is 0), f under them and J (the last rates were at x,
+ * leaving its J_z in c->d). */
+static void step_start(ctx_t *c, crane_real t, const xstate *x, xstate *f, int valid, wjac *J)
+{
+    const unsigned char open = c->open;
+
+    if (!valid) {
+        rates(c, t, x, f);
+    }
+    limits_open(c, x, f);
+    if (c->open != open) {
+        rates(c, t, x, f); /* under the new modes */
+    }
+    jacobian(c, t, x, J);
 }
 
 /* One ROS34PW2 step of size h from (t, x), f0 = f(t, x), into y; returns the error's largest
@@ -1264,8 +1279,8 @@ static CRANE__NOINLINE crane_status integrate_rosw(ctx_t *c, xstate *x, crane_re
     size_t next = 1;
 
     release(c, 0, x);
-    rates(c, 0, x, &f0);
-    jacobian(c, 0, x, &f0, &J);
+    c->open = 0;
+    step_start(c, 0, x, &f0, 0, &J);
     while (t < horizon) {
         crane_real hs = h < ROS_MAX_STEP ? h : ROS_MAX_STEP, err, tau = 0;
         int last = 0, first, chamber, upper = 0, changed = 0, i;
@@ -1386,7 +1401,6 @@ static CRANE__NOINLINE crane_status integrate_rosw(ctx_t *c, xstate *x, crane_re
         }
         if (changed) {
             release(c, t, &x1);
-            rates(c, t, &x1, &f0);
             /* a new start after an event: the step is found again from the first one's size */
             if (h > ROS_FIRST_STEP) {
                 h = ROS_FIRST_STEP;
@@ -1396,7 +1410,7 @@ static CRANE__NOINLINE crane_status integrate_rosw(ctx_t *c, xstate *x, crane_re
         }
         copy_state(c, x, &x1);
         if (!last) {
-            jacobian(c, t, x, &f0, &J);
+            step_start(c, t, x, &f0, !changed, &J);
         }
     }
     put_sample(c, horizon, x, &out[next++]);
