@@ -501,6 +501,10 @@ const char *crane_field_rule(crane_field field);
  * used. */
 crane_status crane_model_init(crane_model *model, const crane_params *params, crane_real extension);
 
+/* The default solver with its numbers filled in: CRANE_METHOD_ROSW at the default tip and
+ * pressure tolerances (what a zero crane_solver means). */
+crane_status crane_solver_default(crane_solver *solver);
+
 /* Number of samples a prediction writes: ceil(horizon/dt - 1e-9) + 1. */
 crane_status crane_sample_count(crane_real horizon, crane_real dt, size_t *count);
 

@@ -455,8 +455,8 @@ crane_real crane__next_knot(const crane_inputs *in, int n_joints, crane_real t, 
 
 /* The default tolerances of the error-controlled method (crane_solver; docs/model.md,
  * "Integration"): per step, m of tip and Pa of chamber pressure. */
-static const crane_real CRANE__TIP_TOLERANCE = (crane_real)1e-4;
-static const crane_real CRANE__PRESSURE_TOLERANCE = (crane_real)2e4;
+static const crane_real CRANE__TIP_TOLERANCE = (crane_real)5e-5;
+static const crane_real CRANE__PRESSURE_TOLERANCE = (crane_real)1e4;
 /* Its cap on step attempts over a horizon (docs/model.md, "Integration"): 64 plus 4096 a second
  * (as many as steps of 0.24 ms), so that the work of a call is bounded before it runs. */
 static inline long crane__attempt_cap(crane_real horizon)

@@ -214,6 +214,9 @@ void crane__limit_rates(const crane_model *m, int joint, crane_real stroke, cons
     const crane_real g = h->nominal_flow / LIMIT_OVERRIDE;   /* G_lim */
     crane_real v_a, v_b, set, ab[4];
 
+    if (open == 0u) {
+        return;
+    }
     volumes(m, joint, h, stroke, ab, &v_a, &v_b);
     if ((open & 1u) != 0u) {
         (void)crane__limit_side(m, joint, p[0], &set);

@@ -1338,6 +1338,9 @@ static CRANE__NOINLINE crane_status integrate_rosw(ctx_t *c, xstate *x, crane_re
             hs = tau;
             last = 0;
             (void)ros_step(c, t, x, &f0, &J, hs, &x1);
+#ifdef ROS_DEBUG
+            if (first >= 0) fprintf(stderr, "  residual q %g (w %g) -> dt %g\n", (double)(x1.v[Q + first] - (upper ? hi_q(c, first) : lo_q(c, first))), (double)x1.v[W + first], (double)((x1.v[Q + first] - (upper ? hi_q(c, first) : lo_q(c, first))) / x1.v[W + first]));
+#endif
             if (chamber >= 0) {
                 crane_real set;
                 (void)crane__limit_side(c->lim.m, (chamber - H) / 3, x1.v[chamber], &set);

@@ -39,6 +39,17 @@ static crane_status step_count(crane_real horizon, crane_real dt, long *n_steps)
     return CRANE_OK;
 }
 
+crane_status crane_solver_default(crane_solver *solver)
+{
+    if (solver == NULL) {
+        return CRANE_E_NULL;
+    }
+    solver->method = CRANE_METHOD_ROSW;
+    solver->tip_tolerance = CRANE__TIP_TOLERANCE;
+    solver->pressure_tolerance = CRANE__PRESSURE_TOLERANCE;
+    return CRANE_OK;
+}
+
 crane_status crane_sample_count(crane_real horizon, crane_real dt, size_t *count)
 {
     long n;

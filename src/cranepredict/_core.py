@@ -297,8 +297,15 @@ def _inputs(dst: Any, inputs: "Inputs", keep: list) -> None:
             _drive(dst.drive[joint], drive, keep)
 
 
+def solver(dst: Any, method: str, tolerance: Any) -> None:
+    """crane_inputs.solver from a checked method and Tolerance (solver.check)."""
+    dst.solver.method = lib.CRANE_METHOD_RK4 if method == "rk4" else lib.CRANE_METHOD_ROSW
+    dst.solver.tip_tolerance = tolerance.tip
+    dst.solver.pressure_tolerance = tolerance.pressure
+
+
 def predict(crane: "Crane", state: "State", inputs: "Inputs", horizon: float,
-            dt: float) -> np.ndarray:
+            dt: float, method: str = "rosw", tolerance: Any = None) -> np.ndarray:
     """Runs crane_predict (through crane_predict_model with the cached model, which gives the
     same samples without re-deriving the crane on every call); returns the samples as a
     structured array (SAMPLE_DTYPE)."""
@@ -308,6 +315,8 @@ def predict(crane: "Crane", state: "State", inputs: "Inputs", horizon: float,
     inp = ffi.new("crane_inputs *")
     keep: list = []
     _inputs(inp, inputs, keep)
+    if tolerance is not None:
+        solver(inp, method, tolerance)
     n = sample_count(horizon, dt)
     out = np.empty(n, dtype=SAMPLE_DTYPE)
     written = ffi.new("size_t *")
@@ -383,7 +392,7 @@ def _run_chunk(*args: Any) -> int:
 
 def predict_many(crane: "Crane", states: Sequence["State"], inputs: Sequence["Inputs"],
                  horizon: float, dt: float, sample_every: int, threads: int,
-                 per_future: Any = None) -> np.ndarray:
+                 per_future: Any = None, method: str = "rosw", tolerance: Any = None) -> np.ndarray:
     """Runs crane_predict_many; returns the samples as a (F, N) structured array (SAMPLE_DTYPE).
     ``per_future``: a crane_params[F] (params_per_future), one crane per future; None: the crane's.
 
@@ -400,6 +409,8 @@ def predict_many(crane: "Crane", states: Sequence["State"], inputs: Sequence["In
     for k in range(f):
         _state(st[k], states[k])
         _inputs(inp[k], inputs[k], keep)
+        if tolerance is not None:
+            solver(inp[k], method, tolerance)
     n = sample_count_every(horizon, dt, sample_every)
     out = np.empty((f, n), dtype=SAMPLE_DTYPE)
     if f == 0:
