@@ -31,6 +31,7 @@ crane_real crane__friction(const crane_friction *f, crane_real v)
            f->viscous * TANH_4 * v;
 }
 
+#if CRANE_ROSW
 crane_real crane__friction_slope(const crane_friction *f, crane_real v)
 {
     /* dF/dv of crane__friction, term by term: d tanh(4r)/dr = 4 (1 - tanh^2), and
@@ -51,6 +52,7 @@ crane_real crane__friction_slope(const crane_friction *f, crane_real v)
                f->stribeck_velocity +
            f->viscous * TANH_4;
 }
+#endif /* CRANE_ROSW */
 
 /* A cylinder's piston areas: pi bore^2 / 4 (bore side) and pi (bore^2 - rod^2) / 4 (rod side),
  * worked where needed rather than kept in the model (the stack). */

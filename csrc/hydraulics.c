@@ -152,6 +152,7 @@ void crane__chamber_rates(const crane_model *m, int joint, crane_real lever, cra
     rate[1] = (ab[1] * v - q_b + q_l) / compliance(h, v_b, h->hose_volume_b);
 }
 
+#if CRANE_ROSW
 /* d g(dp) / d dp of orifice (the root's slope, the cubic's inside d_l). */
 static CRANE__ALWAYS_INLINE crane_real orifice_slope(crane_real dp, crane_real dl)
 {
@@ -267,6 +268,7 @@ void crane__chamber_jacobian(const crane_model *m, int joint, crane_real y, cran
     jac[4] = -ab[0] / c_a;
     jac[5] = ab[1] / c_b;
 }
+#endif /* CRANE_ROSW */
 
 void crane__limit_valves(const crane__limits *l, crane_real dt, crane_real *p, int stride)
 {

@@ -63,15 +63,17 @@ typedef struct {
     /* The last step ended with the release rule run at its end (the next step's start time and
      * state) releasing nothing: the release at the next step's start would repeat it exactly. */
     unsigned char release_clear;
+#if CRANE_ROSW
     /* The error-controlled method (ROS34PW2): the relief and anti-cavitation valves are rates
      * (crane__limit_rates) instead of RK4's implicit update. */
     unsigned char rosw;
-    /* bit 2j + side: that chamber's relief or anti-cavitation valve counts as open in the
-     * Jacobian (jacobian) */
+    /* bit 2j + side: that chamber's relief or anti-cavitation valve is open over the step
+     * (limits_open) */
     unsigned char open;
     /* its tolerances: tip metres over the crane's reach (angles), tip metres (the extension),
      * Pa (the pressures) */
     crane_real tol_q, tol_tip, tol_p;
+#endif
 #ifdef ROS_DEBUG
     int dbg_i;
 #endif
@@ -212,9 +214,11 @@ static CRANE__ALWAYS_INLINE void valve_rates(ctx_t *c, crane_real t, xstate *x, 
     int k;
 
     crane__chamber_rates(c->lim.m, j, lever(c, j, t), s, v, &x->v[H + 3 * j], x->v[H + 3 * j + 2], r);
+#if CRANE_ROSW
     if (c->rosw) {
         crane__limit_rates(c->lim.m, j, s, &x->v[H + 3 * j], (c->open >> (2 * j)) & 3u, r);
     }
+#endif
     for (k = 0; k < 3; ++k) {
         x->v[H + 3 * j + k] = r[k];
     }
@@ -878,6 +882,7 @@ static int finite_state(const ctx_t *c, const xstate *x)
     return 1;
 }
 
+#if CRANE_ROSW
 /* ---- The error-controlled method: ROS34PW2 (docs/model.md, "Integration") ---- */
 
 /* Rang and Angermann's ROS34PW2 (2005): a Rosenbrock-W method of four stages, order 3 with any
@@ -974,8 +979,8 @@ static void limits_open(ctx_t *c, const xstate *x, const xstate *f)
     }
 }
 
-/* J at (t, x), right after rates at (t, x) (which left J_z in c->d). */
-static CRANE__NOINLINE void jacobian(ctx_t *c, crane_real t, const xstate *x, wjac *J)
+/* J at (t, x) (the W-method's matrix), right after rates at (t, x) (which left J_z in c->d). */
+static CRANE__NOINLINE void w_matrix(ctx_t *c, crane_real t, const xstate *x, wjac *J)
 {
     const crane_model *m = c->lim.m;
     const int nq = c->planar ? 2 : 4;
@@ -1110,7 +1115,7 @@ static void step_start(ctx_t *c, crane_real t, const xstate *x, xstate *f, int v
     if (c->open != open) {
         rates(c, t, x, f); /* under the new modes */
     }
-    jacobian(c, t, x, J);
+    w_matrix(c, t, x, J);
 }
 
 /* One ROS34PW2 step of size h from (t, x), f0 = f(t, x), into y; returns the error's largest
@@ -1421,6 +1426,8 @@ static CRANE__NOINLINE crane_status integrate_rosw(ctx_t *c, xstate *x, crane_re
     return CRANE_OK;
 }
 
+#endif /* CRANE_ROSW */
+
 crane_status crane__integrate(const crane_model *m, const crane_state *s0, const crane_inputs *in,
                               crane_real horizon, crane_real dt, long n_steps, long sample_every,
                               crane_sample *out, size_t *n_written)
@@ -1439,7 +1446,8 @@ crane_status crane__integrate(const crane_model *m, const crane_state *s0, const
     c.lo_is_max = 0;
     c.cache = 0;
     c.release_clear = 0;
-    c.rosw = (unsigned char)(in->solver.method == CRANE_METHOD_ROSW);
+#if CRANE_ROSW
+    c.rosw = (unsigned char)(in->solver.method != CRANE_METHOD_RK4);
     {
         /* the angles' tolerance: tip metres over the crane's reach (lift pivot to the tip with the
          * telescope out), which bounds the tip's motion per radian of any joint */
@@ -1453,6 +1461,7 @@ crane_status crane__integrate(const crane_model *m, const crane_state *s0, const
                                                     : CRANE__PRESSURE_TOLERANCE;
         c.tol_q = c.tol_tip / reach;
     }
+#endif
     c.planar = (unsigned char)(in->drive[CRANE_SLEW].mode == CRANE_DRIVE_HOLD &&
                                in->drive[CRANE_EXTENSION].mode == CRANE_DRIVE_HOLD);
     for (i = 0; i < N_ALL; ++i) {
@@ -1522,9 +1531,11 @@ crane_status crane__integrate(const crane_model *m, const crane_state *s0, const
         return CRANE_E_DIVERGED;
     }
     put_sample(&c, 0, &x, &out[0]);
+#if CRANE_ROSW
     if (c.rosw) {
         return integrate_rosw(&c, &x, horizon, dt, n_steps, sample_every, out, n_written);
     }
+#endif
     /* Samples after every sample_every-th step and after the last one. The kinematic cache is
      * keyed by the angles themselves, so it stays valid whatever happens in between. */
     for (k = 0, next = 1; k < n_steps; ++k) {
