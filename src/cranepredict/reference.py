@@ -91,7 +91,6 @@ def _lumped_outer(crane: Crane, extension: float) -> Tuple[float, np.ndarray, fl
     return m, c, izz
 
 
-
 # -- bodies and assembly poses -------------------------------------------------------------------
 
 _ORDER = ("lift", "outer", "link1", "link2")
@@ -355,7 +354,7 @@ def _watch_events(model: _Model, crane: Crane, s) -> dict:
     gaps = {}
     for j in watched:
         cyl = _cyl(crane, j)
-        g0 = max(s[j] - cyl.stroke_max, cyl.stroke_min - s[j]) if watched[j][0] == "impact" else None
+        g0 = common.stop_gap(s[j], cyl.stroke_min, cyl.stroke_max)[0] if watched[j][0] == "impact" else None
         gaps[j] = (watched[j][0], gap_fn(j), g0)
     return common.watch(mbs, gaps)
 

@@ -386,7 +386,7 @@ def _piece(crane: Crane, masses, acts, drives, modes, q, qd, held, oil, t0: floa
         if modes[j] == 0:
             def impact_gap(j=j, act=act):
                 return common.stop_gap(measure[j](mbs)[0], act.lo, act.hi)
-            gaps[j] = ("impact", impact_gap, max(q[j] - act.hi, act.lo - q[j]))
+            gaps[j] = ("impact", impact_gap, common.stop_gap(q[j], act.lo, act.hi)[0])
         elif j == SLEW:
             # the fixed joint's torque on the pillar about Z (its z axis): a stop at slew_max
             # pushes towards -psi (torque <= 0); it would have to pull when the sign turns
