@@ -972,7 +972,8 @@ static void limits_open(ctx_t *c, const xstate *x, const xstate *f)
             const int i = H + 3 * (k >> 1) + (k & 1);
             crane_real set;
             const int side = crane__limit_side(c->lim.m, k >> 1, x->v[i], &set);
-            if (side != 0 || (x->v[i] == set && (set < 0 ? f->v[i] < 0 : f->v[i] > 0))) {
+            const int cav = set == crane__circuit(c->lim.m, k >> 1)->cavitation_pressure;
+            if (side != 0 || (x->v[i] == set && (cav ? f->v[i] < 0 : f->v[i] > 0))) {
                 c->open = (unsigned char)(c->open | (1u << k));
             }
         }
