@@ -68,11 +68,14 @@ def _cross(a: Vec, b: Vec) -> float:
     return a[0] * b[1] - a[1] * b[0]
 
 
-def _rotate(angle: float, v: Vec) -> Vec:
-    """R(angle) v, R = [[cos, -sin], [sin, cos]]."""
-    c = math.cos(angle)
-    s = math.sin(angle)
+def _rot(c: float, s: float, v: Vec) -> Vec:
+    """R v, R = [[c, -s], [s, c]]: a rotation by the angle of cosine c and sine s."""
     return (c * v[0] - s * v[1], s * v[0] + c * v[1])
+
+
+def _rotate(angle: float, v: Vec) -> Vec:
+    """R(angle) v."""
+    return _rot(math.cos(angle), math.sin(angle), v)
 
 
 def _norm(v: Vec) -> float:
@@ -98,31 +101,52 @@ def _solve(a: List[List[float]], b: List[float]) -> List[float]:
     return x
 
 
+def _inverse_column(a: List[List[float]], i: int) -> List[float]:
+    """Column i of a^-1: x with a x = e_i."""
+    return _solve(a, [1.0 if k == i else 0.0 for k in range(len(a))])
+
+
+def _inverse2(m: Matrix2) -> Matrix2:
+    """The inverse of a 2x2 matrix, in closed form."""
+    (m00, m01), (m10, m11) = m
+    det = m00 * m11 - m01 * m10
+    return ((m11 / det, -m01 / det), (-m10 / det, m00 / det))
+
 
 # --------------------------------------------------------------------------------------------
 # Drives
 # --------------------------------------------------------------------------------------------
 
+def _signal(drive: Any, *names: str) -> Tuple[Optional[List[float]], List[Any]]:
+    """(times, values of each field in names) of a drive: times None and the values floats for a
+    constant drive, lists for a sampled one (``drive.t``)."""
+    times = getattr(drive, "t", None)
+    if times is None:
+        return None, [float(getattr(drive, name)) for name in names]
+    return [float(x) for x in times], [[float(x) for x in getattr(drive, name)] for name in names]
+
+
+def _segment(times: List[float], t: float) -> Tuple[int, float]:
+    """(k, s): t lies at the fraction s of the way from times[k] to times[k + 1] (the first or
+    last segment for a t outside the samples: no clamping, the validation keeps t inside)."""
+    k = bisect_right(times, t) - 1
+    k = min(max(k, 0), len(times) - 2)
+    return k, (t - times[k]) / (times[k + 1] - times[k])
+
+
+def _lerp(values: List[float], k: int, s: float) -> float:
+    """values linearly interpolated at the fraction s of segment k."""
+    return values[k] + s * (values[k + 1] - values[k])
+
+
 class _PressureDrive:
     """Chamber pressures of one cylinder: constant, or samples interpolated linearly."""
 
     def __init__(self, drive: Any) -> None:
-        times = getattr(drive, "t", None)
-        if times is None:
-            self.times: Optional[List[float]] = None
-            self.p_a: Any = float(drive.p_a)
-            self.p_b: Any = float(drive.p_b)
-        else:
-            self.times = [float(x) for x in times]
-            self.p_a = [float(x) for x in drive.p_a]
-            self.p_b = [float(x) for x in drive.p_b]
+        self.times, (self.p_a, self.p_b) = _signal(drive, "p_a", "p_b")
 
     def pressures(self, t: float) -> Pair:
         if self.times is None:
             return self.p_a, self.p_b
-        ts = self.times
-        k = bisect_right(ts, t) - 1
-        k = min(max(k, 0), len(ts) - 2)
-        s = (t - ts[k]) / (ts[k + 1] - ts[k])
-        return (self.p_a[k] + s * (self.p_a[k + 1] - self.p_a[k]),
-                self.p_b[k] + s * (self.p_b[k + 1] - self.p_b[k]))
+        k, s = _segment(self.times, t)
+        return _lerp(self.p_a, k, s), _lerp(self.p_b, k, s)

@@ -9,7 +9,8 @@ import math
 from typing import Any, List, NamedTuple, Optional, Sequence, Tuple
 
 from ._internal import (EXTENSION, LIFT, SLEW, TILT, Matrix2, Pair, Quad, Tensor, Vec, _cross,
-                        _dot, _rotate, _solve, _sub, _tensor, _vec)
+                        _dot, _inverse2, _rot, _solve, _sub, _tensor, _vec)
+
 
 class _Configuration(NamedTuple):
     """One joint configuration theta, with every vector the Newton-Euler pass needs already in
@@ -85,30 +86,53 @@ def _link_torques(mass: float, izz: float, k: float, d: Vec, e: Vec, j: Vec, bas
     return d[0] * fy - d[1] * fx + n, fx * j[0] + fy * j[1] + n * k
 
 
+#: A rigid body in the plane: mass, centre of mass (in the frame it is given in), izz and the
+#: in-plane inertia tensor entries (ixx, iyy, ixy) about the centre.
+Body = Tuple[float, Vec, float, Tensor]
+
+
+def _body(body: Any) -> Body:
+    """A crane body (lift boom, side link, ...) as a Body in its own frame."""
+    return float(body.mass), _vec(body.com), float(body.izz), _tensor(body)
+
+
+def _point_mass(mass: float, at: Vec) -> Body:
+    """A point mass (the load) as a Body."""
+    return mass, at, 0.0, (0.0, 0.0, 0.0)
+
+
+def _moved(body: Body, origin: Vec) -> Body:
+    """body in a frame in which its own frame's origin is at origin (the frames parallel)."""
+    m, c, izz, t = body
+    return m, (origin[0] + c[0], origin[1] + c[1]), izz, t
+
+
+def _lump(bodies: Sequence[Body]) -> Body:
+    """Rigidly joined bodies as one body: the masses summed, the centre of mass, and izz and the
+    tensor about that centre by parallel axes; every sum in the order the bodies are given."""
+    m, (cx, cy), izz, (ixx, iyy, ixy) = bodies[0]
+    sx, sy = m * cx, m * cy
+    for mk, ck, _, _ in bodies[1:]:
+        m += mk
+        sx += mk * ck[0]
+        sy += mk * ck[1]
+    centre = (sx / m, sy / m)
+    for k, (mk, ck, izz_k, (ixx_k, iyy_k, ixy_k)) in enumerate(bodies):
+        if k > 0:
+            izz += izz_k
+            ixx += ixx_k
+            iyy += iyy_k
+            ixy += ixy_k
+        d = _sub(ck, centre)
+        izz += mk * _dot(d, d)
+        ixx += mk * d[1] * d[1]
+        iyy += mk * d[0] * d[0]
+        ixy -= mk * d[0] * d[1]
+    return m, centre, izz, (ixx, iyy, ixy)
+
+
 class Dynamics:
     """TwinModel's dynamics (the constants are derived in TwinModel.__init__)."""
-
-    def _extension_body(self, crane: Any) -> Tuple[float, Vec, float, Tensor]:
-        """Body 3 = extension boom + load at the tip, lumped once per crane in the extension
-        boom frame (they slide together): mass, centre, izz and in-plane tensor (parallel axes)."""
-        m_ext = float(crane.extension_boom.mass)
-        c_ext = _vec(crane.extension_boom.com)
-        m_load = float(crane.load_mass)
-        tip = (self.tip_distance, 0.0)
-        m3 = m_ext + m_load
-        c3 = ((m_ext * c_ext[0] + m_load * tip[0]) / m3, (m_ext * c_ext[1] + m_load * tip[1]) / m3)
-        t_ext = _tensor(crane.extension_boom)
-        i3 = float(crane.extension_boom.izz)
-        ixx, iyy, ixy = t_ext
-        for m, p in ((m_ext, c_ext), (m_load, tip)):
-            d = _sub(p, c3)
-            i3 += m * _dot(d, d)
-            ixx += m * d[1] * d[1]
-            iyy += m * d[0] * d[0]
-            ixy -= m * d[0] * d[1]
-        return m3, c3, i3, (ixx, iyy, ixy)
-
-    # ---------------------------------------------------------------------------------
 
     def _configuration(self, theta: Sequence[float], extension: Optional[float] = None
                        ) -> _Configuration:
@@ -116,25 +140,22 @@ class Dynamics:
         extension defaults to the model's."""
         th0, th1 = theta[0], theta[1]
         e = self.extension if extension is None else extension
-        c = math.cos(th0)
-        s = math.sin(th0)
-
-        def rot(v: Vec) -> Vec:   # R(theta0) v
-            return (c * v[0] - s * v[1], s * v[0] + c * v[1])
-
-        pose = self._link_pose(th1)
+        c0, s0 = math.cos(th0), math.sin(th0)          # R(theta0)
         th12 = th0 + th1
+        c12, s12 = math.cos(th12), math.sin(th12)      # R(theta0 + theta1)
+        pose = self._link_pose(th1)
         mount = self.extension_mount
         lumped = self._lumped_outer_body(e)
         return _Configuration(
             (self._lift_transmission(th0), pose.ratio), pose.stroke,
-            rot(self.tilt_pivot), rot(self.c1), _rotate(th12, self.c2),
-            _rotate(th12, (mount[0] + e + self.c3[0], mount[1] + self.c3[1])),
-            (math.cos(th12), math.sin(th12)), th0, th12,
-            rot(pose.arm_a), rot(pose.arm_q), rot(pose.link), pose.den1, pose.den2,
-            pose.k1, pose.k2,
-            rot(pose.d1), rot(pose.e1), rot(pose.j1), rot(pose.d2), rot(pose.e2), rot(pose.j2),
-            th0 + pose.phi1, th0 + pose.phi2, (lumped[0], lumped[2]), _rotate(th12, lumped[1]))
+            _rot(c0, s0, self.tilt_pivot), _rot(c0, s0, self.c1), _rot(c12, s12, self.c2),
+            _rot(c12, s12, (mount[0] + e + self.c3[0], mount[1] + self.c3[1])),
+            (c12, s12), th0, th12,
+            _rot(c0, s0, pose.arm_a), _rot(c0, s0, pose.arm_q), _rot(c0, s0, pose.link),
+            pose.den1, pose.den2, pose.k1, pose.k2,
+            _rot(c0, s0, pose.d1), _rot(c0, s0, pose.e1), _rot(c0, s0, pose.j1),
+            _rot(c0, s0, pose.d2), _rot(c0, s0, pose.e2), _rot(c0, s0, pose.j2),
+            th0 + pose.phi1, th0 + pose.phi2, (lumped[0], lumped[2]), _rot(c12, s12, lumped[1]))
 
     def inverse_dynamics(self, theta: Sequence[float], omega: Sequence[float],
                          alpha: Sequence[float], gravity: Optional[float] = None) -> Pair:
@@ -154,20 +175,10 @@ class Dynamics:
         cached = self._lumped.get(e)
         if cached is not None:
             return cached
-        m_ob, c_ob, m_ext, c_ext, m_load = self.m2, self.c2, self._m_ext, self._c_ext, self._m_load
         mount = self.extension_mount
-        x_ext = (mount[0] + e + c_ext[0], mount[1] + c_ext[1])
-        x_tip = (mount[0] + e + self.tip_distance, mount[1])
-        m2 = m_ob + m_ext + m_load
-        c2 = ((m_ob * c_ob[0] + m_ext * x_ext[0] + m_load * x_tip[0]) / m2,
-              (m_ob * c_ob[1] + m_ext * x_ext[1] + m_load * x_tip[1]) / m2)
-
-        def offset2(p: Vec) -> float:
-            d = _sub(p, c2)
-            return _dot(d, d)
-
-        i2 = (self.i2 + m_ob * offset2(c_ob) + self._i_ext + m_ext * offset2(x_ext)
-              + m_load * offset2(x_tip))
+        at = (mount[0] + e, mount[1])           # the extension boom frame's origin
+        m2, c2, i2, _ = _lump((self.outer_boom, _moved(self.extension_boom, at),
+                               _moved(self.load, at)))
         lumped = (m2, c2, i2)
         self._lumped[e] = lumped
         return lumped
@@ -361,9 +372,7 @@ class Dynamics:
 
     def inverse_mass_matrix(self, theta: Sequence[float]) -> Matrix2:
         """M^-1, used by the plastic impact."""
-        (m00, m01), (m10, m11) = self.mass_matrix(theta)
-        det = m00 * m11 - m01 * m10
-        return ((m11 / det, -m01 / det), (-m10 / det, m00 / det))
+        return _inverse2(self.mass_matrix(theta))
 
     # ---------------------------------------------------------------------------------
     # Four joints: mass matrix and forward dynamics (spec "Four joints")
@@ -393,6 +402,7 @@ class Dynamics:
         for j, a in zip(free, sol):
             out[j] = a
         return out[0], out[1], out[2], out[3]
+
     def forward_dynamics4(self, q: Sequence[float], qd: Sequence[float], tau: Sequence[float],
                           locked: Sequence[bool]) -> Quad:
         """Joint accelerations of the four joints; a locked joint has qdd = 0."""

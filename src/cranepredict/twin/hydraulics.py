@@ -5,10 +5,26 @@ bound that sets the substeps."""
 from __future__ import annotations
 
 import math
-from bisect import bisect_right
-from typing import Any, List, Optional, Tuple
+from typing import Any, Tuple
 
-from ._internal import Pair
+from ._internal import Pair, _lerp, _segment, _signal
+from .cylinder import piston_areas
+
+
+#: The relief and anti-cavitation valves pass the valve's nominal flow this far beyond their
+#: settings, Pa (docs/model.md, "Relief, cavitation floor, leakage").
+LIMIT_OVERRIDE = 5e3
+
+#: Substeps keep lambda h/n below this (RK4 is stable on the negative real axis up to 2.785).
+SUBSTEP_STABILITY = 2.5
+
+
+def substep_count(lam: float, h: float) -> int:
+    """n = max(1, ceil(h lambda / SUBSTEP_STABILITY)): how many equal substeps a step of size h
+    takes at the stiffness bound lambda, 1/s (docs/model.md, "Integration (stiffness and
+    substeps)")."""
+    return max(1, int(math.ceil(h * lam / SUBSTEP_STABILITY)))
+
 
 def _signed_root(dp: float, laminar: float) -> float:
     """The orifice law g(dp) of docs/model.md: sign(dp) sqrt|dp|, replaced for |dp| < laminar by
@@ -35,13 +51,7 @@ class _ValveDrive:
 
     def __init__(self, drive: Any, cylinder: Any) -> None:
         hyd = cylinder.hydraulics
-        times = getattr(drive, "t", None)
-        if times is None:
-            self.times: Optional[List[float]] = None
-            self.u: Any = float(drive.u)
-        else:
-            self.times = [float(x) for x in times]
-            self.u = [float(x) for x in drive.u]
+        self.times, (self.u,) = _signal(drive, "u")
         self.compensated = hyd.valve == "compensated"
         self.p_s = float(hyd.supply_pressure)
         self.p_t = float(hyd.tank_pressure)
@@ -67,19 +77,14 @@ class _ValveDrive:
         self.b_oil = float(hyd.oil_bulk_modulus)
         self.b_hose = float(hyd.hose_bulk_modulus)
         self.b_cyl = float(hyd.cylinder_bulk_modulus)
-        self.area_a = math.pi * float(cylinder.bore) ** 2 / 4.0
-        self.area_b = math.pi * (float(cylinder.bore) ** 2 - float(cylinder.rod) ** 2) / 4.0
+        self.area_a, self.area_b = piston_areas(cylinder.bore, cylinder.rod)
         self.stroke_min = float(cylinder.stroke_min)
         self.stroke_max = float(cylinder.stroke_max)
 
     def lever(self, t: float) -> float:
         if self.times is None:
             return self.u
-        ts = self.times
-        k = bisect_right(ts, t) - 1
-        k = min(max(k, 0), len(ts) - 2)
-        s = (t - ts[k]) / (ts[k + 1] - ts[k])
-        return self.u[k] + s * (self.u[k + 1] - self.u[k])
+        return _lerp(self.u, *_segment(self.times, t))
 
     def volumes(self, stroke: float) -> Pair:
         return (self.v_hose[0] + self.area_a * (stroke - self.stroke_min),
@@ -150,17 +155,3 @@ class _ValveDrive:
         lam = max(g / self.compliance(v_a, 0), g / self.compliance(v_b, 1))
         return max(lam, 1.0 / self.tau) if self.tau > 0 else lam
 
-
-#: The relief and anti-cavitation valves pass the valve's nominal flow this far beyond their
-#: settings, Pa (docs/model.md, "Relief, cavitation floor, leakage").
-LIMIT_OVERRIDE = 5e3
-
-#: Substeps keep lambda h/n below this (RK4 is stable on the negative real axis up to 2.785).
-SUBSTEP_STABILITY = 2.5
-
-
-def substep_count(lam: float, h: float) -> int:
-    """n = max(1, ceil(h lambda / SUBSTEP_STABILITY)): how many equal substeps a step of size h
-    takes at the stiffness bound lambda, 1/s (docs/model.md, "Integration (stiffness and
-    substeps)")."""
-    return max(1, int(math.ceil(h * lam / SUBSTEP_STABILITY)))

@@ -1,15 +1,22 @@
 """The twin's integrator (docs/model.md, "Integration and samples", "End stops", "Release",
 "Four joints", "Hydraulics"; the C core's integrator.c): fixed-step RK4 with substeps on the
 joints and the valve-driven actuators' chambers and spools, with the end-stop impacts and the
-releases located inside a step."""
+releases located inside a step.
+
+In layers, each knowing only the one below: rk4_step is the scheme, one step of x' = f(t, x);
+_Prediction.step cuts a step into pieces at the impacts and releases located inside it;
+_Prediction.advance takes a piece in equal substeps (the stiffness bound); integrate runs the
+steps, cut at the sampled drives' knots, and hands every sample to a callback (predict.py
+records them)."""
 
 from __future__ import annotations
 
 import math
-from typing import Any, List, Optional, Sequence, Tuple
+from bisect import bisect_right
+from typing import Any, Callable, List, Optional, Sequence, Tuple
 
 from ._internal import (EXTENSION, HYD, JOINTS, LIFT, SLEW, SPOOL, TILT, Quad, State8,
-                        _PressureDrive, _solve)
+                        _inverse2, _inverse_column, _PressureDrive)
 from .dynamics import _Configuration
 from .hydraulics import _ValveDrive, substep_count
 from .model import TwinModel
@@ -20,6 +27,30 @@ EVENT_BISECTIONS = 60
 RELEASE_BISECTIONS = 40
 #: Most pieces (impacts and releases) one step is cut into; the last takes the rest (spec: 8).
 MAX_PIECES = 8
+
+#: The integrated state: (q, qd) of the four joints (State8), with valves followed by the chamber
+#: pressures and the spools (_internal.HYD, _internal.SPOOL).
+State = Tuple[float, ...]
+
+
+def rk4_step(f: Callable[[float, State], State], t: float, x: State, h: float,
+             project: Optional[Callable[[State, float], State]] = None) -> State:
+    """One classical RK4 step of size h of x' = f(t, x) (docs/model.md, "Integration and samples").
+
+    project(y, dt), if given, maps every stage's state and the result, dt their time from t: the
+    relief and anti-cavitation valves' implicit update ("Integration (stiffness and substeps)")."""
+    def stage(k: State, dt: float) -> State:      # x + dt k
+        y = tuple(a + dt * b for a, b in zip(x, k))
+        return y if project is None else project(y, dt)
+
+    half = 0.5 * h
+    k1 = f(t, x)
+    k2 = f(t + half, stage(k1, half))
+    k3 = f(t + half, stage(k2, half))
+    k4 = f(t + h, stage(k3, h))
+    sixth = h / 6.0
+    y = tuple(a + sixth * (b1 + 2.0 * b2 + 2.0 * b3 + b4) for a, b1, b2, b3, b4 in zip(x, k1, k2, k3, k4))
+    return y if project is None else project(y, h)
 
 
 class _Prediction:
@@ -49,14 +80,22 @@ class _Prediction:
     def locked(self) -> Tuple[bool, ...]:
         return tuple(self.held[j] or self.stop[j] != 0 for j in JOINTS)
 
+    def flag(self, j: int) -> int:
+        """Joint j's stop flag as reported, in actuator terms (TwinModel.stop_flag; 0: not
+        stopped)."""
+        return self.model.stop_flag[j][self.stop[j]] if self.stop[j] != 0 else 0
+
     def _conf(self, x: Sequence[float]) -> _Configuration:
         return self.model._configuration((x[0], x[1]), x[3])
 
-    def acceleration(self, t: float, x: Sequence[float], locked: Tuple[bool, ...]) -> Quad:
-        """qdd at time t: actuator forces of the unlocked joints into forward dynamics."""
+    def acceleration(self, t: float, x: Sequence[float], locked: Tuple[bool, ...],
+                     conf: Optional[_Configuration] = None) -> Quad:
+        """qdd at time t: actuator forces of the unlocked joints into forward dynamics (conf: x's
+        configuration, if already at hand)."""
         if all(locked):
             return 0.0, 0.0, 0.0, 0.0
-        conf = self._conf(x)
+        if conf is None:
+            conf = self._conf(x)
         qd = x[4:8]
         tau = self.torques(t, conf, qd, locked, x)
         if locked[SLEW] and locked[EXTENSION]:
@@ -91,20 +130,21 @@ class _Prediction:
         """Joint j's stroke: its limit on a stop, else from the angle (the slew: the rack's
         travel r_p (psi - slew_min); the extension: e - extension_min)."""
         if j in (SLEW, EXTENSION):
-            lower, upper = self.model.angle_limits[j]
-            q = theta if self.stop[j] == 0 else (lower if self.stop[j] < 0 else upper)
-            return self.ratio(None, j) * (q - lower)  # type: ignore[arg-type]
+            q = theta if self.stop[j] == 0 else self.model.limit(j, self.stop[j])
+            return self.ratio(None, j) * (q - self.model.angle_limits[j][0])  # type: ignore[arg-type]
         if self.stop[j] != 0:
             return self.model.stroke_at_stop[j][self.stop[j]]
         if j == LIFT:
             return self.model.lift_stroke(theta)
         return conf.tilt_stroke if conf is not None else self.model.tilt_stroke(theta)
 
-    def derivative(self, t: float, x: Sequence[float], locked: Tuple[bool, ...]) -> Tuple[float, ...]:
-        """d/dt of the hydraulic state: qd, qdd, the chamber pressures, the spools."""
+    def derivative(self, t: float, x: State, locked: Tuple[bool, ...]) -> State:
+        """d/dt of the state with the joints `locked` held still: qd, qdd and, with valves, the
+        chamber pressures and the spools."""
+        if not self.hydraulic:
+            return x[4:8] + self.acceleration(t, x, locked)
         conf = self._conf(x)
-        qdd = self.acceleration(t, x, locked)
-        d = list(x[4:8]) + list(qdd) + [0.0] * 12
+        d = list(x[4:8]) + list(self.acceleration(t, x, locked, conf)) + [0.0] * 12
         for j in JOINTS:
             if not self.valve[j]:
                 continue
@@ -113,20 +153,10 @@ class _Prediction:
                 t, self.stroke(j, x[j], conf), v, x[HYD + 2 * j], x[HYD + 1 + 2 * j], x[SPOOL + j])
         return tuple(d)
 
-    def rk4_hydraulic(self, t: float, x: Sequence[float], h: float,
-                      locked: Tuple[bool, ...]) -> Tuple[float, ...]:
-        """Classical RK4 on the whole hydraulic state (docs/model.md, "Hydraulics")."""
-        half = 0.5 * h
-        k1 = self.derivative(t, x, locked)
-        x2 = self.limit_valves(tuple(a + half * b for a, b in zip(x, k1)), half)
-        k2 = self.derivative(t + half, x2, locked)
-        x3 = self.limit_valves(tuple(a + half * b for a, b in zip(x, k2)), half)
-        k3 = self.derivative(t + half, x3, locked)
-        x4 = self.limit_valves(tuple(a + h * b for a, b in zip(x, k3)), h)
-        k4 = self.derivative(t + h, x4, locked)
-        sixth = h / 6.0
-        return self.limit_valves(tuple(a + sixth * (b1 + 2.0 * b2 + 2.0 * b3 + b4)
-                                       for a, b1, b2, b3, b4 in zip(x, k1, k2, k3, k4)), h)
+    def rk4(self, t: float, x: State, h: float, locked: Tuple[bool, ...]) -> State:
+        """One step of the scheme (rk4_step) of size h with the joints `locked` held still."""
+        return rk4_step(lambda s, y: self.derivative(s, y, locked), t, x, h,
+                        self.limit_valves if self.hydraulic else None)
 
     def limit_valves(self, x: Tuple[float, ...], dt: float) -> Tuple[float, ...]:
         """x with the implicit part of every valve-driven chamber's relief and anti-cavitation
@@ -151,57 +181,31 @@ class _Prediction:
             lam = max(lam, self.extension_friction_rate(x))
         return substep_count(lam, h)
 
-    def rk4(self, t: float, x: Sequence[float], h: float, locked: Tuple[bool, ...]) -> Tuple[float, ...]:
-        """One classical RK4 step of size h on (q, qd) (and the pressures, if any)."""
-        if self.hydraulic:
-            return self.rk4_hydraulic(t, x, h, locked)
-        half = 0.5 * h
-        k1 = self.acceleration(t, x, locked)
-        x2 = tuple(x[j] + half * x[4 + j] for j in JOINTS) + tuple(x[4 + j] + half * k1[j] for j in JOINTS)
-        k2 = self.acceleration(t + half, x2, locked)
-        x3 = tuple(x[j] + half * x2[4 + j] for j in JOINTS) + tuple(x[4 + j] + half * k2[j] for j in JOINTS)
-        k3 = self.acceleration(t + half, x3, locked)
-        x4 = tuple(x[j] + h * x3[4 + j] for j in JOINTS) + tuple(x[4 + j] + h * k3[j] for j in JOINTS)
-        k4 = self.acceleration(t + h, x4, locked)
-        sixth = h / 6.0
-        return (tuple(x[j] + sixth * (x[4 + j] + 2.0 * x2[4 + j] + 2.0 * x3[4 + j] + x4[4 + j])
-                      for j in JOINTS)
-                + tuple(x[4 + j] + sixth * (k1[j] + 2.0 * k2[j] + 2.0 * k3[j] + k4[j]) for j in JOINTS))
-
     def plastic_impact(self, x: State8, joint: int, side: int) -> State8:
         """Put the joint on its limit and stop it; the impulse acts on this joint only: over the
         free joints F, qd_F <- qd_F - Minv e_i (qd_i / Minv_ii) (Minv the inverse of M over F)."""
         q = list(x[:4])
         w = list(x[4:8])
-        lower, upper = self.model.angle_limits[joint]
-        q[joint] = lower if side < 0 else upper
+        q[joint] = self.model.limit(joint, side)
         free = [j for j in JOINTS if j == joint or (not self.held[j] and self.stop[j] == 0)]
-        if all(j in (LIFT, TILT) for j in free):
-            # the planar model's impact (its closed-form M^-1, the C core's arithmetic)
-            other = 1 - joint
-            if other in free:
-                # at the current extension (a stopped extension need not be the model's)
-                (m00, m01), (m10, m11) = self.model._mass_matrix(
-                    self.model._configuration((q[0], q[1]), q[3]))
-                det = m00 * m11 - m01 * m10
-                minv = ((m11 / det, -m01 / det), (-m10 / det, m00 / det))
-                scale = w[joint] / minv[joint][joint]
-                w[0] -= minv[0][joint] * scale
-                w[1] -= minv[1][joint] * scale
-            w[joint] = 0.0
-            self.stop[joint] = side
-            return tuple(q) + tuple(w) + tuple(x[8:])
-        conf = self.model._configuration((q[0], q[1]), q[3])
-        mass = self.model._mass_matrix4(conf, free)
-        i = free.index(joint)
-        unit = [1.0 if k == i else 0.0 for k in range(len(free))]
-        col = _solve(mass, unit)                  # Minv e_i
-        scale = w[joint] / col[i]
-        for k, j in enumerate(free):
-            w[j] -= col[k] * scale
+        if len(free) > 1:
+            col = self._inverse_mass_column(q, free, joint)
+            scale = w[joint] / col[free.index(joint)]
+            for k, j in enumerate(free):
+                w[j] -= col[k] * scale
         w[joint] = 0.0
         self.stop[joint] = side
         return tuple(q) + tuple(w) + tuple(x[8:])
+
+    def _inverse_mass_column(self, q: Sequence[float], free: List[int], joint: int) -> List[float]:
+        """Column `joint` of M^-1 over the joints `free` at q, at q's extension (a stopped extension
+        need not be the model's); for the two booms alone the planar model's closed-form M^-1
+        (the C core's arithmetic)."""
+        conf = self.model._configuration((q[0], q[1]), q[3])
+        if all(j in (LIFT, TILT) for j in free):
+            minv = _inverse2(self.model._mass_matrix(conf))
+            return [minv[j][joint] for j in free]
+        return _inverse_column(self.model._mass_matrix4(conf, free), free.index(joint))
 
     def stop_at_start(self, x: State8, strokes: Sequence[float], rates: Sequence[float]) -> State8:
         """t = 0 rule: a free joint at a stroke limit whose stroke rate does not point into the
@@ -234,9 +238,9 @@ class _Prediction:
         free = [j for j in JOINTS if not self.held[j]]
         mass = self.model._mass_matrix4(self._conf(x), free)
         i = free.index(EXTENSION)
-        col = _solve(mass, [1.0 if k == i else 0.0 for k in range(len(free))])
+        col = _inverse_column(mass, i)
         # (M^-1)_ee taken at most 4 / m_ext: the bound on the work of a call (spec)
-        return self.model.friction_slope(EXTENSION) * min(col[i], 4.0 / self.model._m_ext)
+        return self.model.friction_slope(EXTENSION) * min(col[i], 4.0 / self.model.extension_boom[0])
 
     def release(self, t: float, x: State8) -> None:
         """Let go of the STOPPED joints that the release rule frees at (t, x)."""
@@ -325,6 +329,22 @@ class _Prediction:
             else:
                 lo = mid
         return hi
+
+    def advance(self, t: float, x: State, t_end: float) -> State:
+        """x from t to t_end, one piece of a step ("Hydraulics" and "Four joints", the extension's
+        friction): n equal substeps, each a full step of the scheme with its releases and impacts,
+        the last ending at t_end."""
+        h = t_end - t
+        n_sub = self.substeps(x, h) if self.hydraulic or not self.held[EXTENSION] else 1
+        if n_sub == 1:
+            self.release(t, x)
+            return self.step(t, x, h)
+        sub = h / n_sub
+        for i in range(n_sub):
+            t_sub = t + i * sub
+            self.release(t_sub, x)
+            x = self.step(t_sub, x, t_end - t_sub if i == n_sub - 1 else sub)
+        return x
 
     def step(self, t: float, x: State8, h: float) -> State8:
         """One step of size h, cut into pieces at the impacts and releases located inside it
@@ -416,3 +436,41 @@ def _physical(x: Sequence[float]) -> bool:
         return all(-PRESSURE_MAX <= v <= PRESSURE_MAX for v in x[HYD:SPOOL]) and \
             all(-1.0 <= v <= 1.0 for v in x[SPOOL:])
     return True
+
+
+def _next_knot(drives: Sequence[Any], t: float, t_end: float, dt: float) -> float:
+    """The earliest sample time of a sampled drive inside (t, t_end), more than dt/1000 from
+    both ends (docs/model.md, "Integration and samples"); t_end if there is none."""
+    lo, hi = t + 1e-3 * dt, t_end - 1e-3 * dt
+    knot = t_end
+    for drive in drives:
+        times = getattr(drive, "times", None)
+        if not times:
+            continue
+        i = bisect_right(times, lo)
+        if i < len(times) and times[i] < hi:
+            knot = min(knot, times[i])
+    return knot
+
+
+def integrate(pred: _Prediction, x: State, horizon: float, dt: float, n: int,
+              record: Callable[[int, float, State], None]) -> State:
+    """x over n steps of dt, the last ending at horizon, with record(k, t, x) after step k - 1
+    (docs/model.md "Integration and samples": a step is cut at the sampled drives' knots inside
+    it, each piece a step of its own, advanced by _Prediction.advance)."""
+    for k in range(n):
+        last = k == n - 1
+        t_end = horizon if last else (k + 1) * dt
+        t = k * dt
+        while True:
+            t_q = _next_knot(pred.drives, t, t_end, dt)
+            x = pred.advance(t, x, t_q)
+            t = t_q
+            if t >= t_end:
+                break
+        if not _physical(x):
+            raise ValueError(f"the prediction diverged at t = {t:g} s (the state is no longer finite, "
+                             "or a spool or chamber pressure left its range): check the crane's "
+                             "parameters for absurd values")
+        record(k + 1, t_end, x)
+    return x

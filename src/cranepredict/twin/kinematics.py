@@ -259,8 +259,7 @@ class Kinematics:
 
     def tilt_stroke(self, theta: float) -> float:
         """Tilt stroke for a tilt angle."""
-        _, q = self._tilt_pins(theta)
-        return _norm(_sub(q, self.tilt_cylinder_base)) - self.length_retracted[TILT]
+        return self._link_pose(theta).stroke
 
     def _tilt_transmission(self, theta: float) -> float:
         return self._link_pose(theta).ratio
@@ -313,8 +312,6 @@ class Kinematics:
     def transmission(self, joint: int, theta: float) -> float:
         """ds/dtheta of a joint at an angle (what turns cylinder force into joint torque)."""
         return self._lift_transmission(theta) if joint == LIFT else self._tilt_transmission(theta)
-
-    # ---------------------------------------------------------------------------------
 
     # ---------------------------------------------------------------------------------
     # Points

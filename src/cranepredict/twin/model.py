@@ -7,9 +7,9 @@ from __future__ import annotations
 import math
 from typing import Any, Optional, Tuple
 
-from ._internal import LIFT, TILT, Pair, _norm, _sub, _tensor, _vec
-from .cylinder import Cylinders
-from .dynamics import Dynamics
+from ._internal import EXTENSION, LIFT, SLEW, TILT, Pair, _norm, _sub, _tensor, _vec
+from .cylinder import Cylinders, equivalent_cylinder, friction_parameters, piston_areas
+from .dynamics import Dynamics, _body, _lump, _point_mass
 from .kinematics import Kinematics, _LinkPose
 
 class TwinModel(Kinematics, Dynamics, Cylinders):
@@ -52,79 +52,54 @@ class TwinModel(Kinematics, Dynamics, Cylinders):
         self.extension_mount = _vec(geo.extension_mount)            # outer boom frame
         self.tip_distance = float(geo.tip_distance)
 
-        # --- cylinders -------------------------------------------------------------------
+        # --- actuators: the boom cylinders, then the slew drive and the extension cylinder as
+        # equivalent cylinders (spec "Four joints")
         cylinders = (crane.lift_cylinder, crane.tilt_cylinder)
         self.length_retracted: Pair = tuple(float(c.length_retracted) for c in cylinders)  # type: ignore
         self.stroke_min: Pair = tuple(float(c.stroke_min) for c in cylinders)  # type: ignore
         self.stroke_max: Pair = tuple(float(c.stroke_max) for c in cylinders)  # type: ignore
-        self.area_bore: Pair = tuple(math.pi * float(c.bore) ** 2 / 4.0 for c in cylinders)  # type: ignore
-        self.area_rod: Pair = tuple(
-            math.pi * (float(c.bore) ** 2 - float(c.rod) ** 2) / 4.0 for c in cylinders)  # type: ignore
-        frictions = [c.friction for c in cylinders]
-
-        # --- slew drive and extension cylinder (spec "Four joints"): equivalent cylinders --
         slew_drive = getattr(crane, "slew_drive", None)
         ext_cyl = getattr(crane, "extension_cylinder", None)
         self.has_actuator = (True, True, slew_drive is not None, ext_cyl is not None)
-        e_min, e_max = float(geo.extension_min), float(geo.extension_max)
-        if slew_drive is not None:
-            area = math.pi * float(slew_drive.bore) ** 2 / 4.0
-            #: ds/dpsi of the rack (constant)
-            self.slew_ratio = float(slew_drive.pinion_radius)
-            slew_limits = (float(slew_drive.slew_min), float(slew_drive.slew_max))
-            slew_areas = (area, area)
-            frictions.append(slew_drive.friction)
-        else:
-            self.slew_ratio = 1.0
-            slew_limits = (-math.inf, math.inf)
-            slew_areas = (0.0, 0.0)
-            frictions.append(None)
-        if ext_cyl is not None:
-            ext_areas = (math.pi * float(ext_cyl.bore) ** 2 / 4.0,
-                         math.pi * (float(ext_cyl.bore) ** 2 - float(ext_cyl.rod) ** 2) / 4.0)
-            frictions.append(ext_cyl.friction)
-        else:
-            ext_areas = (0.0, 0.0)
-            frictions.append(None)
-        self.area_bore = self.area_bore + (slew_areas[0], ext_areas[0])  # type: ignore
-        self.area_rod = self.area_rod + (slew_areas[1], ext_areas[1])  # type: ignore
-        self.friction = tuple(
-            (0.0, 0.0, 0.0, 1.0, 0.0) if f is None else
-            (float(f.coulomb), float(f.static), float(f.viscous), float(f.stribeck_velocity),
-             float(f.factor))
-            for f in frictions)
-        self.slew_limits: Pair = slew_limits
-        self.extension_limits: Pair = (e_min, e_max)
+        areas = [piston_areas(c.bore, c.rod) for c in cylinders]
+        frictions = [c.friction for c in cylinders]
+        for joint, actuator in ((SLEW, slew_drive), (EXTENSION, ext_cyl)):
+            if actuator is None:
+                areas.append((0.0, 0.0))
+                frictions.append(None)
+            else:
+                cyl = equivalent_cylinder(crane, joint)
+                areas.append(piston_areas(cyl.bore, cyl.rod))
+                frictions.append(actuator.friction)
+        self.area_bore: Tuple[float, ...] = tuple(a for a, _ in areas)
+        self.area_rod: Tuple[float, ...] = tuple(b for _, b in areas)
+        self.friction = tuple(friction_parameters(f) for f in frictions)
+        #: ds/dpsi of the rack (constant)
+        self.slew_ratio = 1.0 if slew_drive is None else float(slew_drive.pinion_radius)
+        self.slew_limits: Pair = (-math.inf, math.inf) if slew_drive is None else (
+            float(slew_drive.slew_min), float(slew_drive.slew_max))
+        self.extension_limits: Pair = (float(geo.extension_min), float(geo.extension_max))
 
         # --- bodies (spec "Four joints": body 2 the outer boom alone, body 3 extension + load)
-        self.m1 = float(crane.lift_boom.mass)
-        self.c1 = _vec(crane.lift_boom.com)
-        self.i1 = float(crane.lift_boom.izz)
-        self.t1 = _tensor(crane.lift_boom)
-        self.m2 = float(crane.outer_boom.mass)
-        self.c2 = _vec(crane.outer_boom.com)
-        self.i2 = float(crane.outer_boom.izz)
-        self.t2 = _tensor(crane.outer_boom)
-        self.m3, self.c3, self.i3, self.t3 = self._extension_body(crane)
+        self.m1, self.c1, self.i1, self.t1 = _body(crane.lift_boom)
+        self.outer_boom = _body(crane.outer_boom)
+        self.m2, self.c2, self.i2, self.t2 = self.outer_boom
+        self.extension_boom = _body(crane.extension_boom)
+        #: the load, a point mass at the tip, in the extension boom frame
+        self.load = _point_mass(float(crane.load_mass), (self.tip_distance, 0.0))
+        # body 3: lumped once per crane in the extension boom frame (they slide together)
+        self.m3, self.c3, self.i3, self.t3 = _lump((self.extension_boom, self.load))
         # side link 1's frame has its origin at P1, side link 2's at the pin Q
-        self.link1_mass = float(crane.side_link1.mass)
-        self.link1_com = _vec(crane.side_link1.com)
-        self.link1_izz = float(crane.side_link1.izz)
-        self.link1_tensor = _tensor(crane.side_link1)
-        self.link2_mass = float(crane.side_link2.mass)
-        self.link2_com = _vec(crane.side_link2.com)
-        self.link2_izz = float(crane.side_link2.izz)
-        self.link2_tensor = _tensor(crane.side_link2)
+        (self.link1_mass, self.link1_com, self.link1_izz,
+         self.link1_tensor) = _body(crane.side_link1)
+        (self.link2_mass, self.link2_com, self.link2_izz,
+         self.link2_tensor) = _body(crane.side_link2)
         pillar = crane.pillar
         #: the pillar's constant share of the slew inertia, m x^2 + iyy
         self.pillar_inertia = 0.0 if pillar is None else (
             float(pillar.mass) * float(pillar.com[0]) ** 2 + _tensor(pillar)[1])
         self._pose: Optional[_LinkPose] = None                      # the last four-bar pose
         self._lumped: dict = {}                                     # extension -> lumped body 2
-        self._m_ext = float(crane.extension_boom.mass)
-        self._c_ext = _vec(crane.extension_boom.com)
-        self._i_ext = float(crane.extension_boom.izz)
-        self._m_load = float(crane.load_mass)
 
         # --- tilt four-bar validity and assembly (spec "Tilt kinematics") ------------------
         #: the side of P1 -> A on which angle -> stroke puts Q (+1 left, -1 right)
@@ -154,3 +129,9 @@ class TwinModel(Kinematics, Dynamics, Cylinders):
         self.stroke_at_stop = (at_stop[0], at_stop[1])
         # the slew and the extension: -1 at the range's start, +1 at its end
         self.stop_flag = (flags[0], flags[1], {-1: -1, +1: +1}, {-1: -1, +1: +1})
+
+    def limit(self, joint: int, side: int) -> float:
+        """The joint's lower (side -1) or upper (+1) angle limit; the slew's and the extension's
+        range ends."""
+        lower, upper = self.angle_limits[joint]
+        return lower if side < 0 else upper

@@ -4,17 +4,16 @@ work, the samples it returns, and the crane's points and transmissions for the A
 from __future__ import annotations
 
 import math
-from bisect import bisect_right
-from typing import Any, List, Sequence, Tuple
+from typing import Any, List, Tuple
 
 import numpy as np
 
 from ..types import POINT_NAMES
-from ._internal import (EXTENSION, HYD, JOINT_NAMES, JOINTS, LIFT, SLEW, SPOOL, TILT, State8,
+from ._internal import (EXTENSION, HYD, JOINT_NAMES, JOINTS, LIFT, SLEW, SPOOL, TILT, Quad,
                         _PressureDrive)
 from .cylinder import equivalent_cylinder
 from .hydraulics import _ValveDrive, substep_count
-from .integrator import _physical, _Prediction
+from .integrator import State, _Prediction, integrate
 from .model import TwinModel
 
 def _drive(drive: Any, cylinder: Any = None) -> Any:
@@ -35,42 +34,18 @@ def _optional_drive(crane: Any, inputs: Any, joint: int) -> Any:
     actuator = "slew_drive" if joint == SLEW else "extension_cylinder"
     if getattr(crane, actuator, None) is None:
         raise ValueError(f"Inputs.{name}: the crane has no {actuator} to drive")
-    if hasattr(drive, "u"):
-        cyl = equivalent_cylinder(crane, joint)
-        if cyl.hydraulics is None:
-            raise ValueError(f"Inputs.{name}: a valve drive needs {actuator}.hydraulics in the crane file")
-        return _ValveDrive(drive, cyl)
-    return _PressureDrive(drive)
+    cyl = equivalent_cylinder(crane, joint)
+    if hasattr(drive, "u") and cyl.hydraulics is None:
+        raise ValueError(f"Inputs.{name}: a valve drive needs {actuator}.hydraulics in the crane file")
+    return _drive(drive, cyl)
 
 
-def _next_knot(drives: Sequence[Any], t: float, t_end: float, dt: float) -> float:
-    """The earliest sample time of a sampled drive inside (t, t_end), more than dt/1000 from
-    both ends (docs/model.md, "Integration and samples"); t_end if there is none."""
-    lo, hi = t + 1e-3 * dt, t_end - 1e-3 * dt
-    knot = t_end
-    for drive in drives:
-        times = getattr(drive, "times", None)
-        if not times:
-            continue
-        i = bisect_right(times, lo)
-        if i < len(times) and times[i] < hi:
-            knot = min(knot, times[i])
-    return knot
-
-
-def _run(crane: Any, state: Any, inputs: Any, horizon: float, dt: float
-         ) -> Tuple[dict, List[Tuple[float, int, int]]]:
-    """simulate() plus the list of impacts (time, joint, angle side), for diagnostics and tests."""
-    horizon = float(horizon)
-    dt = float(dt)
-    model = TwinModel(crane, state.extension)
-    drives = (_drive(inputs.lift, crane.lift_cylinder), _drive(inputs.tilt, crane.tilt_cylinder),
-              _optional_drive(crane, inputs, SLEW), _optional_drive(crane, inputs, EXTENSION))
-    pred = _Prediction(model, drives)
-
+def _initial_state(pred: _Prediction, state: Any) -> Tuple[State, Quad, Quad]:
+    """(x, strokes, stroke rates) at t = 0 from a State, before the t = 0 stop rule; the slew and
+    the extension in their own terms (the coordinate is the "stroke")."""
+    model = pred.model
     slew0 = float(state.slew)
     ext0 = float(state.extension)
-    # the slew and the extension in their own terms (the coordinate is the "stroke")
     strokes0 = (float(state.lift_stroke), float(state.tilt_stroke), slew0, ext0)
     rates0 = (float(state.lift_stroke_rate), float(state.tilt_stroke_rate),
               float(getattr(state, "slew_rate", 0.0)), float(getattr(state, "extension_rate", 0.0)))
@@ -81,7 +56,7 @@ def _run(crane: Any, state: Any, inputs: Any, horizon: float, dt: float
         qd0[j] = 0.0 if pred.held[j] else rates0[j] / ratio
     for j in (SLEW, EXTENSION):
         qd0[j] = 0.0 if pred.held[j] else rates0[j]
-    x: State8 = tuple(q0) + tuple(qd0)
+    x: State = tuple(q0) + tuple(qd0)
     if pred.hydraulic:
         hyd = [0.0] * 12
         for j, name in enumerate(JOINT_NAMES):
@@ -90,14 +65,15 @@ def _run(crane: Any, state: Any, inputs: Any, horizon: float, dt: float
                 hyd[2 * j + 1] = float(getattr(state, f"{name}_p_b"))
                 hyd[SPOOL - HYD + j] = float(getattr(state, f"{name}_spool", 0.0))
         x = x + tuple(hyd)
-    x = pred.stop_at_start(x, strokes0, rates0)
+    return x, strokes0, rates0
 
-    n = int(math.ceil(horizon / dt - 1e-9))
-    # bad input: the work counts against MAX_STEPS as in the C core: with valves every step takes
-    # up to the worst-case substeps (docs/model.md "Hydraulics": at the stroke ends, where the
-    # chambers are smallest; the last step up to 1.25 dt), and every knot of a sampled drive
-    # inside the horizon cuts a step once more ("Integration and samples"), which costs at most one
-    # substep more: a step's pieces sum to its length, ceil(a) + ceil(b) <= ceil(a + b) + 1
+
+def _check_work(pred: _Prediction, horizon: float, dt: float, n: int) -> None:
+    """Bad input: the work counts against MAX_STEPS as in the C core: with valves every step takes
+    up to the worst-case substeps (docs/model.md "Hydraulics": at the stroke ends, where the
+    chambers are smallest; the last step up to 1.25 dt), and every knot of a sampled drive inside
+    the horizon cuts a step once more ("Integration and samples"), which costs at most one
+    substep more: a step's pieces sum to its length, ceil(a) + ceil(b) <= ceil(a + b) + 1."""
     from .._checks import MAX_STEPS
 
     knots = sum(1 for drive in pred.drives for tk in (getattr(drive, "times", None) or ())
@@ -112,94 +88,93 @@ def _run(crane: Any, state: Any, inputs: Any, horizon: float, dt: float
                          f"drives' samples and the valve-driven cylinders' substeps ({n} steps x "
                          f"up to {worst} substeps + {knots} cuts): raise dt, shorten the "
                          "horizon or send fewer samples")
-    t_out = np.empty(n + 1)
-    strokes = np.empty((n + 1, 2))
-    theta = np.empty((n + 1, 2))
-    omega = np.empty((n + 1, 2))
-    tip = np.empty((n + 1, 3))
-    stop = np.zeros((n + 1, 4), dtype=np.int64)
-    coords = np.empty((n + 1, 2))            # (slew, extension)
-    rates = np.empty((n + 1, 2))             # (slew rate, extension rate)
-    p_a = np.zeros((n + 1, 4))
-    p_b = np.zeros((n + 1, 4))
-    flow_a = np.zeros((n + 1, 4))
-    flow_b = np.zeros((n + 1, 4))
-    spool = np.zeros((n + 1, 4))
 
-    def record(i: int, t: float, x: State8) -> None:
-        t_out[i] = t
+
+class _Samples:
+    """The n + 1 samples of a prediction (types.ARRAYS), filled in by record()."""
+
+    def __init__(self, pred: _Prediction, n: int, strokes0: Quad) -> None:
+        self.pred = pred
+        self.strokes0 = strokes0
+        self.t = np.empty(n + 1)
+        self.strokes = np.empty((n + 1, 2))
+        self.theta = np.empty((n + 1, 2))
+        self.omega = np.empty((n + 1, 2))
+        self.tip = np.empty((n + 1, 3))
+        self.stop = np.zeros((n + 1, 4), dtype=np.int64)
+        self.coords = np.empty((n + 1, 2))            # (slew, extension)
+        self.rates = np.empty((n + 1, 2))             # (slew rate, extension rate)
+        self.p_a = np.zeros((n + 1, 4))
+        self.p_b = np.zeros((n + 1, 4))
+        self.flow_a = np.zeros((n + 1, 4))
+        self.flow_b = np.zeros((n + 1, 4))
+        self.spool = np.zeros((n + 1, 4))
+
+    def record(self, i: int, t: float, x: State) -> None:
+        """Sample i: the state x at time t, with the joint status of the prediction."""
+        pred, model = self.pred, self.pred.model
+        self.t[i] = t
         for j in (LIFT, TILT):
             if pred.held[j]:
-                strokes[i, j] = strokes0[j]
+                self.strokes[i, j] = self.strokes0[j]
             elif pred.stop[j] != 0:
-                strokes[i, j] = model.stroke_at_stop[j][pred.stop[j]]
+                self.strokes[i, j] = model.stroke_at_stop[j][pred.stop[j]]
             else:
                 # the stroke -> angle -> stroke round trip can land a few 1e-16 m outside
-                cyl = cylinders[j]
-                strokes[i, j] = min(max(model.joint_stroke(j, x[j]), cyl.stroke_min), cyl.stroke_max)
-            stop[i, j] = model.stop_flag[j][pred.stop[j]] if pred.stop[j] != 0 else 0
+                self.strokes[i, j] = min(max(model.joint_stroke(j, x[j]), model.stroke_min[j]),
+                                         model.stroke_max[j])
+            self.stop[i, j] = pred.flag(j)
         for k, j in enumerate((SLEW, EXTENSION)):
-            lower, upper = model.angle_limits[j]
             if pred.held[j]:
-                coords[i, k] = strokes0[j]
+                self.coords[i, k] = self.strokes0[j]
             elif pred.stop[j] != 0:
-                coords[i, k] = lower if pred.stop[j] < 0 else upper
+                self.coords[i, k] = model.limit(j, pred.stop[j])
             else:
-                coords[i, k] = x[j]
-            rates[i, k] = x[4 + j]
-            stop[i, j] = model.stop_flag[j][pred.stop[j]] if pred.stop[j] != 0 else 0
-        theta[i] = (x[0], x[1])
-        omega[i] = (x[4], x[5])
-        tip[i] = model.tip((x[0], x[1]), coords[i, 0], coords[i, 1])
+                self.coords[i, k] = x[j]
+            self.rates[i, k] = x[4 + j]
+            self.stop[i, j] = pred.flag(j)
+        self.theta[i] = (x[0], x[1])
+        self.omega[i] = (x[4], x[5])
+        self.tip[i] = model.tip((x[0], x[1]), self.coords[i, 0], self.coords[i, 1])
         for j in JOINTS:
             drive = pred.drives[j]
             if drive is None:
                 continue
             if pred.valve[j]:
                 y = x[SPOOL + j] if drive.tau > 0.0 else drive.lever(t)
-                p_a[i, j], p_b[i, j] = x[HYD + 2 * j], x[HYD + 1 + 2 * j]
-                flow_a[i, j], flow_b[i, j] = drive.flows(y, x[HYD + 2 * j], x[HYD + 1 + 2 * j])
-                spool[i, j] = y
+                self.p_a[i, j], self.p_b[i, j] = x[HYD + 2 * j], x[HYD + 1 + 2 * j]
+                self.flow_a[i, j], self.flow_b[i, j] = drive.flows(y, x[HYD + 2 * j],
+                                                                   x[HYD + 1 + 2 * j])
+                self.spool[i, j] = y
             else:
-                p_a[i, j], p_b[i, j] = drive.pressures(t)
+                self.p_a[i, j], self.p_b[i, j] = drive.pressures(t)
 
-    cylinders = (crane.lift_cylinder, crane.tilt_cylinder)
-    record(0, 0.0, x)
-    for k in range(n):
-        last = k == n - 1
-        t_end = horizon if last else (k + 1) * dt
-        t = k * dt
-        # docs/model.md "Integration and samples": the step is cut at the sampled drives' knots
-        # inside it, each piece a step of its own; "Hydraulics" and "Four joints" (the extension's
-        # friction): a piece is n equal substeps, each a full step of the scheme, the last ending
-        # at the piece's end time
-        while True:
-            t_q = _next_knot(pred.drives, t, t_end, dt)
-            h = t_q - t
-            n_sub = pred.substeps(x, h) if pred.hydraulic or not pred.held[EXTENSION] else 1
-            if n_sub == 1:
-                pred.release(t, x)
-                x = pred.step(t, x, h)
-            else:
-                sub = h / n_sub
-                for i in range(n_sub):
-                    t_sub = t + i * sub
-                    pred.release(t_sub, x)
-                    x = pred.step(t_sub, x, t_q - t_sub if i == n_sub - 1 else sub)
-            t = t_q
-            if t >= t_end:
-                break
-        if not _physical(x):
-            raise ValueError(f"the prediction diverged at t = {t:g} s (the state is no longer finite, "
-                             "or a spool or chamber pressure left its range): check the crane's "
-                             "parameters for absurd values")
-        record(k + 1, horizon if last else (k + 1) * dt, x)
+    def arrays(self) -> dict:
+        """The samples by the names of types.ARRAYS, in its order."""
+        return {"t": self.t, "strokes": self.strokes, "theta": self.theta, "omega": self.omega,
+                "slew": self.coords[:, 0].copy(), "extension": self.coords[:, 1].copy(),
+                "slew_rate": self.rates[:, 0].copy(), "extension_rate": self.rates[:, 1].copy(),
+                "tip": self.tip, "stop": self.stop, "p_a": self.p_a, "p_b": self.p_b,
+                "flow_a": self.flow_a, "flow_b": self.flow_b, "spool": self.spool}
 
-    out = {"t": t_out, "strokes": strokes, "theta": theta, "omega": omega,
-           "slew": coords[:, 0].copy(), "extension": coords[:, 1].copy(),
-           "slew_rate": rates[:, 0].copy(), "extension_rate": rates[:, 1].copy(), "tip": tip,
-           "stop": stop, "p_a": p_a, "p_b": p_b, "flow_a": flow_a, "flow_b": flow_b, "spool": spool}
-    return out, pred.events
+
+def _run(crane: Any, state: Any, inputs: Any, horizon: float, dt: float
+         ) -> Tuple[dict, List[Tuple[float, int, int]]]:
+    """simulate() plus the list of impacts (time, joint, angle side), for diagnostics and tests."""
+    horizon = float(horizon)
+    dt = float(dt)
+    model = TwinModel(crane, state.extension)
+    drives = (_drive(inputs.lift, crane.lift_cylinder), _drive(inputs.tilt, crane.tilt_cylinder),
+              _optional_drive(crane, inputs, SLEW), _optional_drive(crane, inputs, EXTENSION))
+    pred = _Prediction(model, drives)
+    x, strokes0, rates0 = _initial_state(pred, state)
+    x = pred.stop_at_start(x, strokes0, rates0)
+    n = int(math.ceil(horizon / dt - 1e-9))
+    _check_work(pred, horizon, dt, n)
+    samples = _Samples(pred, n, strokes0)
+    samples.record(0, 0.0, x)
+    integrate(pred, x, horizon, dt, n, samples.record)
+    return samples.arrays(), pred.events
 
 
 def simulate(crane: Any, state: Any, inputs: Any, horizon: float, dt: float) -> dict:
