@@ -30,6 +30,9 @@ Tensor = Tuple[float, float, float]     # in-plane inertia tensor entries (ixx, 
 Matrix2 = Tuple[Pair, Pair]
 Matrix4 = Tuple[Tuple[float, float, float, float], ...]
 State8 = Tuple[float, ...]   # (theta0, theta1, psi, e, omega0, omega1, omega_s, v_e)
+#: The integrated state: State8, with valves followed by the chamber pressures and the spools
+#: (HYD, SPOOL).
+State = Tuple[float, ...]
 
 
 # --------------------------------------------------------------------------------------------

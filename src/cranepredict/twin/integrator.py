@@ -15,7 +15,7 @@ import math
 from bisect import bisect_right
 from typing import Any, Callable, List, Optional, Sequence, Tuple
 
-from ._internal import (EXTENSION, HYD, JOINTS, LIFT, SLEW, SPOOL, TILT, Quad, State8,
+from ._internal import (EXTENSION, HYD, JOINTS, LIFT, SLEW, SPOOL, TILT, Quad, State, State8,
                         _inverse2, _inverse_column, _PressureDrive)
 from .dynamics import _Configuration
 from .hydraulics import _ValveDrive, substep_count
@@ -27,10 +27,6 @@ EVENT_BISECTIONS = 60
 RELEASE_BISECTIONS = 40
 #: Most pieces (impacts and releases) one step is cut into; the last takes the rest (spec: 8).
 MAX_PIECES = 8
-
-#: The integrated state: (q, qd) of the four joints (State8), with valves followed by the chamber
-#: pressures and the spools (_internal.HYD, _internal.SPOOL).
-State = Tuple[float, ...]
 
 
 def rk4_step(f: Callable[[float, State], State], t: float, x: State, h: float,

@@ -12,6 +12,7 @@ from .cylinder import Cylinders, equivalent_cylinder, friction_parameters, pisto
 from .dynamics import Dynamics, _body, _lump, _point_mass
 from .kinematics import Kinematics, _LinkPose
 
+
 class TwinModel(Kinematics, Dynamics, Cylinders):
     """The fast model of one crane at one extension: kinematics, dynamics and cylinder forces.
 
@@ -39,12 +40,12 @@ class TwinModel(Kinematics, Dynamics, Cylinders):
         self.link1_pivot = _vec(geo.link1_pivot)                    # P1, lift boom frame
         self.tilt_pivot = _vec(geo.tilt_pivot)                      # O2, lift boom frame
         self.link2_attach = _vec(geo.link2_attach)                  # A, outer boom frame
-        self.tilt_l1 = _norm(_vec(geo.link_pin))
-        self.tilt_l2 = _norm(_vec(geo.link2_end))
-        self.tilt_ra = _norm(self.link2_attach)
-        self.tilt_alpha_a = math.atan2(self.link2_attach[1], self.link2_attach[0])
         link_pin = _vec(geo.link_pin)                               # Q in side link 1's frame
         link2_end = _vec(geo.link2_end)                             # A in side link 2's frame
+        self.tilt_l1 = _norm(link_pin)
+        self.tilt_l2 = _norm(link2_end)
+        self.tilt_ra = _norm(self.link2_attach)
+        self.tilt_alpha_a = math.atan2(self.link2_attach[1], self.link2_attach[0])
         self.link1_angle0 = math.atan2(link_pin[1], link_pin[0])    # phi1 = angle(Q - P1) - this
         self.link2_angle0 = math.atan2(link2_end[1], link2_end[0])  # phi2 = angle(A - Q) - this
 

@@ -10,10 +10,10 @@ import numpy as np
 
 from ..types import POINT_NAMES
 from ._internal import (EXTENSION, HYD, JOINT_NAMES, JOINTS, LIFT, SLEW, SPOOL, TILT, Quad,
-                        _PressureDrive)
+                        State, _PressureDrive)
 from .cylinder import equivalent_cylinder
 from .hydraulics import _ValveDrive, substep_count
-from .integrator import State, _Prediction, integrate
+from .integrator import _Prediction, integrate
 from .model import TwinModel
 
 def _drive(drive: Any, cylinder: Any = None) -> Any:
