@@ -260,7 +260,7 @@ def test_the_corners_need_the_substeps(crane, monkeypatch):
 
     name, c, initial, inputs = _corners(crane)[-1]
     fine = cp.predict(c, initial, inputs, 0.5, dt=cp.DEFAULT_DT / 20, backend="python")
-    monkeypatch.setattr(twin, "SUBSTEP_STABILITY", 1e12)
+    monkeypatch.setattr(twin.hydraulics, "SUBSTEP_STABILITY", 1e12)
     try:
         tr = cp.predict(c, initial, inputs, 0.5, backend="python")
     except ValueError as e:            # diverged: the state stopped being finite
