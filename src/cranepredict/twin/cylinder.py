@@ -42,6 +42,18 @@ def friction(f: Friction, v: float) -> float:
     return math.copysign(levels, v) + sigma * math.tanh(4.0) * v
 
 
+def friction_rate(f: Friction, v: float) -> float:
+    """dF/dv of friction(f, v) at the stroke rate v (the error-controlled method's matrix,
+    docs/model.md "Integration"): with x = |v| / v_S and q = x^2/4 + 3/4,
+    k [4 F_C (1 - tanh^2(4x)) + (F_S - F_C) (q - x^2) / q^3] / v_S + sigma tanh(4)."""
+    f_c, f_s, sigma, v_s, k = f
+    x = abs(v) / v_s
+    q = x * x / 4.0 + 0.75
+    th = math.tanh(4.0 * x)
+    return k * (4.0 * f_c * (1.0 - th * th) + (f_s - f_c) * (q - x * x) / (q * q * q)) / v_s \
+        + sigma * math.tanh(4.0)
+
+
 def friction_slope(f: Friction) -> float:
     """G_f, N s/m: the steepest slope of friction(f, v), at rest: k (4 F_C + 16/9 (F_S - F_C)) /
     v_S + sigma tanh(4)."""

@@ -37,6 +37,21 @@ def _signed_root(dp: float, laminar: float) -> float:
     return math.sqrt(laminar) * x * (5.0 - x * x) * 0.25
 
 
+def _signed_root_slope(dp: float, laminar: float) -> float:
+    """d g(dp) / d dp of _signed_root."""
+    if dp >= laminar:
+        return 0.5 / math.sqrt(dp)
+    if dp <= -laminar:
+        return 0.5 / math.sqrt(-dp)
+    x = dp / laminar
+    return math.sqrt(laminar) * (5.0 - 3.0 * x * x) * 0.25 / laminar
+
+
+def _saturation_slope(x: float) -> float:
+    """d phi / dx of _saturation."""
+    return 0.0 if x <= 0.0 or x >= 1.0 else (1.0 - x * x) * 1.5
+
+
 def _saturation(x: float) -> float:
     """phi(x) of the compensated valve's meter-in edge: 0 below 0, 1 above 1, C1 in between."""
     if x <= 0.0:
@@ -113,6 +128,45 @@ class _ValveDrive:
             return (-r * self.k_m * _signed_root(p_a - self.p_t, lam),
                     -r * self.q_n * _saturation((self.p_s - p_b) / lam))
         return 0.0, 0.0
+
+    def flow_slopes(self, y: float, p_a: float, p_b: float) -> Pair:
+        """(dQ_a/dp_a, dQ_b/dp_b) of flows (Q_a does not depend on p_b, nor Q_b on p_a)."""
+        lam = self.laminar
+        if not self.compensated:
+            k = y * self.k
+            if y >= 0.0:
+                return (-k * _signed_root_slope(self.p_s - p_a, lam),
+                        k * _signed_root_slope(p_b - self.p_t, lam))
+            return (k * _signed_root_slope(p_a - self.p_t, lam),
+                    -k * _signed_root_slope(self.p_s - p_b, lam))
+        u0 = self.dead_band
+        if y > u0:
+            r = (y - u0) / (1.0 - u0)
+            return (-r * self.q_n * _saturation_slope((self.p_s - p_a) / lam) / lam,
+                    r * self.k_m * _signed_root_slope(p_b - self.p_t, lam))
+        if y < -u0:
+            r = (-y - u0) / (1.0 - u0)
+            return (-r * self.k_m * _signed_root_slope(p_a - self.p_t, lam),
+                    r * self.q_n * _saturation_slope((self.p_s - p_b) / lam) / lam)
+        return 0.0, 0.0
+
+    def compliances(self, stroke: float) -> Pair:
+        """(C_a, C_b) at a stroke."""
+        v_a, v_b = self.volumes(stroke)
+        return self.compliance(v_a, 0), self.compliance(v_b, 1)
+
+    def limit_side(self, p: float) -> Tuple[int, float]:
+        """(side, setting): the nearer limit valve's setting (the anti-cavitation valve's up to
+        halfway to the relief's) and whether p is beyond it (-1 below p_cav, +1 above p_R, else
+        0) (docs/model.md, "Integration": the limit valves as modes)."""
+        if p <= self.p_c + (self.p_r - self.p_c) / 2.0:
+            return (-1 if p < self.p_c else 0), self.p_c
+        return (1 if p > self.p_r else 0), self.p_r
+
+    def limit_rate(self, stroke: float, side: int, p: float) -> float:
+        """-G_lim (p - setting) / C(V): an open limit valve's flow as the chamber's rate."""
+        volume = self.volumes(stroke)[side]
+        return -self.limit_gradient * (p - self.limit_side(p)[1]) / self.compliance(volume, side)
 
     def limit_coefficients(self, stroke: float) -> Tuple[float, float]:
         """G_lim / C(V) of both chambers at a stroke: the rates of limit_valves."""

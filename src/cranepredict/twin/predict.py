@@ -13,6 +13,7 @@ from ._internal import (EXTENSION, HYD, JOINT_NAMES, JOINTS, LIFT, SLEW, SPOOL, 
                         State, _PressureDrive)
 from .cylinder import equivalent_cylinder
 from .hydraulics import _ValveDrive, substep_count
+from . import rosw
 from .integrator import _Prediction, integrate
 from .model import TwinModel
 
@@ -158,7 +159,8 @@ class _Samples:
                 "flow_a": self.flow_a, "flow_b": self.flow_b, "spool": self.spool}
 
 
-def _run(crane: Any, state: Any, inputs: Any, horizon: float, dt: float
+def _run(crane: Any, state: Any, inputs: Any, horizon: float, dt: float,
+         method: str = "rk4", tolerance: Any = None
          ) -> Tuple[dict, List[Tuple[float, int, int]]]:
     """simulate() plus the list of impacts (time, joint, angle side), for diagnostics and tests."""
     horizon = float(horizon)
@@ -170,16 +172,34 @@ def _run(crane: Any, state: Any, inputs: Any, horizon: float, dt: float
     x, strokes0, rates0 = _initial_state(pred, state)
     x = pred.stop_at_start(x, strokes0, rates0)
     n = int(math.ceil(horizon / dt - 1e-9))
-    _check_work(pred, horizon, dt, n)
+    if method == "rosw":
+        _check_attempts(horizon)
+    else:
+        _check_work(pred, horizon, dt, n)
     samples = _Samples(pred, n, strokes0)
     samples.record(0, 0.0, x)
-    integrate(pred, x, horizon, dt, n, samples.record)
+    if method == "rosw":
+        rosw.integrate(pred, x, horizon, dt, n, tolerance.tip, tolerance.pressure, samples.record)
+    else:
+        integrate(pred, x, horizon, dt, n, samples.record)
     return samples.arrays(), pred.events
 
 
-def simulate(crane: Any, state: Any, inputs: Any, horizon: float, dt: float) -> dict:
-    """Predict the crane's four joints over [0, horizon] with RK4 steps dt and end stops, per
-    docs/model.md ("Four joints"; a left-out slew or extension drive is held).
+def _check_attempts(horizon: float) -> None:
+    """Bad input: the error-controlled method's attempt cap counts against MAX_STEPS (spec)."""
+    from .._checks import MAX_STEPS
+
+    if rosw.attempt_cap(horizon) > MAX_STEPS:
+        raise ValueError(f"horizon must allow at most {MAX_STEPS} step attempts of the default "
+                         f"method (64 + 4096 per second), got {horizon:g} s")
+
+
+def simulate(crane: Any, state: Any, inputs: Any, horizon: float, dt: float,
+             method: str = "rk4", tolerance: Any = None) -> dict:
+    """Predict the crane's four joints over [0, horizon] with end stops, per docs/model.md
+    ("Four joints"; a left-out slew or extension drive is held): with RK4 steps dt, or with
+    method="rosw" by ROS34PW2 to the tolerance (a cranepredict.Tolerance with its numbers), sampled
+    every dt ("Integration: the default method").
 
     Returns numpy arrays (types.ARRAYS), N = n + 1 samples: ``t`` (N,), ``strokes``, ``theta``,
     ``omega`` (N, 2) [lift, tilt]; ``slew``, ``extension``, ``slew_rate``, ``extension_rate``
@@ -188,7 +208,7 @@ def simulate(crane: Any, state: Any, inputs: Any, horizon: float, dt: float) -> 
     the tilt, stroke_max is the lower angle limit); ``p_a``, ``p_b``, ``flow_a``, ``flow_b``,
     ``spool`` (N, 4). Inputs are assumed validated by the API layer.
     """
-    return _run(crane, state, inputs, horizon, dt)[0]
+    return _run(crane, state, inputs, horizon, dt, method, tolerance)[0]
 
 
 def stroke_transmission(crane: Any, joint: int, stroke: float, extension: float) -> float:
