@@ -1189,6 +1189,14 @@ static CRANE__NOINLINE void dense_sample(ctx_t *c, crane_real t, const xstate *x
                       ((1 - 2 * th) * (x1->v[i] - x0->v[i]) + (th - 1) * h * f0->v[i] +
                        th * h * f1->v[i]);
     }
+    /* a held or stopped joint stays exactly where it is (the interpolant's rounding would move
+     * it off its stop by an ulp) */
+    for (i = 0; i < 4; ++i) {
+        if (locked(c, i)) {
+            xs.v[Q + i] = x0->v[Q + i];
+            xs.v[W + i] = x0->v[W + i];
+        }
+    }
     put_sample(c, ts, &xs, o);
 }
 

@@ -302,10 +302,14 @@ def integrate(pred: _Prediction, x: State, horizon: float, dt: float, n: int, ti
                              "crane's parameters for absurd values")
         while k < n and k * dt < t + hs:
             s = (k * dt - t) / hs
-            xs = tuple((1.0 - s) * a + s * b + s * (s - 1.0) * ((1.0 - 2.0 * s) * (b - a)
-                                                                 + (s - 1.0) * hs * fa + s * hs * fb)
-                       for a, b, fa, fb in zip(x, x1, f0, f1))
-            record(k, k * dt, xs)
+            xs = [(1.0 - s) * a + s * b + s * (s - 1.0) * ((1.0 - 2.0 * s) * (b - a)
+                                                            + (s - 1.0) * hs * fa + s * hs * fb)
+                  for a, b, fa, fb in zip(x, x1, f0, f1)]
+            # a held or stopped joint stays exactly where it is (spec)
+            for j, lk in enumerate(pred.locked()):
+                if lk:
+                    xs[j], xs[4 + j] = x[j], x[4 + j]
+            record(k, k * dt, tuple(xs))
             k += 1
         t = horizon if last else t + hs
         if joint >= 0:
