@@ -1403,15 +1403,18 @@ static CRANE__NOINLINE crane_status integrate_rosw(ctx_t *c, xstate *x, crane_re
             stop_joint(c, &x1, first, upper);
             changed = 1;
         }
-        /* every other free joint at or beyond a limit goes onto it too, in joint order */
+        /* every other free joint beyond a limit, or at it with its rate not pointing into the
+         * range, goes onto it too, in joint order (one at it moving inward stays free: a joint
+         * just released may not have moved its coordinate by an ulp yet) */
         for (i = 0; i < 4; ++i) {
+            const crane_real q = x1.v[Q + i], w = x1.v[W + i];
             if (c->mode[i] != CRANE__FREE) {
                 continue;
             }
-            if (x1.v[Q + i] <= lo_q(c, i)) {
+            if (q < lo_q(c, i) || (q == lo_q(c, i) && w <= 0)) {
                 stop_joint(c, &x1, i, 0);
                 changed = 1;
-            } else if (x1.v[Q + i] >= hi_q(c, i)) {
+            } else if (q > hi_q(c, i) || (q == hi_q(c, i) && w >= 0)) {
                 stop_joint(c, &x1, i, 1);
                 changed = 1;
             }

@@ -320,11 +320,11 @@ def integrate(pred: _Prediction, x: State, horizon: float, dt: float, n: int, ti
             if pred.locked()[j]:
                 continue
             lo_q, hi_q = model.angle_limits[j]
-            if x1[j] <= lo_q:
+            if x1[j] < lo_q or (x1[j] == lo_q and x1[4 + j] <= 0.0):
                 x1 = pred.plastic_impact(x1, j, -1)
                 pred.events.append((t, j, -1))
                 changed = True
-            elif x1[j] >= hi_q:
+            elif x1[j] > hi_q or (x1[j] == hi_q and x1[4 + j] >= 0.0):
                 x1 = pred.plastic_impact(x1, j, +1)
                 pred.events.append((t, j, +1))
                 changed = True
