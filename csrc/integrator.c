@@ -967,6 +967,7 @@ static void limits_open(ctx_t *c, const xstate *x, const xstate *f)
     int k;
 
     c->open = 0;
+#if CRANE_HYDRAULICS
     for (k = 0; k < 8; ++k) {
         if (valve(c, k >> 1)) {
             const int i = H + 3 * (k >> 1) + (k & 1);
@@ -978,6 +979,11 @@ static void limits_open(ctx_t *c, const xstate *x, const xstate *f)
             }
         }
     }
+#else
+    (void)x;
+    (void)f;
+    (void)k;
+#endif
 }
 
 /* J at (t, x) (the W-method's matrix), right after rates at (t, x) (which left J_z in c->d). */
@@ -1260,6 +1266,7 @@ static int chamber_crossing(const ctx_t *c, const xstate *x, const xstate *x1, c
 {
     int k, first = -1;
 
+#if CRANE_HYDRAULICS
     for (k = 0; k < 8; ++k) {
         if (valve(c, k >> 1)) {
             const int i = H + 3 * (k >> 1) + (k & 1);
@@ -1276,6 +1283,14 @@ static int chamber_crossing(const ctx_t *c, const xstate *x, const xstate *x1, c
             }
         }
     }
+#else
+    (void)c;
+    (void)x;
+    (void)x1;
+    (void)h;
+    (void)tau;
+    (void)k;
+#endif
     return first;
 }
 
@@ -1355,12 +1370,14 @@ static CRANE__NOINLINE crane_status integrate_rosw(ctx_t *c, xstate *x, crane_re
 #ifdef ROS_DEBUG
             if (first >= 0) fprintf(stderr, "  residual q %g (w %g) -> dt %g\n", (double)(x1.v[Q + first] - (upper ? hi_q(c, first) : lo_q(c, first))), (double)x1.v[W + first], (double)((x1.v[Q + first] - (upper ? hi_q(c, first) : lo_q(c, first))) / x1.v[W + first]));
 #endif
+#if CRANE_HYDRAULICS
             if (chamber >= 0) {
                 crane_real set;
                 (void)crane__limit_side(c->lim.m, (chamber - H) / 3, x1.v[chamber], &set);
                 x1.v[chamber] = set;
                 changed = 1;
             }
+#endif
         } else if (any_stopped(c) && release_set(c, t + hs, &x1)) {
             /* a stopped joint comes free inside the step: bisect for the time (f1 is scratch) */
             crane_real lo = 0, hi = hs;
