@@ -1179,33 +1179,6 @@ static CRANE__NOINLINE crane_real ros_step(ctx_t *c, crane_real t, const xstate 
     return err;
 }
 
-/* The sample at ts in [t, t + h) of the step from (t, x0) to x1: the cubic Hermite interpolant of
- * every entry from its values and rates at both ends (dense output, order 3 like the step). */
-static CRANE__NOINLINE void dense_sample(ctx_t *c, crane_real t, const xstate *x0,
-                                         const xstate *f0, const xstate *x1, const xstate *f1,
-                                         crane_real h, crane_real ts, crane_sample *o)
-{
-    const crane_real th = (ts - t) / h;
-    xstate xs;
-    int i;
-
-    for (i = 0; i < n_used(c); ++i) {
-        xs.v[i] = (1 - th) * x0->v[i] + th * x1->v[i] +
-                  th * (th - 1) *
-                      ((1 - 2 * th) * (x1->v[i] - x0->v[i]) + (th - 1) * h * f0->v[i] +
-                       th * h * f1->v[i]);
-    }
-    /* a held or stopped joint stays exactly where it is (the interpolant's rounding would move
-     * it off its stop by an ulp) */
-    for (i = 0; i < 4; ++i) {
-        if (locked(c, i)) {
-            xs.v[Q + i] = x0->v[Q + i];
-            xs.v[W + i] = x0->v[W + i];
-        }
-    }
-    put_sample(c, ts, &xs, o);
-}
-
 /* The spools of a step's end back into [-1, 1]: the spool's lag cannot take it beyond the lever,
  * but the step's rounding and its error (within the tolerance) can, by a hair. */
 static void spools_in_range(const ctx_t *c, xstate *x)
@@ -1225,6 +1198,35 @@ static void spools_in_range(const ctx_t *c, xstate *x)
         }
     }
 }
+
+/* The sample at ts in [t, t + h) of the step from (t, x0) to x1: the cubic Hermite interpolant of
+ * every entry from its values and rates at both ends (dense output, order 3 like the step). */
+static CRANE__NOINLINE void dense_sample(ctx_t *c, crane_real t, const xstate *x0,
+                                         const xstate *f0, const xstate *x1, const xstate *f1,
+                                         crane_real h, crane_real ts, crane_sample *o)
+{
+    const crane_real th = (ts - t) / h;
+    xstate xs;
+    int i;
+
+    for (i = 0; i < n_used(c); ++i) {
+        xs.v[i] = (1 - th) * x0->v[i] + th * x1->v[i] +
+                  th * (th - 1) *
+                      ((1 - 2 * th) * (x1->v[i] - x0->v[i]) + (th - 1) * h * f0->v[i] +
+                       th * h * f1->v[i]);
+    }
+    /* a held or stopped joint stays exactly where it is (the interpolant's rounding would move
+     * it off its stop by an ulp), and a spool in [-1, 1] (the cubic can pass a clamped end) */
+    for (i = 0; i < 4; ++i) {
+        if (locked(c, i)) {
+            xs.v[Q + i] = x0->v[Q + i];
+            xs.v[W + i] = x0->v[W + i];
+        }
+    }
+    spools_in_range(c, &xs);
+    put_sample(c, ts, &xs, o);
+}
+
 
 /* The first free joint (by crossing time, then joint order) that the step from x to x1 of size h
  * takes beyond a limit, and the crossing time; -1 if none. */
@@ -1476,7 +1478,7 @@ crane_status crane__integrate(const crane_model *m, const crane_state *s0, const
     c.cache = 0;
     c.release_clear = 0;
 #if CRANE_ROSW
-    c.rosw = (unsigned char)(in->solver.method != CRANE_METHOD_RK4);
+    c.rosw = (unsigned char)(in->solver.method == CRANE_METHOD_ROSW);
     {
         /* the angles' tolerance: tip metres over the crane's reach (lift pivot to the tip with the
          * telescope out), which bounds the tip's motion per radian of any joint */

@@ -305,7 +305,7 @@ def solver(dst: Any, method: str, tolerance: Any) -> None:
 
 
 def predict(crane: "Crane", state: "State", inputs: "Inputs", horizon: float,
-            dt: float, method: str = "rosw", tolerance: Any = None) -> np.ndarray:
+            dt: float, method: str = "rk4", tolerance: Any = None) -> np.ndarray:
     """Runs crane_predict (through crane_predict_model with the cached model, which gives the
     same samples without re-deriving the crane on every call); returns the samples as a
     structured array (SAMPLE_DTYPE)."""
@@ -392,7 +392,7 @@ def _run_chunk(*args: Any) -> int:
 
 def predict_many(crane: "Crane", states: Sequence["State"], inputs: Sequence["Inputs"],
                  horizon: float, dt: float, sample_every: int, threads: int,
-                 per_future: Any = None, method: str = "rosw", tolerance: Any = None) -> np.ndarray:
+                 per_future: Any = None, method: str = "rk4", tolerance: Any = None) -> np.ndarray:
     """Runs crane_predict_many; returns the samples as a (F, N) structured array (SAMPLE_DTYPE).
     ``per_future``: a crane_params[F] (params_per_future), one crane per future; None: the crane's.
 

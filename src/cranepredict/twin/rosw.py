@@ -309,6 +309,8 @@ def integrate(pred: _Prediction, x: State, horizon: float, dt: float, n: int, ti
             for j, lk in enumerate(pred.locked()):
                 if lk:
                     xs[j], xs[4 + j] = x[j], x[4 + j]
+                if pred.hydraulic and pred.valve[j]:   # the cubic can pass a clamped end
+                    xs[SPOOL + j] = min(max(xs[SPOOL + j], -1.0), 1.0)
             record(k, k * dt, tuple(xs))
             k += 1
         t = horizon if last else t + hs
