@@ -1224,6 +1224,15 @@ static CRANE__NOINLINE void dense_sample(ctx_t *c, crane_real t, const xstate *x
         }
     }
     spools_in_range(c, &xs);
+    /* a chamber whose limit valve is open over the step follows the valve's equilibrium within
+     * microseconds: interpolated linearly (the cubic through its rate at the step's start, before
+     * that relaxation, overshoots it by bars) */
+    for (i = 0; i < 8; ++i) {
+        if (((c->open >> i) & 1u) != 0u) {
+            const int k = H + 3 * (i >> 1) + (i & 1);
+            xs.v[k] = (1 - th) * x0->v[k] + th * x1->v[k];
+        }
+    }
     put_sample(c, ts, &xs, o);
 }
 

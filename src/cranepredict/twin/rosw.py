@@ -311,6 +311,10 @@ def integrate(pred: _Prediction, x: State, horizon: float, dt: float, n: int, ti
                     xs[j], xs[4 + j] = x[j], x[4 + j]
                 if pred.hydraulic and pred.valve[j]:   # the cubic can pass a clamped end
                     xs[SPOOL + j] = min(max(xs[SPOOL + j], -1.0), 1.0)
+                    for side in (0, 1):   # an open limit valve's chamber: linear (spec)
+                        if ros.open[j][side]:
+                            i = HYD + 2 * j + side
+                            xs[i] = (1.0 - s) * x[i] + s * x1[i]
             record(k, k * dt, tuple(xs))
             k += 1
         t = horizon if last else t + hs
