@@ -383,3 +383,60 @@ def test_predict_call_overhead(benchmark):
     assert len(tr.t) == 2
     if benchmark.stats is not None:
         print(f"\n[overhead] predict() of one step: {benchmark.stats['median'] * 1e6:.1f} us (median)")
+
+
+# -- the error-controlled method (ROS34PW2) on every named scenario ---------------------------
+
+#: The targets of the error-controlled method at its default tolerance (2-s futures against the
+#: converged RK4 run): pressure-driven >= 20,000x at <= 1 mm; lever-open >= 10,000x and every
+#: valve-driven planar one >= 5,000x at <= 1 mm and <= 0.5 bar; four-joint valve-driven >= 5,000x.
+ROSW_TARGETS = {"pressure": 20000.0, "lever-open": 10000.0, "valve": 5000.0}
+ROSW_PRESSURE_TOL = 0.5e5
+
+
+def _rosw_target(name: str) -> float:
+    if name == "lever-open":
+        return ROSW_TARGETS["lever-open"]
+    return ROSW_TARGETS["pressure" if name in NAMED_PRESSURE else "valve"]
+
+
+@pytest.mark.parametrize("name", cp.scenarios.names())
+def test_predict_rosw(benchmark, ratio, name):
+    """Every named scenario through predict(method="rosw") at its default tolerance, samples every
+    5 ms: the ratio, the worst tip and chamber pressure error against RK4 at 2e-5 s (printed with
+    the target met or missed; the accuracy half asserted: <= 1 mm, <= 0.5 bar)."""
+    sc = cp.scenarios.get(name)
+    args = (sc.crane, sc.initial, sc.inputs, sc.horizon)
+    tr = ratio(lambda: cp.predict(*args, method="rosw"), sc.horizon, scenario=name,
+               backend="c", method="rosw", dt=cp.DEFAULT_DT)
+    ref = cp.predict(*args, dt=2e-5, sample_every=250)
+    tip = float(np.max(np.linalg.norm(tr.tip - ref.tip, axis=1)))
+    dp = float(max(np.abs(tr.p_a - ref.p_a).max(), np.abs(tr.p_b - ref.p_b).max()))
+    info = benchmark.extra_info
+    info["tip_error_mm"] = round(tip * 1e3, 6)
+    info["pressure_error_bar"] = round(dp / 1e5, 6)
+    target = _rosw_target(name)
+    met = info["ratio"] >= target and tip <= TOL and dp <= ROSW_PRESSURE_TOL
+    info["rosw_target_met"] = met
+    print(f"\n[rosw] {name}: {info['ratio']:,.0f}x (best {info['ratio_best']:,.0f}x), tip "
+          f"{tip * 1e3:.3g} mm, pressures {dp / 1e5:.3g} bar; target >= {target:,.0f}x: "
+          + ("met" if met else "MISSED"))
+    assert tip <= TOL and dp <= ROSW_PRESSURE_TOL
+
+
+@pytest.mark.parametrize("threads", [1, 2])
+def test_predict_many_valves_rosw(benchmark, ratio, request, threads):
+    """1,000 random valve-driven futures (the lever pairs of test_predict_many_valves) with the
+    error-controlled method: target < 100 ms for the batch with 2 threads (printed)."""
+    n = 1000 if benchmarks_enabled(request.config) else 20
+    c, initials, inputs = _valve_futures(n)
+    batch = ratio(lambda: cp.predict_many(c.crane, initials, inputs, c.horizon, method="rosw",
+                                          threads=threads),
+                  n * c.horizon, scenario="lever-open", backend="predict_many", method="rosw",
+                  futures=n, threads=threads)
+    one = cp.predict(*c.args(), method="rosw")
+    assert np.array_equal(batch[0].tip, one.tip)
+    ms = 1e3 * n * c.horizon / benchmark.extra_info["ratio"]
+    benchmark.extra_info["wall_ms_per_batch"] = round(ms, 3)
+    print(f"\n[rosw] {n} valve futures, {threads} thread(s): {ms:.1f} ms (target < 100 ms for "
+          f"1,000 with 2 threads)")
