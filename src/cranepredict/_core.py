@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import dataclasses
 import math
+import struct
 import threading
 from typing import TYPE_CHECKING, Any, Mapping, Sequence, Tuple
 
@@ -274,17 +275,32 @@ def sample_count(horizon: float, dt: float) -> int:
     return int(n[0])
 
 
+# crane_state is 20 crane_reals (doubles in this build), in this order: packed in one call.
+_STATE_LAYOUT = (("stroke", 0), ("stroke_rate", 16), ("slew", 32), ("extension", 40),
+                 ("slew_rate", 48), ("extension_rate", 56), ("p_a", 64), ("p_b", 96), ("spool", 128))
+if ffi.sizeof("crane_real") != 8 or ffi.sizeof("crane_state") != 160 or any(
+        ffi.offsetof("crane_state", name) != offset for name, offset in _STATE_LAYOUT):
+    raise ImportError("crane_state's layout differs from _core._STATE_LAYOUT (csrc/crane.h changed): "
+                      "update _state_bytes")
+_STATE_PACK = struct.Struct("=20d").pack
+
+
+def _state_bytes(s: "State") -> bytes:
+    """The crane_state of a State, as its bytes. Chamber pressures: only a valve-driven actuator
+    reads them (api.py demands them there); one not given is 0."""
+    return _STATE_PACK(s.lift_stroke, s.tilt_stroke, s.lift_stroke_rate, s.tilt_stroke_rate,
+                       s.slew, s.extension, s.slew_rate, s.extension_rate,
+                       s.lift_p_a or 0.0, s.tilt_p_a or 0.0, s.slew_p_a or 0.0,
+                       s.extension_p_a or 0.0,
+                       s.lift_p_b or 0.0, s.tilt_p_b or 0.0, s.slew_p_b or 0.0,
+                       s.extension_p_b or 0.0,
+                       s.lift_spool, s.tilt_spool, s.slew_spool, s.extension_spool)
+
+
 def _state(dst: Any, state: "State") -> None:
-    dst.stroke = (state.lift_stroke, state.tilt_stroke)
-    dst.stroke_rate = (state.lift_stroke_rate, state.tilt_stroke_rate)
-    dst.slew, dst.extension = state.slew, state.extension
-    dst.slew_rate = getattr(state, "slew_rate", 0.0)
-    dst.extension_rate = getattr(state, "extension_rate", 0.0)
-    # chamber pressures: only a valve-driven actuator reads them (api.py demands them there)
-    names = ("lift", "tilt", "slew", "extension")
-    dst.p_a = [getattr(state, f"{n}_p_a", None) or 0.0 for n in names]
-    dst.p_b = [getattr(state, f"{n}_p_b", None) or 0.0 for n in names]
-    dst.spool = [getattr(state, f"{n}_spool", 0.0) for n in names]
+    """Fills a crane_state (a pointer to one, or an element of a crane_state[])."""
+    ptr = dst if ffi.typeof(dst).kind == "pointer" else ffi.addressof(dst)
+    ffi.memmove(ptr, _state_bytes(state), 160)
 
 
 def _inputs(dst: Any, inputs: "Inputs", keep: list) -> None:
@@ -304,26 +320,43 @@ def solver(dst: Any, method: str, tolerance: Any) -> None:
     dst.solver.pressure_tolerance = tolerance.pressure
 
 
-def predict(crane: "Crane", state: "State", inputs: "Inputs", horizon: float,
-            dt: float, method: str = "rk4", tolerance: Any = None) -> np.ndarray:
-    """Runs crane_predict (through crane_predict_model with the cached model, which gives the
-    same samples without re-deriving the crane on every call); returns the samples as a
-    structured array (SAMPLE_DTYPE)."""
-    _, m = _cached(crane, state.extension)
+SAMPLE_SIZE = ffi.sizeof("crane_sample")
+
+
+def predict_buffer(crane: "Crane", state: "State", inputs: "Inputs", horizon: float, dt: float,
+                   n: int, method: str = "rk4", tolerance: Any = None) -> Tuple[np.ndarray, int]:
+    """Runs crane_predict_model with the crane's cached model (the samples of crane_predict,
+    without re-deriving the crane on every call) into a new buffer of ``n`` samples (the count
+    crane_sample_count gives); returns the buffer, read-only (bytes: ``samples`` views them as
+    SAMPLE_DTYPE), and the number of samples written."""
+    m = _cached(crane, state.extension)[1]
     s = ffi.new("crane_state *")
-    _state(s, state)
+    ffi.memmove(s, _state_bytes(state), 160)
     inp = ffi.new("crane_inputs *")
     keep: list = []
     _inputs(inp, inputs, keep)
     if tolerance is not None:
         solver(inp, method, tolerance)
-    n = sample_count(horizon, dt)
-    out = np.empty(n, dtype=SAMPLE_DTYPE)
+    out = np.empty(n * SAMPLE_SIZE, dtype=np.uint8)
     written = ffi.new("size_t *")
-    ensure(lib.crane_predict_model(m, s, inp, horizon, dt,
-                                   ffi.cast("crane_sample *", ffi.from_buffer(out)), n, written),
-           "predict")
-    return out[: written[0]]
+    ensure(lib.crane_predict_model(m, s, inp, horizon, dt, ffi.from_buffer("crane_sample[]", out),
+                                   n, written), "predict")
+    out.setflags(write=False)
+    return out, int(written[0])
+
+
+def samples(buffer: np.ndarray, n: int) -> np.ndarray:
+    """The first n samples of a predict_buffer buffer as a structured array (SAMPLE_DTYPE; a view,
+    read-only like the buffer)."""
+    return np.ndarray((n,), SAMPLE_DTYPE, buffer)
+
+
+def predict(crane: "Crane", state: "State", inputs: "Inputs", horizon: float,
+            dt: float, method: str = "rk4", tolerance: Any = None) -> np.ndarray:
+    """predict_buffer with the sample count of horizon and dt; returns the samples as a read-only
+    structured array (SAMPLE_DTYPE)."""
+    return samples(*predict_buffer(crane, state, inputs, horizon, dt, sample_count(horizon, dt),
+                                   method, tolerance))
 
 
 def sample_count_every(horizon: float, dt: float, sample_every: int) -> int:

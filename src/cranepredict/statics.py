@@ -136,9 +136,11 @@ def pressures_in_bar(crane: Crane, state: State, inputs: "Inputs") -> Tuple[str,
         drive = getattr(inputs, name)
         if not isinstance(drive, (Pressure, PressureSeries)):
             continue
-        kind = type(drive).__name__
-        text = bar_for_pa(f"Inputs.{name}: {kind}", {"p_a": float(np.max(drive.p_a)),
-                                                     "p_b": float(np.max(drive.p_b))})
+        if drive.t is None:   # Pressure: two numbers
+            peaks = {"p_a": drive.p_a, "p_b": drive.p_b}
+        else:
+            peaks = {"p_a": float(drive.p_a.max()), "p_b": float(drive.p_b.max())}
+        text = bar_for_pa(f"Inputs.{name}: {type(drive).__name__}", peaks)
         if text is None:
             continue
         if forces is None:

@@ -370,6 +370,29 @@ class Trajectory:
     #: (joint, stroke, extension) -> ds/dtheta of a boom cylinder, by the backend that predicted
     _transmission: Optional[Callable[[int, float, float], float]] = field(default=None, repr=False)
 
+    @classmethod
+    def _of_fields(cls, fields: Callable[[str], np.ndarray], backend: str,
+                   points: Callable[[np.ndarray, np.ndarray, np.ndarray], np.ndarray],
+                   transmission: Optional[Callable[[int, float, float], float]],
+                   supply_short: Tuple[str, ...] = ()) -> "Trajectory":
+        """A Trajectory whose arrays (ARRAYS) are made on their first read, by ``fields(name)``
+        (read-only views of the backend's samples), then kept: an array never read costs
+        nothing. Reads as one built by the constructor with every array given."""
+        self = object.__new__(cls)
+        d = self.__dict__   # frozen: the fields are set here, once, as the constructor would
+        d["backend"], d["_points"], d["_transmission"] = backend, points, transmission
+        d["supply_short"], d["_fields"] = supply_short, fields
+        return self
+
+    def __getattr__(self, name: str) -> Any:
+        # Called only for an attribute not yet in the instance: an array of a Trajectory made
+        # by _of_fields, on its first read.
+        fields = self.__dict__.get("_fields")
+        if fields is None or name not in _ARRAY_SET:
+            raise AttributeError(f"{type(self).__name__!r} object has no attribute {name!r}")
+        a = self.__dict__[name] = fields(name)
+        return a
+
     def state(self, i: int) -> State:
         """The :class:`State` at sample ``i`` (negative counts from the end): the one the
         prediction would continue from. Strokes, stroke rates (omega times ds/dtheta at the
@@ -422,6 +445,14 @@ class Trajectory:
         that stop (+1 stroke_max, -1 stroke_min), or None."""
         hits = np.flatnonzero(self.stop[:, joint] == side)
         return float(self.t[hits[0]]) if hits.size else None
+
+
+# The arrays with a default (None) would be found on the class before Trajectory.__getattr__
+# made them: the class keeps none (the constructor's defaults are its own).
+for _name in ARRAYS:
+    if _name in Trajectory.__dict__:
+        delattr(Trajectory, _name)
+_ARRAY_SET = frozenset(ARRAYS)
 
 
 @dataclass(frozen=True, eq=False)
