@@ -17,9 +17,11 @@ import numpy as np
 
 from ._cranepredict import ffi, lib
 
+from .types import State
+
 if TYPE_CHECKING:  # pragma: no cover
     from .crane import Crane
-    from .types import Inputs, State
+    from .types import Inputs
 
 PRESSURE_MAX = float(lib.CRANE_PRESSURE_MAX)
 N_POINTS = int(lib.CRANE_N_POINTS)
@@ -241,12 +243,15 @@ def _sample_dtype() -> np.dtype:
 SAMPLE_DTYPE = _sample_dtype()
 
 
+_HOLD, _PRESSURE, _VALVE = lib.CRANE_DRIVE_HOLD, lib.CRANE_DRIVE_PRESSURE, lib.CRANE_DRIVE_VALVE
+
+
 def _drive(dst: Any, drive: Any, keep: list) -> None:
     if drive.held:
-        dst.mode = lib.CRANE_DRIVE_HOLD
+        dst.mode = _HOLD
         return
     if hasattr(drive, "u"):
-        dst.mode = lib.CRANE_DRIVE_VALVE
+        dst.mode = _VALVE
         if drive.t is None:
             dst.u = drive.u
             dst.n_samples = 0
@@ -257,7 +262,7 @@ def _drive(dst: Any, drive: Any, keep: list) -> None:
         dst.t, dst.u_samples = arrays
         dst.n_samples = len(drive.t)
         return
-    dst.mode = lib.CRANE_DRIVE_PRESSURE
+    dst.mode = _PRESSURE
     if drive.t is None:
         dst.p_a, dst.p_b = drive.p_a, drive.p_b
         dst.n_samples = 0
@@ -285,7 +290,7 @@ if ffi.sizeof("crane_real") != 8 or ffi.sizeof("crane_state") != 160 or any(
 _STATE_PACK = struct.Struct("=20d").pack
 
 
-def _state_bytes(s: "State") -> bytes:
+def _state_bytes(s: State) -> bytes:
     """The crane_state of a State, as its bytes. Chamber pressures: only a valve-driven actuator
     reads them (api.py demands them there); one not given is 0."""
     return _STATE_PACK(s.lift_stroke, s.tilt_stroke, s.lift_stroke_rate, s.tilt_stroke_rate,
@@ -297,20 +302,40 @@ def _state_bytes(s: "State") -> bytes:
                        s.lift_spool, s.tilt_spool, s.slew_spool, s.extension_spool)
 
 
-def _state(dst: Any, state: "State") -> None:
-    """Fills a crane_state (a pointer to one, or an element of a crane_state[])."""
+# What _state takes as 0 from an object that is not a State and lacks it.
+_STATE_OPTIONAL = frozenset(["slew_rate", "extension_rate"] + [
+    f"{joint}_{name}" for joint in ("lift", "tilt", "slew", "extension")
+    for name in ("p_a", "p_b", "spool")])
+
+
+class _StateLike:
+    """A State's attributes of any object (tests, tools): those in _STATE_OPTIONAL default to 0."""
+
+    def __init__(self, obj: Any) -> None:
+        self._obj = obj
+
+    def __getattr__(self, name: str) -> Any:
+        return getattr(self._obj, name, 0.0) if name in _STATE_OPTIONAL else getattr(self._obj, name)
+
+
+def _state(dst: Any, state: Any) -> None:
+    """Fills a crane_state (a pointer to one, or an element of a crane_state[]) from a State or an
+    object with its attribute names (_StateLike)."""
     ptr = dst if ffi.typeof(dst).kind == "pointer" else ffi.addressof(dst)
-    ffi.memmove(ptr, _state_bytes(state), 160)
+    ffi.memmove(ptr, _state_bytes(state if isinstance(state, State) else _StateLike(state)), 160)
+
+
+_JOINT_INDEX = (lib.CRANE_LIFT, lib.CRANE_TILT, lib.CRANE_SLEW, lib.CRANE_EXTENSION)
 
 
 def _inputs(dst: Any, inputs: "Inputs", keep: list) -> None:
-    _drive(dst.drive[lib.CRANE_LIFT], inputs.lift, keep)
-    _drive(dst.drive[lib.CRANE_TILT], inputs.tilt, keep)
-    # a drive left out (Inputs without it) is a hold: the zero drive
-    for joint, name in ((lib.CRANE_SLEW, "slew"), (lib.CRANE_EXTENSION, "extension")):
-        drive = getattr(inputs, name, None)
-        if drive is not None:
-            _drive(dst.drive[joint], drive, keep)
+    """Fills a zeroed crane_inputs (as ffi.new makes it), whose zero drives are holds: a held
+    drive is left as it is. ``keep`` receives what must outlive the call (sampled drives'
+    buffers)."""
+    drives = dst.drive
+    for j, drive in zip(_JOINT_INDEX, (inputs.lift, inputs.tilt, inputs.slew, inputs.extension)):
+        if not drive.held:
+            _drive(drives[j], drive, keep)
 
 
 def solver(dst: Any, method: str, tolerance: Any) -> None:

@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import os
 import warnings
+from functools import partial
 from typing import Any, Dict, Mapping, Optional, Sequence, Tuple
 
 import numpy as np
@@ -132,10 +133,13 @@ def _check_future(crane: Crane, initial: State, inputs: Inputs, horizon: float) 
     if sd is not None and not sd.slew_min <= initial.slew <= sd.slew_max:
         raise ValueError(f"State.slew must be in [{sd.slew_min}, {sd.slew_max}] rad "
                          f"(slew_drive.slew_min/max), got {initial.slew}")
-    _check_joint("slew", "slew_drive", sd, "slew_rate", initial.slew_rate, "rad/s", inputs.slew,
-                 initial, horizon)
-    _check_joint("extension", "extension_cylinder", crane.extension_cylinder, "extension_rate",
-                 initial.extension_rate, "m/s", inputs.extension, initial, horizon)
+    slew, extension = inputs.slew, inputs.extension
+    if not (slew.held and initial.slew_rate == 0.0):   # else nothing to check
+        _check_joint("slew", "slew_drive", sd, "slew_rate", initial.slew_rate, "rad/s", slew,
+                     initial, horizon)
+    if not (extension.held and initial.extension_rate == 0.0):
+        _check_joint("extension", "extension_cylinder", crane.extension_cylinder,
+                     "extension_rate", initial.extension_rate, "m/s", extension, initial, horizon)
 
 
 def _check_boom(joint: str, cyl: Any, stroke: float, rate: float, drive: Any, initial: State,
@@ -268,11 +272,8 @@ def _predict_c(crane: Crane, initial: State, inputs: Inputs, horizon: float, dt:
                                    method, tolerance)
         batch.setflags(write=False)
         fields = _SampleFields(samples=batch[0])
-
-    def points(theta: np.ndarray, slew: np.ndarray, extension: np.ndarray) -> np.ndarray:
-        return _poses(lambda e, s, th: _core.points(crane, e, s, th), theta, slew, extension)
-
-    return Trajectory._of_fields(fields, "c", points, _c_transmission(crane), short)
+    return Trajectory._of_fields(fields, "c", partial(_c_points, crane), _c_transmission(crane),
+                                 short)
 
 
 def _predict_twin(crane: Crane, initial: State, inputs: Inputs, horizon: float, dt: float,
@@ -316,11 +317,17 @@ def _sample_times(n_steps: int, horizon: float, dt: float, sample_every: int) ->
 
 def _c_transmission(crane: Crane) -> Any:
     """(joint, stroke, extension) -> ds/dtheta of a boom cylinder, by the C core."""
-    _core = _core_module()
+    return partial(_c_stroke_transmission, crane)
 
-    def transmission(joint: int, stroke: float, extension: float) -> float:
-        return _core.joint_angle(crane, joint, stroke, extension)[1]
-    return transmission
+
+def _c_stroke_transmission(crane: Crane, joint: int, stroke: float, extension: float) -> float:
+    return _core_module().joint_angle(crane, joint, stroke, extension)[1]
+
+
+def _c_points(crane: Crane, theta: np.ndarray, slew: np.ndarray, extension: np.ndarray) -> np.ndarray:
+    """The world positions of the crane's points at the poses of the samples, by the C core."""
+    points = _core_module().points
+    return _poses(lambda e, s, th: points(crane, e, s, th), theta, slew, extension)
 
 
 def _poses(points: Any, theta: np.ndarray, slew: np.ndarray, extension: np.ndarray) -> np.ndarray:
@@ -561,9 +568,5 @@ def predict_many(crane: Crane, initials: Sequence[State], inputs_list: Sequence[
                                                           int(sample_every))
     for a in arrays.values():
         a.setflags(write=False)
-
-    def points(theta: np.ndarray, slew: np.ndarray, extension: np.ndarray) -> np.ndarray:
-        return _poses(lambda e, s, th: _core.points(crane, e, s, th), theta, slew, extension)
-
-    return TrajectoryBatch(**arrays, backend="c", sample_every=int(sample_every), _points=points,
-                           _transmission=_c_transmission(crane))
+    return TrajectoryBatch(**arrays, backend="c", sample_every=int(sample_every),
+                           _points=partial(_c_points, crane), _transmission=_c_transmission(crane))

@@ -59,11 +59,16 @@ def _pressure(value: object, name: str) -> float:
 PLAUSIBLE_PRESSURE_MIN = 1e5
 
 
+def looks_like_bar(peak: float) -> bool:
+    """Whether pressures whose largest is ``peak`` (Pa) look written in bar: above 0 but below
+    PLAUSIBLE_PRESSURE_MIN (175 for 175 bar)."""
+    return 0.0 < peak < PLAUSIBLE_PRESSURE_MIN
+
+
 def bar_for_pa(owner: str, peaks: Dict[str, float]) -> Optional[str]:
-    """The warning text when the largest of ``peaks`` (Pa) is above 0 but below
-    PLAUSIBLE_PRESSURE_MIN (175 for 175 bar), naming the fields; else None."""
-    top = max(peaks.values())
-    if not 0.0 < top < PLAUSIBLE_PRESSURE_MIN:
+    """The warning text when the largest of ``peaks`` (Pa) looks written in bar
+    (:func:`looks_like_bar`), naming the fields; else None."""
+    if not looks_like_bar(max(peaks.values())):
         return None
     fields = ", ".join(f"{owner}.{k} = {v:g} Pa" for k, v in peaks.items() if v > 0.0)
     return (f"{fields}: below 1 bar, where the boom cylinders need tens of bar; pressures are in "
