@@ -17,7 +17,7 @@ import numpy as np
 
 from ._cranepredict import ffi, lib
 
-from .types import State
+from .types import Pressure, State
 
 if TYPE_CHECKING:  # pragma: no cover
     from .crane import Crane
@@ -243,12 +243,18 @@ def _sample_dtype() -> np.dtype:
 SAMPLE_DTYPE = _sample_dtype()
 
 
+_OK = lib.CRANE_OK
 _HOLD, _PRESSURE, _VALVE = lib.CRANE_DRIVE_HOLD, lib.CRANE_DRIVE_PRESSURE, lib.CRANE_DRIVE_VALVE
 
 
 def _drive(dst: Any, drive: Any, keep: list) -> None:
     if drive.held:
         dst.mode = _HOLD
+        return
+    if type(drive) is Pressure:   # the common case first
+        dst.mode = _PRESSURE
+        dst.p_a, dst.p_b = drive.p_a, drive.p_b
+        dst.n_samples = 0
         return
     if hasattr(drive, "u"):
         dst.mode = _VALVE
@@ -364,8 +370,10 @@ def predict_buffer(crane: "Crane", state: "State", inputs: "Inputs", horizon: fl
         solver(inp, method, tolerance)
     out = np.empty(n * SAMPLE_SIZE, dtype=np.uint8)
     written = ffi.new("size_t *")
-    ensure(lib.crane_predict_model(m, s, inp, horizon, dt, ffi.from_buffer("crane_sample[]", out),
-                                   n, written), "predict")
+    status = lib.crane_predict_model(m, s, inp, horizon, dt, ffi.from_buffer("crane_sample[]", out),
+                                     n, written)
+    if status != _OK:
+        ensure(status, "predict")
     out.setflags(write=False)
     return out, int(written[0])
 

@@ -129,7 +129,7 @@ def pressures_in_bar(crane: Crane, state: State, inputs: "Inputs") -> Tuple[str,
     written in bar where Pa are meant (``Pressure(175, 0)``)."""
     texts = []
     forces = None
-    for j, (name, drive) in enumerate(zip(_JOINTS, (inputs.lift, inputs.tilt))):
+    for j, name, drive in ((0, "lift", inputs.lift), (1, "tilt", inputs.tilt)):
         if type(drive) is Pressure:
             p_a, p_b = drive.p_a, drive.p_b
         elif isinstance(drive, PressureSeries):
@@ -149,4 +149,4 @@ def pressures_in_bar(crane: Crane, state: State, inputs: "Inputs") -> Tuple[str,
             texts.append(text.replace("where the boom cylinders need tens of bar",
                                       f"where holding the {name} boom at this pose takes "
                                       f"{needed / 1e5:.0f} bar"))
-    return tuple(texts)
+    return tuple(texts) if texts else ()
