@@ -9,6 +9,7 @@ against the converged run (conftest.DT_REF).
 
 from __future__ import annotations
 
+import inspect
 import os
 import re
 import time
@@ -19,7 +20,7 @@ import numpy as np
 import pytest
 
 import cranepredict as cp
-from cranepredict import _core, twin
+from cranepredict import _core, solver, twin
 
 from conftest import (DT_REF, FOUR_JOINT_PRESSURE, FOUR_JOINT_VALVE, NAMED_PRESSURE, TOL,
                       benchmarks_enabled, case, largest_dt, reference, tip_error)
@@ -408,7 +409,8 @@ def _per_call_us(fns, calls: int, blocks: int = 50):
 
 def _bare_predict(crane, initial, inputs, horizon: float, dt: float):
     """A closure that runs crane_predict_model alone, on structs and an output buffer built once
-    (the C core's own time, plus one cffi call), and that buffer."""
+    (the C core's own time, plus one cffi call), and that buffer. The method and tolerance are
+    predict()'s defaults."""
     from cranepredict._cranepredict import ffi, lib
 
     m = _core.model(crane, initial.extension)
@@ -416,6 +418,9 @@ def _bare_predict(crane, initial, inputs, horizon: float, dt: float):
     _core._state(s, initial)
     inp, keep = ffi.new("crane_inputs *"), []
     _core._inputs(inp, inputs, keep)
+    # predict()'s default method and tolerance, as predict() hands them to the core
+    method = inspect.signature(cp.predict).parameters["method"].default
+    _core.solver(inp, *solver.check(method, None))
     n = _core.sample_count(horizon, dt)
     out = np.empty(n, dtype=_core.SAMPLE_DTYPE)
     ptr, written = ffi.from_buffer("crane_sample[]", out), ffi.new("size_t *")
