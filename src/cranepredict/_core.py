@@ -346,9 +346,9 @@ def _inputs(dst: Any, inputs: "Inputs", keep: list) -> None:
 
 def solver(dst: Any, method: str, tolerance: Any) -> None:
     """crane_inputs.solver from a checked method and Tolerance (solver.check)."""
-    dst.solver.method = lib.CRANE_METHOD_RK4 if method == "rk4" else lib.CRANE_METHOD_ROSW
-    dst.solver.tip_tolerance = tolerance.tip
-    dst.solver.pressure_tolerance = tolerance.pressure
+    s = dst.solver
+    s.method = lib.CRANE_METHOD_RK4 if method == "rk4" else lib.CRANE_METHOD_ROSW
+    s.tip_tolerance, s.pressure_tolerance = tolerance.tip, tolerance.pressure
 
 
 SAMPLE_SIZE = ffi.sizeof("crane_sample")
