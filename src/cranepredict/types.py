@@ -352,6 +352,8 @@ class Trajectory:
     ``supply_short``: the valve-driven boom cylinders ("lift", "tilt") levered against their load
     whose load at the initial pose needs more than their supply pressure to hold: levered
     against it, the boom sinks (:func:`cranepredict.holding_pressure`); empty otherwise.
+    Every array is read-only; those of a C-core prediction are views of the core's samples,
+    each made on its first read.
     """
 
     t: np.ndarray
@@ -457,6 +459,7 @@ class Trajectory:
 for _name in ARRAYS:
     if _name in Trajectory.__dict__:
         delattr(Trajectory, _name)
+del _name
 _ARRAY_SET = frozenset(ARRAYS)
 
 
