@@ -9,6 +9,7 @@ output, so ``dt`` is where the samples are, not how the core steps.
 from __future__ import annotations
 
 from dataclasses import dataclass
+from functools import lru_cache
 from typing import Optional, Tuple
 
 from ._checks import number
@@ -39,8 +40,10 @@ class Tolerance:
                 raise ValueError(f"Tolerance.{name} must be in [{lo:g}, {hi:g}] {unit}, got {value}")
 
 
+@lru_cache(maxsize=None)
 def default_tolerance() -> Tolerance:
-    """The default tolerances, as the C core defines them (crane_solver_default)."""
+    """The default tolerances, as the C core defines them (crane_solver_default; asked once: a
+    Tolerance is immutable)."""
     from ._cranepredict import ffi, lib
 
     s = ffi.new("crane_solver *")
