@@ -582,6 +582,8 @@ crane_status crane_estimator_update(crane_estimator *est, const crane_model *mod
         } else if (y0[i] > est->config.hi[i]) {
             y0[i] = est->config.hi[i];
             est->projected = 1;
+        } else {
+            /* within its bounds: kept */
         }
         est->x[i] = y0[i];
     }

@@ -197,6 +197,8 @@ static void part_rates(const crane_model *m, const crane_part *pt, crane_real e_
         /* the box turns with the slew about the vertical axis: its corners lie up to its
          * horizontal half diagonal further out than its centre */
         k[CRANE_SLEW] += crane__sqrt(pt->half[0] * pt->half[0] + pt->half[1] * pt->half[1]);
+    } else {
+        /* a sphere: its centre's rates bound every point of it */
     }
 }
 
@@ -274,6 +276,8 @@ static void coord_range(const crane_sample *s0, const crane_sample *s1, int j, c
         if (r > ua && r < ub) {
             widen(cubic_at(c, r), lo, hi);
         }
+    } else {
+        /* at most linear: its ends bound it */
     }
 }
 
@@ -781,6 +785,8 @@ crane_status crane_guard(const crane_model *model, const crane_part *parts, size
                     if (d < part_clearance[i]) {
                         part_clearance[i] = d;
                     }
+                } else {
+                    /* its bound clears the margin and the part's least clearance: key kept */
                 }
                 if (*kj < min_key) {
                     min_key = *kj;

@@ -41,6 +41,8 @@ crane_real crane__wrap_tilt(crane_real theta)
         theta -= two_pi;
     } else if (theta <= lo) {
         theta += two_pi;
+    } else {
+        /* already in (lo, hi] */
     }
     return theta;
 }
@@ -58,6 +60,8 @@ void crane__lift_from_stroke(const crane_model *m, crane_real stroke, crane_real
         cg = 1;
     } else if (cg < -1) {
         cg = -1;
+    } else {
+        /* within [-1, 1] */
     }
     gamma = crane__acos(cg);
     /* theta = gamma - eps + beta (eps, beta: crane__lift_offsets; this inverse runs only at the
@@ -217,6 +221,8 @@ static crane_real wrap_2pi(crane_real x)
             x += two_pi;
         } else if (x >= two_pi) {
             x -= two_pi;
+        } else {
+            /* already in [0, 2pi) */
         }
     }
     return x;

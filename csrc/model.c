@@ -25,6 +25,8 @@ static void rule(verdict *v, crane_field f, crane_real x, int ok, crane_status b
     } else if (ok == 0) {
         v->status = bad;
         v->field = f;
+    } else {
+        /* finite and keeps its rule */
     }
 }
 
