@@ -134,17 +134,18 @@ void crane__chamber_rates(const crane_model *m, int joint, crane_real lever, cra
 {
     const crane_hydraulics *const h = crane__circuit(m, joint);
     crane_real q_l, q_a, q_b, v_a, v_b;
-    crane_real ab[4];   /* the piston areas and the stroke range */
+    crane_real spool = y; /* the spool the valve's flows see: the lever itself without a lag */
+    crane_real ab[4];     /* the piston areas and the stroke range */
 
     /* the valve (the call) first, the chambers after: fewer values are held
      * across the calls, which keeps this frame, on the stack budget's deepest path, smaller */
     if (h->spool_time_constant > 0) {
         rate[2] = (lever - y) / h->spool_time_constant;
     } else {
-        y = lever;
+        spool = lever;
         rate[2] = 0;
     }
-    crane__valve_flows(h, y, p[0], p[1], &q_a, &q_b);
+    crane__valve_flows(h, spool, p[0], p[1], &q_a, &q_b);
     volumes(m, joint, h, stroke, ab, &v_a, &v_b);
     q_l = h->leakage * (p[0] - p[1]);
     /* the relief and anti-cavitation valves are not here: crane__limit_valves, implicitly */

@@ -35,16 +35,17 @@ crane_real crane__wrap_tilt(crane_real theta)
     const crane_real two_pi = 2 * crane__pi();
     const crane_real hi = crane__pi() / 2;
     const crane_real lo = -3 * crane__pi() / 2;
+    crane_real wrapped = theta;
 
     /* atan2 - alpha_a lies in (-2pi, 2pi), so one turn either way is enough. */
-    if (theta > hi) {
-        theta -= two_pi;
-    } else if (theta <= lo) {
-        theta += two_pi;
+    if (wrapped > hi) {
+        wrapped -= two_pi;
+    } else if (wrapped <= lo) {
+        wrapped += two_pi;
     } else {
         /* already in (lo, hi] */
     }
-    return theta;
+    return wrapped;
 }
 
 void crane__lift_from_stroke(const crane_model *m, crane_real stroke, crane_real *theta,
@@ -214,18 +215,19 @@ void crane__tilt_kinematics(const crane_model *m, crane_real c1, crane_real s1,
 static crane_real wrap_2pi(crane_real x)
 {
     const crane_real two_pi = 2 * crane__pi();
+    crane_real wrapped = x;
     int k;
 
     for (k = 0; k < 2; ++k) {
-        if (x < 0) {
-            x += two_pi;
-        } else if (x >= two_pi) {
-            x -= two_pi;
+        if (wrapped < 0) {
+            wrapped += two_pi;
+        } else if (wrapped >= two_pi) {
+            wrapped -= two_pi;
         } else {
             /* already in [0, 2pi) */
         }
     }
-    return x;
+    return wrapped;
 }
 
 /* The pins of the four-bar at psi, the angle at P1 from u = (B2 - P1)/|B2 - P1| clockwise to
@@ -518,20 +520,21 @@ void crane__sincosf(float x, float *sp, float *cp)
                        S4 = 2.7557314297e-06f;
     static const float C1 = 4.1666667908e-02f, C2 = -1.3888889225e-03f, C3 = 2.4801587642e-05f,
                        C4 = -2.7557314297e-07f;
+    float a = x; /* the argument, below 64 in magnitude once reduced */
     float r, z, s, c, fk;
     int k;
 
-    if (!(fabsf(x) <= 64.0f)) {
-        x = fmodf(x, 6.2831854820e+00f);
+    if (!(fabsf(a) <= 64.0f)) {
+        a = fmodf(a, 6.2831854820e+00f);
     }
-    if (!(x == x)) {
-        *sp = *cp = x;
+    if (!(a == a)) {
+        *sp = *cp = a;
         return;
     }
-    fk = x * two_over_pi;
+    fk = a * two_over_pi;
     k = (int)(fk < 0 ? fk - 0.5f : fk + 0.5f);
     fk = (float)k;
-    r = ((x - fk * pio2_1) - fk * pio2_2) - (fk * pio2_3 + fk * pio2_3t);
+    r = ((a - fk * pio2_1) - fk * pio2_2) - (fk * pio2_3 + fk * pio2_3t);
     z = r * r;
     s = r + r * z * (S1 + z * (S2 + z * (S3 + z * S4)));
     c = 1.0f - 0.5f * z + z * z * (C1 + z * (C2 + z * (C3 + z * C4)));
