@@ -529,6 +529,8 @@ const char *crane_status_message(crane_status status)
     case CRANE_E_GUARD:
     case CRANE_E_ESTIMATOR: /* the optional modules' messages: the guard's, then the estimator's */
         return crane__guard_status_message(status);
+    default: /* not a crane_status: the fallback after the switch */
+        break;
     }
     return crane__guard_status_message(status);
 }
