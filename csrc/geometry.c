@@ -308,13 +308,25 @@ static crane_real radius_of(const crane_solid *s)
     return seglike(s->kind) != 0 ? s->radius : 0;
 }
 
+/* The order of the kinds for core_distance: seglike 0 < box 1 < plane 2. */
+static int kind_rank(int kind)
+{
+    int rank;
+    if (seglike(kind) != 0) {
+        rank = 0;
+    } else if (kind == CRANE_SOLID_BOX) {
+        rank = 1;
+    } else {
+        rank = 2;
+    }
+    return rank;
+}
+
 int crane__solid_distance(const crane_solid *a, const crane_solid *b, crane_real *distance,
                           crane__v3 *pa, crane__v3 *pb)
 {
-    /* order: seglike < box < plane, so core_distance sees (a, b) with b not "smaller" */
-    const int ra = seglike(a->kind) != 0 ? 0 : (a->kind == CRANE_SOLID_BOX ? 1 : 2);
-    const int rb = seglike(b->kind) != 0 ? 0 : (b->kind == CRANE_SOLID_BOX ? 1 : 2);
-    const int swap = rb < ra;
+    /* so that core_distance sees (a, b) with b not "smaller" */
+    const int swap = kind_rank(b->kind) < kind_rank(a->kind);
     const crane_solid *x = swap != 0 ? b : a, *y = swap != 0 ? a : b;
     crane__v3 px, py;
     crane_real d, rx, ry;
