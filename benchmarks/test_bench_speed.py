@@ -9,8 +9,10 @@ against the converged run (conftest.DT_REF).
 
 from __future__ import annotations
 
+import inspect
 import os
 import re
+import time
 import shutil
 import subprocess
 
@@ -18,7 +20,7 @@ import numpy as np
 import pytest
 
 import cranepredict as cp
-from cranepredict import _core, twin
+from cranepredict import _core, solver, twin
 
 from conftest import (DT_REF, FOUR_JOINT_PRESSURE, FOUR_JOINT_VALVE, NAMED_PRESSURE, TOL,
                       benchmarks_enabled, case, largest_dt, reference, tip_error)
@@ -383,3 +385,150 @@ def test_predict_call_overhead(benchmark):
     assert len(tr.t) == 2
     if benchmark.stats is not None:
         print(f"\n[overhead] predict() of one step: {benchmark.stats['median'] * 1e6:.1f} us (median)")
+
+
+# -- the error-controlled method (ROS34PW2) on every named scenario ---------------------------
+
+#: The targets of the error-controlled method at its default tolerance (2-s futures against the
+#: converged RK4 run): pressure-driven >= 20,000x at <= 1 mm; lever-open >= 10,000x and every
+#: valve-driven planar one >= 5,000x at <= 1 mm and <= 0.5 bar; four-joint valve-driven >= 5,000x.
+ROSW_TARGETS = {"pressure": 20000.0, "lever-open": 10000.0, "valve": 5000.0}
+ROSW_PRESSURE_TOL = 0.5e5
+
+
+def _rosw_target(name: str) -> float:
+    if name == "lever-open":
+        return ROSW_TARGETS["lever-open"]
+    return ROSW_TARGETS["pressure" if name in NAMED_PRESSURE else "valve"]
+
+
+@pytest.mark.parametrize("name", cp.scenarios.names())
+def test_predict_rosw(benchmark, ratio, name):
+    """Every named scenario through predict(method="rosw") at its default tolerance, samples every
+    5 ms: the ratio, the worst tip and chamber pressure error against RK4 at 2e-5 s (printed with
+    the target met or missed; the accuracy half asserted: <= 1 mm, <= 0.5 bar)."""
+    sc = cp.scenarios.get(name)
+    args = (sc.crane, sc.initial, sc.inputs, sc.horizon)
+    tr = ratio(lambda: cp.predict(*args, method="rosw"), sc.horizon, scenario=name,
+               backend="c", method="rosw", dt=cp.DEFAULT_DT)
+    ref = cp.predict(*args, dt=2e-5, sample_every=250)
+    tip = float(np.max(np.linalg.norm(tr.tip - ref.tip, axis=1)))
+    dp = float(max(np.abs(tr.p_a - ref.p_a).max(), np.abs(tr.p_b - ref.p_b).max()))
+    info = benchmark.extra_info
+    info["tip_error_mm"] = round(tip * 1e3, 6)
+    info["pressure_error_bar"] = round(dp / 1e5, 6)
+    target = _rosw_target(name)
+    met = info["ratio"] >= target and tip <= TOL and dp <= ROSW_PRESSURE_TOL
+    info["rosw_target_met"] = met
+    print(f"\n[rosw] {name}: {info['ratio']:,.0f}x (best {info['ratio_best']:,.0f}x), tip "
+          f"{tip * 1e3:.3g} mm, pressures {dp / 1e5:.3g} bar; target >= {target:,.0f}x: "
+          + ("met" if met else "MISSED"))
+    assert tip <= TOL and dp <= ROSW_PRESSURE_TOL
+
+
+@pytest.mark.parametrize("threads", [1, 2])
+def test_predict_many_valves_rosw(benchmark, ratio, request, threads):
+    """1,000 random valve-driven futures (the lever pairs of test_predict_many_valves) with the
+    error-controlled method: target < 100 ms for the batch with 2 threads (printed)."""
+    n = 1000 if benchmarks_enabled(request.config) else 20
+    c, initials, inputs = _valve_futures(n)
+    batch = ratio(lambda: cp.predict_many(c.crane, initials, inputs, c.horizon, method="rosw",
+                                          threads=threads),
+                  n * c.horizon, scenario="lever-open", backend="predict_many", method="rosw",
+                  futures=n, threads=threads)
+    one = cp.predict(*c.args(), method="rosw")
+    assert np.array_equal(batch[0].tip, one.tip)
+    ms = 1e3 * n * c.horizon / benchmark.extra_info["ratio"]
+    benchmark.extra_info["wall_ms_per_batch"] = round(ms, 3)
+    print(f"\n[rosw] {n} valve futures, {threads} thread(s): {ms:.1f} ms (target < 100 ms for "
+          f"1,000 with 2 threads)")
+
+def _per_call_us(fns, calls: int, blocks: int = 50):
+    """Each of ``fns``' time per call, us, by the wall clock (time.perf_counter_ns) and by this
+    thread's CPU time (time.thread_time_ns, which leaves out the time the thread waited for a core
+    on a shared machine): ``calls`` calls each, in ``blocks`` tight loops taken in turn (fn 0,
+    fn 1, ..., fn 0, ...), the fastest loop of each (the slower ones carry other processes' time;
+    taking turns gives every fn the same load). Returns [(wall, cpu)] in the order of ``fns``."""
+    per = max(1, calls // blocks)
+    wall = [float("inf")] * len(fns)
+    cpu = [float("inf")] * len(fns)
+    for _ in range(blocks):
+        for i, fn in enumerate(fns):
+            c0, t0 = time.thread_time_ns(), time.perf_counter_ns()
+            for _ in range(per):
+                fn()
+            t1, c1 = time.perf_counter_ns(), time.thread_time_ns()
+            wall[i] = min(wall[i], (t1 - t0) / per / 1e3)
+            cpu[i] = min(cpu[i], (c1 - c0) / per / 1e3)
+    return list(zip(wall, cpu))
+
+
+def _bare_predict(crane, initial, inputs, horizon: float, dt: float):
+    """A closure that runs crane_predict_model alone, on structs and an output buffer built once
+    (the C core's own time, plus one cffi call), and that buffer. The method and tolerance are
+    predict()'s defaults."""
+    from cranepredict._cranepredict import ffi, lib
+
+    m = _core.model(crane, initial.extension)
+    s = ffi.new("crane_state *")
+    _core._state(s, initial)
+    inp, keep = ffi.new("crane_inputs *"), []
+    _core._inputs(inp, inputs, keep)
+    # predict()'s default method and tolerance, as predict() hands them to the core
+    method = inspect.signature(cp.predict).parameters["method"].default
+    _core.solver(inp, *solver.check(method, None))
+    n = _core.sample_count(horizon, dt)
+    out = np.empty(n, dtype=_core.SAMPLE_DTYPE)
+    ptr, written = ffi.from_buffer("crane_sample[]", out), ffi.new("size_t *")
+
+    def run():
+        return lib.crane_predict_model(m, s, inp, horizon, dt, ptr, n, written)
+    assert run() == lib.CRANE_OK and written[0] == n
+    return run, out
+
+
+def test_predict_overhead_vs_core(benchmark, request):
+    """predict()'s Python cost per call (checks, the cffi structs, the output buffer, the
+    Trajectory) against the C core's own time for a paper-fig4 2-s future at the default step.
+
+    Tight loops (10,000 calls in 50 loops, the fastest loop, by perf_counter_ns and thread_time_ns:
+    _per_call_us):
+    the overhead is predict() of a one-step horizon minus crane_predict_model of the same step on
+    prebuilt structs, and, as a check, predict() of the 2-s future minus the core's 2-s call (a
+    difference of two large numbers: noisier). Printed with its share of a whole 2-s predict()
+    call and its ratio to the core's 2-s call."""
+    sc = cp.scenarios.get("paper-fig4")
+    crane, initial, inputs, dt = sc.crane, sc.initial, sc.inputs, cp.DEFAULT_DT
+    enabled = benchmarks_enabled(request.config)
+    short, long_ = (10_000, 2_000) if enabled else (20, 5)
+    bare_step, _ = _bare_predict(crane, initial, inputs, dt, dt)
+    bare_future, out = _bare_predict(crane, initial, inputs, sc.horizon, dt)
+    tr = cp.predict(crane, initial, inputs, sc.horizon)
+    # the two loops do the same work: predict() returns the core's samples
+    assert np.array_equal(tr.tip, out["tip"]) and np.array_equal(tr.stop, out["stop"])
+
+    def measure():
+        return (_per_call_us([lambda: cp.predict(crane, initial, inputs, dt), bare_step], short)
+                + _per_call_us([lambda: cp.predict(crane, initial, inputs, sc.horizon),
+                                bare_future], long_))
+
+    timings = benchmark.pedantic(measure, rounds=1, iterations=1)
+    info = benchmark.extra_info
+    info.update(scenario="paper-fig4", horizon_s=sc.horizon, dt=dt, calls=short)
+    for clock, c in (("wall", 0), ("cpu", 1)):
+        step, core_step, future, core_future = (x[c] for x in timings)
+        overhead = step - core_step
+        info[clock] = dict(
+            predict_one_step_us=round(step, 2), core_one_step_us=round(core_step, 2),
+            overhead_us=round(overhead, 2), predict_future_us=round(future, 2),
+            core_future_us=round(core_future, 2), overhead_2s_us=round(future - core_future, 2),
+            overhead_fraction_of_future=round(overhead / future, 4),
+            overhead_per_core_future=round(overhead / core_future, 4))
+        name = "perf_counter_ns" if clock == "wall" else "thread_time_ns"
+        print(f"\n[overhead] predict() beyond the C core ({name}): {overhead:.1f} us per call "
+              f"(one-step horizon: {step:.1f} us vs the core's {core_step:.1f} us; {short:,} calls); "
+              f"paper-fig4 2-s future: predict() {future:.1f} us, the core {core_future:.1f} us, "
+              f"difference {future - core_future:.1f} us: the overhead is "
+              f"{100 * overhead / future:.1f} % of the whole call ({100 * overhead / core_future:.1f} % "
+              "on top of the core)")
+        assert step > 0 and core_future > core_step

@@ -61,6 +61,10 @@ typedef enum {
     CRANE_E_ACTUATOR = 28,      /* a slew or extension drive (not a hold) on a crane without a
                                  * slew drive / extension cylinder */
     CRANE_E_PARAMS = 29,        /* crane_predict_many: n_params neither 1 nor n_futures */
+    CRANE_E_METHOD = 30,        /* crane_solver: a method unknown or a tolerance out of range */
+    CRANE_E_TOLERANCE = 31,     /* the error control could not meet the tolerance: a step below
+                                 * CRANE_MIN_STEP or more attempts than the cap (docs/model.md,
+                                 * "Integration"); samples before it are written, as DIVERGED */
     /* the collision guard (docs/guard.md) */
     CRANE_E_SOLID = 40,         /* a solid (obstacle) is not valid, or a pair of two planes */
     CRANE_E_PART = 41,          /* a crane part is not valid */
@@ -77,6 +81,7 @@ enum { CRANE_LIFT = 0, CRANE_TILT = 1, CRANE_SLEW = 2, CRANE_EXTENSION = 3 };
 enum { CRANE_DRIVE_HOLD = 0, CRANE_DRIVE_PRESSURE = 1, CRANE_DRIVE_VALVE = 2 };
 enum { CRANE_VALVE_NONE = 0, CRANE_VALVE_ORIFICE = 1, CRANE_VALVE_COMPENSATED = 2 };
 enum { CRANE_N_POINTS = 11 };
+enum { CRANE_METHOD_DEFAULT = 0, CRANE_METHOD_ROSW = 1, CRANE_METHOD_RK4 = 2 };
 enum { CRANE_PRESSURE_MAX = 100000000 };   /* Pa (1000 bar): the largest pressure accepted */
 enum { CRANE_CHAMBER_PRESSURE_MIN = -100000 };  /* Pa gauge (vacuum): the lowest chamber pressure */
 
@@ -398,9 +403,22 @@ typedef struct {
     const crane_real *u_samples; /* CRANE_DRIVE_VALVE: the lever at the times t */
 } crane_drive;
 
+/* How a future is integrated (docs/model.md, "Integration"). All zero is the default:
+ * fixed-step RK4 with step dt (the fixed cost per call that the embedded worst case is stated
+ * for). CRANE_METHOD_ROSW is the ROS34PW2 Rosenbrock-W method with error control to the
+ * tolerances, dt then the sample interval (a zero tolerance: the default one). */
+typedef struct {
+    int method;                  /* CRANE_METHOD_DEFAULT (0, RK4), CRANE_METHOD_ROSW, CRANE_METHOD_RK4 */
+    crane_real tip_tolerance;    /* m of tip position per step; 0: CRANE_TIP_TOLERANCE; else in
+                                    [1e-9, 1] */
+    crane_real pressure_tolerance; /* Pa of chamber pressure per step; 0: CRANE_PRESSURE_TOLERANCE;
+                                    else in [1, 1e7] */
+} crane_solver;
+
 typedef struct {
     crane_drive drive[4];        /* [CRANE_LIFT], [CRANE_TILT], [CRANE_SLEW], [CRANE_EXTENSION];
                                     a zero drive is a hold */
+    crane_solver solver;         /* zero: the default method (RK4) */
 } crane_inputs;
 
 typedef struct {
@@ -482,6 +500,10 @@ const char *crane_field_rule(crane_field field);
  * so that a model on a small stack stays small: keep params alive and unchanged while the model is
  * used. */
 crane_status crane_model_init(crane_model *model, const crane_params *params, crane_real extension);
+
+/* The default solver with its numbers filled in: the default method (RK4) and the default tip
+ * and pressure tolerances of CRANE_METHOD_ROSW (what a zero tolerance means). */
+crane_status crane_solver_default(crane_solver *solver);
 
 /* Number of samples a prediction writes: ceil(horizon/dt - 1e-9) + 1. */
 crane_status crane_sample_count(crane_real horizon, crane_real dt, size_t *count);

@@ -41,6 +41,7 @@ static inline crane_real crane__atan2(crane_real y, crane_real x) { return atan2
 static inline crane_real crane__tanh(crane_real x) { return tanhf(x); }
 static inline crane_real crane__fabs(crane_real x) { return fabsf(x); }
 static inline crane_real crane__ceil(crane_real x) { return ceilf(x); }
+static inline crane_real crane__cbrt(crane_real x) { return cbrtf(x); }
 #else
 static inline crane_real crane__sqrt(crane_real x) { return sqrt(x); }
 static inline crane_real crane__sin(crane_real x) { return sin(x); }
@@ -51,6 +52,7 @@ static inline crane_real crane__atan2(crane_real y, crane_real x) { return atan2
 static inline crane_real crane__tanh(crane_real x) { return tanh(x); }
 static inline crane_real crane__fabs(crane_real x) { return fabs(x); }
 static inline crane_real crane__ceil(crane_real x) { return ceil(x); }
+static inline crane_real crane__cbrt(crane_real x) { return cbrt(x); }
 #endif
 
 /* isfinite is a type-generic macro; wrapping it keeps the call sites typed. */
@@ -357,6 +359,10 @@ void crane__mass_spatial(const crane_model *m, const crane__bodies *b, const cra
 /* ---- cylinder.c ---- */
 
 crane_real crane__friction(const crane_friction *f, crane_real v);
+/* dF/dv of crane__friction. */
+crane_real crane__friction_slope(const crane_friction *f, crane_real v);
+/* The friction of actuator joint (a boom cylinder, the slew rack, the extension cylinder). */
+const crane_friction *crane__actuator_friction(const crane_model *m, int joint);
 crane_real crane__cylinder_force(const crane_model *m, int joint, crane_real p_a, crane_real p_b,
                                  crane_real v);
 /* Actuator j of [lift, tilt, slew, extension] (docs/model.md, "Four joints", "Actuators"): the
@@ -370,6 +376,13 @@ crane_real crane__actuator_force(const crane_model *m, int joint, crane_real p_a
                                  crane_real v);
 
 /* ---- hydraulics.c (docs/model.md, "Hydraulics") ---- */
+
+/* The error-controlled method (ROS34PW2, docs/model.md "Integration") is compiled in unless
+ * CRANE_ROSW is defined to 0: a build for a controller that needs the fixed cost and the 1-kB
+ * stack of RK4 (docs/embedding.md); there CRANE_METHOD_ROSW is refused (CRANE_E_METHOD). */
+#ifndef CRANE_ROSW
+#define CRANE_ROSW 1
+#endif
 
 /* Valve-driven cylinders are compiled in unless CRANE_HYDRAULICS is defined to 0: a build
  * without them refuses valve drives (CRANE_E_VALVE) and is smaller, for a controller that drives
@@ -404,6 +417,22 @@ void crane__limit_valves(const crane__limits *l, crane_real dt, crane_real *p, i
 /* The substep count of a step of size h from the strokes of the valve-driven actuators (valve[j],
  * j over [lift, tilt, slew, extension]); coef gets each one's two rates G_lim/C(V) at its
  * stroke for crane__limit_valves (coef[2j], coef[2j + 1]). */
+/* The relief and anti-cavitation valves' flows as rates (the error-controlled method integrates
+ * them with the chamber equations, docs/model.md "Integration"): subtracts G_lim (p - setting) /
+ * C(V) from each chamber whose valve is open (bit 0 the a side, bit 1 the b side; the setting the
+ * nearer one, crane__limit_side). A valve's opening and closing are events of the integrator: a
+ * step keeps each valve as it was at its start, so that its rates stay smooth over the step. */
+void crane__limit_rates(const crane_model *m, int joint, crane_real stroke, const crane_real p[2],
+                        unsigned open, crane_real rate[2]);
+/* The chamber equations' Jacobian of actuator joint at spool y, the stroke and pressures p:
+ * jac = (dpa'/dpa, dpa'/dpb, dpb'/dpa, dpb'/dpb, dpa'/dv, dpb'/dv), v the stroke rate; the valve's
+ * pressure slopes, the leakage and the slopes of the limit valves open (bit 0: the a side's, bit 1
+ * the b side's), not the spool's. */
+void crane__chamber_jacobian(const crane_model *m, int joint, crane_real y, crane_real stroke,
+                             const crane_real p[2], unsigned open, crane_real jac[6]);
+/* Which limit valve a chamber of actuator joint at p is beyond: -1 the anti-cavitation valve, +1
+ * the relief valve, 0 neither; *setting gets the setting of the nearer one. */
+int crane__limit_side(const crane_model *m, int joint, crane_real p, crane_real *setting);
 long crane__substeps(const crane_model *m, const crane_real stroke[4], const int valve[4],
                      crane_real h, crane_real *coef);
 /* Its largest value over every stroke (at the stroke ends, where the chambers are smallest). */
@@ -430,6 +459,17 @@ crane_real crane__next_knot(const crane_inputs *in, int n_joints, crane_real t, 
                             crane_real dt);
 
 /* ---- integrator.c ---- */
+
+/* The default tolerances of the error-controlled method (crane_solver; docs/model.md,
+ * "Integration"): per step, m of tip and Pa of chamber pressure. */
+static const crane_real CRANE__TIP_TOLERANCE = (crane_real)5e-5;
+static const crane_real CRANE__PRESSURE_TOLERANCE = (crane_real)1e4;
+/* Its cap on step attempts over a horizon (docs/model.md, "Integration"): 64 plus 4096 a second
+ * (as many as steps of 0.24 ms), so that the work of a call is bounded before it runs. */
+static inline long crane__attempt_cap(crane_real horizon)
+{
+    return 64 + (long)crane__ceil(horizon * 4096);
+}
 
 /* Runs a validated prediction (docs/model.md, "Integration and samples", "Four joints"): the
  * model, state, inputs, horizon, dt, step count and capacity have all been checked by

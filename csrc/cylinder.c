@@ -31,6 +31,29 @@ crane_real crane__friction(const crane_friction *f, crane_real v)
            f->viscous * TANH_4 * v;
 }
 
+#if CRANE_ROSW
+crane_real crane__friction_slope(const crane_friction *f, crane_real v)
+{
+    /* dF/dv of crane__friction, term by term: d tanh(4r)/dr = 4 (1 - tanh^2), and
+     * d/dr r / q^2 = (q - r^2) / q^3 with q = r^2/4 + 3/4; over v_S for dr/dv. */
+    const crane_real r = v / f->stribeck_velocity;
+    const crane_real r4 = 4 * r;
+    crane_real coulomb = 0, stribeck = 0;
+
+    if (crane__fabs(r4) < TANH_CUTOFF) {
+        const crane_real th = crane__tanh(r4);
+        coulomb = 4 * (1 - th * th);
+    }
+    if (crane__fabs(r) < STRIBECK_CUTOFF) {
+        const crane_real q = r * r / 4 + (crane_real)0.75;
+        stribeck = (q - r * r) / (q * q * q);
+    }
+    return f->factor * (f->coulomb * coulomb + (f->static_ - f->coulomb) * stribeck) /
+               f->stribeck_velocity +
+           f->viscous * TANH_4;
+}
+#endif /* CRANE_ROSW */
+
 /* A cylinder's piston areas: pi bore^2 / 4 (bore side) and pi (bore^2 - rod^2) / 4 (rod side),
  * worked where needed rather than kept in the model (the stack). */
 static void piston_areas(crane_real bore, crane_real rod, crane_real *area_a, crane_real *area_b)
@@ -93,6 +116,16 @@ crane_real crane__actuator_force(const crane_model *m, int joint, crane_real p_a
     return p_a * a_a - p_b * a_b -
            crane__friction(joint == CRANE_SLEW ? &p->slew_drive.friction
                                                : &p->extension_cylinder.friction, v);
+}
+
+const crane_friction *crane__actuator_friction(const crane_model *m, int joint)
+{
+    const crane_params *p = m->params;
+
+    if (joint < 2) {
+        return &p->cylinder[joint].friction;
+    }
+    return joint == CRANE_SLEW ? &p->slew_drive.friction : &p->extension_cylinder.friction;
 }
 
 crane_status crane_cylinder_force(const crane_model *model, int joint, crane_real p_a,

@@ -332,6 +332,9 @@ static CRANE__NOINLINE void perturb(crane_estimator *est, const crane_inputs *in
 
     state_of(est, est->x, in, &est->futures[0]);
     est->inputs[0] = *in;
+    /* fixed RK4 steps: an adaptive step's choice would put its tolerance's noise into the
+     * finite differences */
+    est->inputs[0].solver.method = CRANE_METHOD_RK4;
     for (i = 0; i < N; ++i) {
         crane_real xi[CRANE_EST_N];
         int k;
@@ -342,7 +345,7 @@ static CRANE__NOINLINE void perturb(crane_estimator *est, const crane_inputs *in
         est->step[i] = est->x[i] + h <= est->config.hi[i] ? h : -h;
         xi[i] += est->step[i];
         state_of(est, xi, in, &est->futures[1 + i]);
-        est->inputs[1 + i] = *in;
+        est->inputs[1 + i] = est->inputs[0];
     }
 }
 

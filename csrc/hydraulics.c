@@ -153,6 +153,124 @@ void crane__chamber_rates(const crane_model *m, int joint, crane_real lever, cra
     rate[1] = (ab[1] * v - q_b + q_l) / compliance(h, v_b, h->hose_volume_b);
 }
 
+#if CRANE_ROSW
+/* d g(dp) / d dp of orifice (the root's slope, the cubic's inside d_l). */
+static CRANE__ALWAYS_INLINE crane_real orifice_slope(crane_real dp, crane_real dl)
+{
+    crane_real x;
+
+    if (dp >= dl) {
+        return (crane_real)0.5 / crane__sqrt(dp);
+    }
+    if (dp <= -dl) {
+        return (crane_real)0.5 / crane__sqrt(-dp);
+    }
+    x = dp / dl;
+    return crane__sqrt(dl) * (5 - 3 * x * x) * (crane_real)0.25 / dl;
+}
+
+/* d phi(x) / dx of saturation. */
+static CRANE__ALWAYS_INLINE crane_real saturation_slope(crane_real x)
+{
+    return x <= 0 || x >= 1 ? 0 : (1 - x * x) * (crane_real)1.5;
+}
+
+/* dq_a/dp_a and dq_b/dp_b of crane__valve_flows (q_a does not depend on p_b, nor q_b on p_a). */
+static void valve_slopes(const crane_hydraulics *h, crane_real y, crane_real p_a, crane_real p_b,
+                         crane_real *da, crane_real *db)
+{
+    const crane_real dl = h->laminar_pressure_drop;
+
+    *da = 0;
+    *db = 0;
+    if (h->valve != CRANE_VALVE_COMPENSATED) {
+        const crane_real k = y * gain(h);
+        if (y >= 0) {
+            *da = -k * orifice_slope(h->supply_pressure - p_a, dl);
+            *db = k * orifice_slope(p_b - h->tank_pressure, dl);
+        } else {
+            *da = k * orifice_slope(p_a - h->tank_pressure, dl);
+            *db = -k * orifice_slope(h->supply_pressure - p_b, dl);
+        }
+    } else {
+        const crane_real u0 = h->dead_band;
+        const crane_real km = h->meter_out_flow / crane__sqrt(h->meter_out_pressure_drop);
+        if (y > u0) {
+            const crane_real r = (y - u0) / (1 - u0);
+            *da = -r * h->nominal_flow * saturation_slope((h->supply_pressure - p_a) / dl) / dl;
+            *db = r * km * orifice_slope(p_b - h->tank_pressure, dl);
+        } else if (y < -u0) {
+            const crane_real r = (-y - u0) / (1 - u0);
+            *da = -r * km * orifice_slope(p_a - h->tank_pressure, dl);
+            *db = r * h->nominal_flow * saturation_slope((h->supply_pressure - p_b) / dl) / dl;
+        } else {
+            /* the dead band: both edges closed, no slope */
+        }
+    }
+}
+
+void crane__limit_rates(const crane_model *m, int joint, crane_real stroke, const crane_real p[2],
+                        unsigned open, crane_real rate[2])
+{
+    const crane_hydraulics *const h = crane__circuit(m, joint);
+    const crane_real g = h->nominal_flow / LIMIT_OVERRIDE;   /* G_lim */
+    crane_real v_a, v_b, set, ab[4];
+
+    if (open == 0u) {
+        return;
+    }
+    volumes(m, joint, h, stroke, ab, &v_a, &v_b);
+    if ((open & 1u) != 0u) {
+        (void)crane__limit_side(m, joint, p[0], &set);
+        rate[0] -= g * (p[0] - set) / compliance(h, v_a, h->hose_volume_a);
+    }
+    if ((open & 2u) != 0u) {
+        (void)crane__limit_side(m, joint, p[1], &set);
+        rate[1] -= g * (p[1] - set) / compliance(h, v_b, h->hose_volume_b);
+    }
+}
+
+int crane__limit_side(const crane_model *m, int joint, crane_real p, crane_real *setting)
+{
+    const crane_hydraulics *const h = crane__circuit(m, joint);
+
+    if (p <= h->cavitation_pressure + (h->relief_pressure - h->cavitation_pressure) / 2) {
+        *setting = h->cavitation_pressure;
+        return p < h->cavitation_pressure ? -1 : 0;
+    }
+    *setting = h->relief_pressure;
+    return p > h->relief_pressure ? 1 : 0;
+}
+
+void crane__chamber_jacobian(const crane_model *m, int joint, crane_real y, crane_real stroke,
+                             const crane_real p[2], unsigned open, crane_real jac[6])
+{
+    const crane_hydraulics *const h = crane__circuit(m, joint);
+    const crane_real g = h->nominal_flow / LIMIT_OVERRIDE;   /* G_lim */
+    const crane_real l = h->leakage;
+    crane_real v_a, v_b, c_a, c_b, da, db, ab[4];
+
+    volumes(m, joint, h, stroke, ab, &v_a, &v_b);
+    c_a = compliance(h, v_a, h->hose_volume_a);
+    c_b = compliance(h, v_b, h->hose_volume_b);
+    valve_slopes(h, y, p[0], p[1], &da, &db);
+    /* an open limit valve adds its slope G_lim (open: the caller's judgement, bit 0 the a side,
+     * bit 1 the b side; crane__limit_side) */
+    if ((open & 1u) != 0u) {
+        da -= g;
+    }
+    if ((open & 2u) != 0u) {
+        db += g;
+    }
+    jac[0] = (da - l) / c_a;
+    jac[1] = l / c_a;
+    jac[2] = l / c_b;
+    jac[3] = (-db - l) / c_b;
+    jac[4] = -ab[0] / c_a;
+    jac[5] = ab[1] / c_b;
+}
+#endif /* CRANE_ROSW */
+
 void crane__limit_valves(const crane__limits *l, crane_real dt, crane_real *p, int stride)
 {
     int i;

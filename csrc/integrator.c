@@ -12,6 +12,9 @@
  * Everything here runs on inputs that crane_predict has already validated.
  */
 #include "crane_internal.h"
+#ifdef ROS_DEBUG
+#include <stdio.h>
+#endif
 
 /* State layout: q[4], qd[4], then with valve-driven actuators joint j's p_a, p_b and spool at
  * H + 3j (the order of crane__chamber_rates's rates); entries of joints that are not valve-driven
@@ -60,6 +63,20 @@ typedef struct {
     /* The last step ended with the release rule run at its end (the next step's start time and
      * state) releasing nothing: the release at the next step's start would repeat it exactly. */
     unsigned char release_clear;
+#if CRANE_ROSW
+    /* The error-controlled method (ROS34PW2): the relief and anti-cavitation valves are rates
+     * (crane__limit_rates) instead of RK4's implicit update. */
+    unsigned char rosw;
+    /* bit 2j + side: that chamber's relief or anti-cavitation valve is open over the step
+     * (limits_open) */
+    unsigned char open;
+    /* its tolerances: tip metres over the crane's reach (angles), tip metres (the extension),
+     * Pa (the pressures) */
+    crane_real tol_q, tol_tip, tol_p;
+#endif
+#ifdef ROS_DEBUG
+    int dbg_i;
+#endif
 } ctx_t;
 
 static int locked(const ctx_t *c, int j) { return c->mode[j] != CRANE__FREE; }
@@ -197,6 +214,11 @@ static CRANE__ALWAYS_INLINE void valve_rates(ctx_t *c, crane_real t, xstate *x, 
     int k;
 
     crane__chamber_rates(c->lim.m, j, lever(c, j, t), s, v, &x->v[H + 3 * j], x->v[H + 3 * j + 2], r);
+#if CRANE_ROSW
+    if (c->rosw) {
+        crane__limit_rates(c->lim.m, j, s, &x->v[H + 3 * j], (c->open >> (2 * j)) & 3u, r);
+    }
+#endif
     for (k = 0; k < 3; ++k) {
         x->v[H + 3 * j + k] = r[k];
     }
@@ -860,6 +882,592 @@ static int finite_state(const ctx_t *c, const xstate *x)
     return 1;
 }
 
+#if CRANE_ROSW
+/* ---- The error-controlled method: ROS34PW2 (docs/model.md, "Integration") ---- */
+
+/* Rang and Angermann's ROS34PW2 (2005): a Rosenbrock-W method of four stages, order 3 with any
+ * Jacobian, L-stable, stiffly accurate, with an embedded solution of order 2. In Hairer and
+ * Wanner's transformed variables (Solving ODEs II, IV.7 (7.25)):
+ *   (I - gamma h J) U_i = gamma h f(t + alpha_i h, x + sum_j a_ij U_j) + gamma sum_j c_ij U_j,
+ *   x1 = x + sum_i m_i U_i, error sum_i e_i U_i,
+ * from the published gamma, alpha_ij, gamma_ij, b and b^ (a = alpha Gamma^-1, c = -Gamma^-1 off
+ * the diagonal, m = b Gamma^-1, e = (b - b^) Gamma^-1; worked in 40 digits). a and c are packed
+ * by rows (stage i's from (i - 1) i / 2). The time is a state with a zero Jacobian column, which a
+ * W-method allows: f's explicit time dependence (the levers) costs no order. */
+static const crane_real ROS_GAMMA = (crane_real)0.43586652150845900;
+static const crane_real ROS_ALPHA[4] = {0, (crane_real)0.87173304301691801,
+                                       (crane_real)0.73157995778885238, 1};
+static const crane_real ROS_A[6] = {2, (crane_real)1.4192173174557647,
+                                    (crane_real)-0.25923221167296971, (crane_real)4.1847604823191607,
+                                    (crane_real)-0.28519201735549591, (crane_real)2.2942803602790417};
+static const crane_real ROS_C[6] = {(crane_real)-4.5885607205580835, (crane_real)-4.1847604823191607,
+                                    (crane_real)0.28519201735549591, (crane_real)-6.3681792001283578,
+                                    (crane_real)-6.7956209444668362, (crane_real)2.8700986043310561};
+static const crane_real ROS_M[4] = {(crane_real)4.1847604823191601, (crane_real)-0.28519201735549587,
+                                    (crane_real)2.2942803602790414, 1};
+static const crane_real ROS_E[4] = {(crane_real)0.27774994764796811, (crane_real)-1.403239895175999,
+                                    (crane_real)1.7726301276675507, (crane_real)0.5};
+
+/* The step control (docs/model.md, "Integration"): the first step, the largest and the smallest,
+ * and the factors a step may shrink or grow by. */
+static const crane_real ROS_FIRST_STEP = (crane_real)1e-3;
+static const crane_real ROS_MAX_STEP = (crane_real)0.1;
+static const crane_real ROS_MIN_STEP = (crane_real)1e-7;
+static const crane_real ROS_SHRINK = (crane_real)0.2, ROS_GROW = 5, ROS_SAFETY = (crane_real)0.9;
+/* A rate's tolerance over its coordinate's, 1/s: a rate error moves the coordinate by as much per
+ * ROS_RATE_SCALE^-1 s (50 ms, about one period of the oil spring's slowest oscillation, which a
+ * rate error feeds with an amplitude of itself over the oscillation's angular frequency). */
+static const crane_real ROS_RATE_SCALE = 1;
+/* An event this early in a step (as a fraction of it) is looked at again with a step this much
+ * shorter. */
+static const crane_real ROS_EVENT_FRACTION = (crane_real)0.125;
+/* A spool's tolerance (it is dimensionless, in [-1, 1]) */
+static const crane_real ROS_SPOOL_TOLERANCE = (crane_real)1e-3;
+
+/* The Jacobian J of the W-method at a step's start: the stiff parts of f exactly, the rest left
+ * out (a W-method keeps its order with any J): the chambers' slopes (crane__chamber_jacobian),
+ * the oil spring's coupling of the pressures and the joint rates, the friction's damping and the
+ * spool's pole. Not the slopes through the configuration (gravity, volumes, the mass matrix's
+ * change), which are slow. */
+typedef struct {
+    crane_real mp[6], jz;     /* the kernel's mass matrix (mass) and J_z */
+    crane_real ds[4];         /* ds/dq */
+    crane_real fr[4];         /* ds^2 max(dF/dv, 0): the friction's damping of the joint */
+    crane_real ch[4][6];      /* each valve-driven actuator's crane__chamber_jacobian */
+    crane_real area[4][2];    /* A_a ds, -A_b ds: its force's slopes in the pressures, in q terms */
+    crane_real spool[4];      /* 1 / tau of its spool (0 without a lag) */
+} wjac;
+
+/* Mp's diagonal entry of in-plane joint j (lift, tilt, extension). */
+static int mp_diag(int j) { return j == CRANE_LIFT ? 0 : j == CRANE_TILT ? 3 : 5; }
+
+/* f(t, x) into f (f may be x): the coordinates' rates (the joint rates), the accelerations and,
+ * with valves, the chamber rates with the limit valves' flows and the spool rates. */
+static void rates(ctx_t *c, crane_real t, const xstate *x, xstate *f)
+{
+    const unsigned lk = lock_mask(c);
+    const int nq = c->planar ? 2 : 4;
+    int i;
+
+    if (f != x) {
+        copy_state(c, f, x);
+    }
+    forces(c, t, f, lk, f);
+    for (i = 0; i < 4; ++i) {
+        f->v[Q + i] = i < nq ? f->v[W + i] : 0;
+    }
+    solve(c, NULL, c->d.b, lk, &f->v[W]);
+}
+
+/* Which chambers' limit valves are open at x, f = f(x) (c->open): a chamber beyond its setting,
+ * or exactly at it with its rate pointing beyond (the valve opens now). Between steps a chamber
+ * crosses a setting only at an event (integrate_rosw), so J's slopes are f's over every step. */
+static void limits_open(ctx_t *c, const xstate *x, const xstate *f)
+{
+    int k;
+
+    c->open = 0;
+#if CRANE_HYDRAULICS
+    for (k = 0; k < 8; ++k) {
+        if (valve(c, k >> 1)) {
+            const int i = H + 3 * (k >> 1) + (k & 1);
+            crane_real set;
+            const int side = crane__limit_side(c->lim.m, k >> 1, x->v[i], &set);
+            const int cav = set == crane__circuit(c->lim.m, k >> 1)->cavitation_pressure;
+            if (side != 0 || (x->v[i] == set && (cav ? f->v[i] < 0 : f->v[i] > 0))) {
+                c->open = (unsigned char)(c->open | (1u << k));
+            }
+        }
+    }
+#else
+    (void)x;
+    (void)f;
+    (void)k;
+#endif
+}
+
+/* J at (t, x) (the W-method's matrix), right after rates at (t, x) (which left J_z in c->d). */
+static CRANE__NOINLINE void w_matrix(ctx_t *c, crane_real t, const xstate *x, wjac *J)
+{
+    const crane_model *m = c->lim.m;
+    const int nq = c->planar ? 2 : 4;
+    int j, k;
+
+    (void)configure(c, x, 1);
+    mass(c, J->mp);
+    J->jz = c->d.jz;
+    for (j = 0; j < 4; ++j) {
+        crane_real stroke = 0;
+        J->ds[j] = 0;
+        J->fr[j] = 0;
+        J->spool[j] = 0;
+        J->area[j][0] = 0;
+        J->area[j][1] = 0;
+        for (k = 0; k < 6; ++k) {
+            J->ch[j][k] = 0;
+        }
+        if (j >= nq) {
+            continue;
+        }
+        if (!locked(c, j)) {
+            const crane_real ds = ratio(c, j, x->v[Q + j], &stroke);
+            const crane_real slope =
+                crane__friction_slope(crane__actuator_friction(m, j), ds * x->v[W + j]);
+            J->ds[j] = ds;
+            /* a falling friction (Stribeck) is left out: it would make the system singular
+             * for long steps, and the W-method keeps its order without it */
+            J->fr[j] = slope > 0 ? ds * ds * slope : 0;
+        } else if (valve(c, j)) {
+            stroke = locked_stroke(c, j);
+        } else {
+            continue;
+        }
+#if CRANE_HYDRAULICS
+        if (valve(c, j)) {
+            const crane_hydraulics *h = crane__circuit(m, j);
+            const crane_real tau = h->spool_time_constant;
+            crane_real a_a, a_b;
+            crane__chamber_jacobian(m, j, tau > 0 ? x->v[H + 3 * j + 2] : lever(c, j, t), stroke,
+                                    &x->v[H + 3 * j], (c->open >> (2 * j)) & 3u, J->ch[j]);
+            crane__actuator_areas(m, j, &a_a, &a_b);
+            J->area[j][0] = a_a * J->ds[j];
+            J->area[j][1] = -a_b * J->ds[j];
+            J->spool[j] = tau > 0 ? 1 / tau : 0;
+        }
+#else
+        (void)t;
+#endif
+    }
+}
+
+/* Solves (I - gh J) k = r in place (r becomes k). Each valve-driven actuator's chambers are
+ * solved in terms of its joint rate (2 x 2, closed form), which leaves the joint rates' system
+ * (M + gh D - gh G W) k_w = M r_w + gh G u: the mass matrix with the friction's and the oil
+ * spring's terms on its diagonal (each actuator acts on its own joint), solved by the kernel's
+ * solver; then the coordinates k_q = r_q + gh k_w and the chambers. */
+static CRANE__NOINLINE void wsolve(ctx_t *c, const wjac *J, crane_real gh, xstate *r)
+{
+    const unsigned lk = lock_mask(c);
+    crane_real Mp[6], b[4], a[4], w[4][2];
+    int j, k;
+
+    for (k = 0; k < 3; ++k) {
+        b[PLANE[k]] = mp(J->mp, k, 0) * r->v[W + CRANE_LIFT] + mp(J->mp, k, 1) * r->v[W + CRANE_TILT] +
+                      mp(J->mp, k, 2) * r->v[W + CRANE_EXTENSION];
+    }
+    b[CRANE_SLEW] = J->jz * r->v[W + CRANE_SLEW];
+    for (k = 0; k < 6; ++k) {
+        Mp[k] = J->mp[k];
+    }
+    c->d.jz = J->jz;
+    for (j = 0; j < 4; ++j) {
+        crane_real diag = gh * J->fr[j];
+        w[j][0] = 0;
+        w[j][1] = 0;
+        if (valve(c, j)) {
+            const crane_real *P = J->ch[j];
+            crane_real *u = &r->v[H + 3 * j];
+            const crane_real b11 = 1 - gh * P[0], b12 = -gh * P[1], b21 = -gh * P[2];
+            const crane_real b22 = 1 - gh * P[3], det = b11 * b22 - b12 * b21;
+            const crane_real ua = (b22 * u[0] - b12 * u[1]) / det;
+            const crane_real ub = (b11 * u[1] - b21 * u[0]) / det;
+            const crane_real ca = gh * J->ds[j] * P[4], cb = gh * J->ds[j] * P[5];
+            u[0] = ua;
+            u[1] = ub;
+            u[2] = u[2] / (1 + gh * J->spool[j]);
+            w[j][0] = (b22 * ca - b12 * cb) / det;
+            w[j][1] = (b11 * cb - b21 * ca) / det;
+            diag -= gh * (J->area[j][0] * w[j][0] + J->area[j][1] * w[j][1]);
+            b[j] += gh * (J->area[j][0] * ua + J->area[j][1] * ub);
+        }
+        if (j == CRANE_SLEW) {
+            c->d.jz += diag;
+        } else {
+            Mp[mp_diag(j)] += diag;
+        }
+    }
+    solve(c, Mp, b, lk, a);
+    for (j = 0; j < 4; ++j) {
+        r->v[W + j] = a[j];
+        r->v[Q + j] += gh * a[j];
+        if (valve(c, j)) {
+            r->v[H + 3 * j] += w[j][0] * a[j];
+            r->v[H + 3 * j + 1] += w[j][1] * a[j];
+        }
+    }
+}
+
+/* Entry i's tolerance: tip metres over the reach for an angle, metres for the extension (and the
+ * same per second for their rates), Pa for a pressure. */
+static crane_real tolerance(const ctx_t *c, int i)
+{
+    if (i < H) {
+        const crane_real tol = (i & 3) == CRANE_EXTENSION ? c->tol_tip : c->tol_q;
+        return i < W ? tol : tol * ROS_RATE_SCALE;
+    }
+    return (i - H) % 3 == 2 ? ROS_SPOOL_TOLERANCE : c->tol_p;
+}
+
+/* A step's start at (t, x): the limit valves' modes (limits_open, from f = f(t, x) as the last
+ * step left it, or computed here if valid is 0), f under them and J (the last rates were at x,
+ * leaving its J_z in c->d). */
+static void step_start(ctx_t *c, crane_real t, const xstate *x, xstate *f, int valid, wjac *J)
+{
+    const unsigned char open = c->open;
+
+    if (!valid) {
+        rates(c, t, x, f);
+    }
+    limits_open(c, x, f);
+    if (c->open != open) {
+        rates(c, t, x, f); /* under the new modes */
+    }
+    w_matrix(c, t, x, J);
+}
+
+/* One ROS34PW2 step of size h from (t, x), f0 = f(t, x), into y; returns the error's largest
+ * ratio to its tolerance (NaN if the step failed). */
+static CRANE__NOINLINE crane_real ros_step(ctx_t *c, crane_real t, const xstate *x,
+                                           const xstate *f0, const wjac *J, crane_real h,
+                                           xstate *y)
+{
+    const crane_real gh = ROS_GAMMA * h;
+    const int n = n_used(c);
+    xstate u[3], xs;
+    crane_real err = 0;
+    int s, i, k;
+
+    for (s = 0; s < 4; ++s) {
+        const int row = (s - 1) * s / 2;
+        if (s == 0) {
+            copy_state(c, &xs, f0);
+        } else {
+            for (i = 0; i < n; ++i) {
+                crane_real v = x->v[i];
+                for (k = 0; k < s; ++k) {
+                    v += ROS_A[row + k] * u[k].v[i];
+                }
+                xs.v[i] = v;
+            }
+            rates(c, t + ROS_ALPHA[s] * h, &xs, &xs);
+        }
+        for (i = 0; i < n; ++i) {
+            crane_real v = 0;
+            for (k = 0; k < s; ++k) {
+                v += ROS_C[row + k] * u[k].v[i];
+            }
+            xs.v[i] = gh * xs.v[i] + ROS_GAMMA * v;
+        }
+        wsolve(c, J, gh, &xs);
+        if (s < 3) {
+            copy_state(c, &u[s], &xs);
+        }
+    }
+    for (i = 0; i < n; ++i) {
+        const crane_real e = ROS_E[0] * u[0].v[i] + ROS_E[1] * u[1].v[i] + ROS_E[2] * u[2].v[i] +
+                             ROS_E[3] * xs.v[i];
+        const crane_real r = crane__fabs(e) / tolerance(c, i);
+        y->v[i] = x->v[i] + (ROS_M[0] * u[0].v[i] + ROS_M[1] * u[1].v[i] + ROS_M[2] * u[2].v[i] +
+                             ROS_M[3] * xs.v[i]);
+        if (!(r <= err)) {
+            err = r; /* and NaN stays */
+#ifdef ROS_DEBUG
+            c->dbg_i = i;
+#endif
+        }
+    }
+    return err;
+}
+
+/* The spools of a step's end back into [-1, 1]: the spool's lag cannot take it beyond the lever,
+ * but the step's rounding and its error (within the tolerance) can, by a hair. */
+static void spools_in_range(const ctx_t *c, xstate *x)
+{
+    int j;
+
+    for (j = 0; j < 4; ++j) {
+        if (valve(c, j)) {
+            crane_real *y = &x->v[H + 3 * j + 2];
+            if (*y > 1) {
+                *y = 1;
+            } else if (*y < -1) {
+                *y = -1;
+            } else {
+                /* in range */
+            }
+        }
+    }
+}
+
+/* The sample at ts in [t, t + h) of the step from (t, x0) to x1: the cubic Hermite interpolant of
+ * every entry from its values and rates at both ends (dense output, order 3 like the step). */
+static CRANE__NOINLINE void dense_sample(ctx_t *c, crane_real t, const xstate *x0,
+                                         const xstate *f0, const xstate *x1, const xstate *f1,
+                                         crane_real h, crane_real ts, crane_sample *o)
+{
+    const crane_real th = (ts - t) / h;
+    xstate xs;
+    int i;
+
+    for (i = 0; i < n_used(c); ++i) {
+        xs.v[i] = (1 - th) * x0->v[i] + th * x1->v[i] +
+                  th * (th - 1) *
+                      ((1 - 2 * th) * (x1->v[i] - x0->v[i]) + (th - 1) * h * f0->v[i] +
+                       th * h * f1->v[i]);
+    }
+    /* a held or stopped joint stays exactly where it is (the interpolant's rounding would move
+     * it off its stop by an ulp), and a spool in [-1, 1] (the cubic can pass a clamped end) */
+    for (i = 0; i < 4; ++i) {
+        if (locked(c, i)) {
+            xs.v[Q + i] = x0->v[Q + i];
+            xs.v[W + i] = x0->v[W + i];
+        }
+    }
+    spools_in_range(c, &xs);
+    /* a chamber whose limit valve is open over the step follows the valve's equilibrium within
+     * microseconds: interpolated linearly (the cubic through its rate at the step's start, before
+     * that relaxation, overshoots it by bars) */
+    for (i = 0; i < 8; ++i) {
+        if (((c->open >> i) & 1u) != 0u) {
+            const int k = H + 3 * (i >> 1) + (i & 1);
+            xs.v[k] = (1 - th) * x0->v[k] + th * x1->v[k];
+        }
+    }
+    put_sample(c, ts, &xs, o);
+}
+
+
+/* The first free joint (by crossing time, then joint order) that the step from x to x1 of size h
+ * takes beyond a limit, and the crossing time; -1 if none. */
+static int first_crossing(const ctx_t *c, const xstate *x, const xstate *x1, crane_real h,
+                          crane_real *tau, int *upper)
+{
+    int i, first = -1;
+
+    for (i = 0; i < 4; ++i) {
+        int up;
+        crane_real ti;
+        if (c->mode[i] != CRANE__FREE) {
+            continue;
+        }
+        if (x1->v[Q + i] > hi_q(c, i)) {
+            up = 1;
+        } else if (x1->v[Q + i] < lo_q(c, i)) {
+            up = 0;
+        } else {
+            continue;
+        }
+        ti = crane__crossing_time(x->v[Q + i], x->v[W + i], x1->v[Q + i], x1->v[W + i], h,
+                                  up ? hi_q(c, i) : lo_q(c, i), up);
+        if (first < 0 || ti < *tau) {
+            first = i;
+            *tau = ti;
+            *upper = up;
+        }
+    }
+    return first;
+}
+
+/* The first chamber (by crossing time) whose limit valve the step from x to x1 of size h opens
+ * or closes against c->open, and the crossing time (the pressure's linear interpolation on the
+ * step; *tau is only lowered); its index H + 3j + side, or -1. A crossing at the step's start
+ * (a chamber exactly at its setting) is none: the step is taken as it is. */
+static int chamber_crossing(const ctx_t *c, const xstate *x, const xstate *x1, crane_real h,
+                            crane_real *tau)
+{
+    int k, first = -1;
+
+#if CRANE_HYDRAULICS
+    for (k = 0; k < 8; ++k) {
+        if (valve(c, k >> 1)) {
+            const int i = H + 3 * (k >> 1) + (k & 1);
+            const int open = (c->open >> k) & 1;
+            crane_real set, tk;
+            const int side = crane__limit_side(c->lim.m, k >> 1, x1->v[i], &set);
+            if ((open != 0) == (side != 0) || x1->v[i] == x->v[i]) {
+                continue;
+            }
+            tk = h * ((x->v[i] - set) / (x->v[i] - x1->v[i]));
+            if (tk > h * (crane_real)1e-3 && tk < *tau) {
+                *tau = tk;
+                first = i;
+            }
+        }
+    }
+#else
+    (void)c;
+    (void)x;
+    (void)x1;
+    (void)h;
+    (void)tau;
+    (void)k;
+#endif
+    return first;
+}
+
+/* The prediction with ROS34PW2 from x at t = 0 (its sample written): adaptive steps, samples at
+ * the kept multiples of dt by dense output, the end-stop events located in the step. */
+static CRANE__NOINLINE crane_status integrate_rosw(ctx_t *c, xstate *x, crane_real horizon,
+                                                   crane_real dt, long n_steps, long sample_every,
+                                                   crane_sample *out, size_t *n_written)
+{
+    const long cap = crane__attempt_cap(horizon);
+    xstate f0, x1, f1;
+    wjac J;
+    crane_real t = 0, h = dt < ROS_FIRST_STEP ? dt : ROS_FIRST_STEP, grow = ROS_GROW;
+    long attempts = 0, kept = sample_every;
+    size_t next = 1;
+
+    release(c, 0, x);
+    c->open = 0;
+    step_start(c, 0, x, &f0, 0, &J);
+    while (t < horizon) {
+        crane_real hs = h < ROS_MAX_STEP ? h : ROS_MAX_STEP, err, tau = 0;
+        int last = 0, first, chamber, upper = 0, changed = 0, i;
+
+        if (hs >= horizon - t) {
+            hs = horizon - t;
+            last = 1;
+        }
+        ++attempts;
+        if (attempts > cap) {
+            *n_written = next;
+            return CRANE_E_TOLERANCE;
+        }
+        err = ros_step(c, t, x, &f0, &J, hs, &x1);
+#ifdef ROS_DEBUG
+        fprintf(stderr, "t %.6f h %.3e err %.3e p %.3e %.3e i %d x %.6e\n", (double)t, (double)hs, (double)err, (double)x1.v[H], (double)x1.v[H+1], c->dbg_i, (double)x1.v[c->dbg_i]);
+#endif
+        if (!(err <= 1)) {
+            if (hs <= ROS_MIN_STEP) {
+                *n_written = next;
+                return CRANE_E_TOLERANCE;
+            }
+            grow = 1;
+            h = err == err ? ROS_SAFETY / crane__cbrt(err) : ROS_SHRINK;
+            h = hs * (h > ROS_SHRINK ? h : ROS_SHRINK);
+            if (h < ROS_MIN_STEP) {
+                h = ROS_MIN_STEP;
+            }
+            continue;
+        }
+        /* the next step's proposal, from this step's error; not larger right after a rejection */
+        h = err > 0 ? ROS_SAFETY / crane__cbrt(err) : ROS_GROW;
+        h = hs * (h < grow ? h : grow);
+        grow = ROS_GROW;
+        /* an end stop or a limit valve's setting inside the step: the step is cut at the first
+         * and the joint goes onto its stop, the chamber onto the setting */
+        tau = hs;
+        first = first_crossing(c, x, &x1, hs, &tau, &upper);
+        chamber = chamber_crossing(c, x, &x1, hs, &tau);
+        if (chamber >= 0) {
+            first = -1;
+        }
+        if ((first >= 0 || chamber >= 0) && tau < hs * ROS_EVENT_FRACTION &&
+            hs > ROS_FIRST_STEP * ROS_EVENT_FRACTION) {
+            /* an event right at the step's start is seen through a long step's interpolant (a
+             * joint just off its stop that the step carries back): retry shorter, to see it */
+            h = hs * ROS_EVENT_FRACTION;
+            grow = 1;
+            continue;
+        }
+        if (first >= 0 || chamber >= 0) {
+#ifdef ROS_DEBUG
+            fprintf(stderr, "EVENT joint %d chamber %d at t %g\n", first, chamber, (double)(t + tau));
+#endif
+            hs = tau;
+            last = 0;
+            (void)ros_step(c, t, x, &f0, &J, hs, &x1);
+#ifdef ROS_DEBUG
+            if (first >= 0) fprintf(stderr, "  residual q %g (w %g) -> dt %g\n", (double)(x1.v[Q + first] - (upper ? hi_q(c, first) : lo_q(c, first))), (double)x1.v[W + first], (double)((x1.v[Q + first] - (upper ? hi_q(c, first) : lo_q(c, first))) / x1.v[W + first]));
+#endif
+#if CRANE_HYDRAULICS
+            if (chamber >= 0) {
+                crane_real set;
+                (void)crane__limit_side(c->lim.m, (chamber - H) / 3, x1.v[chamber], &set);
+                x1.v[chamber] = set;
+                changed = 1;
+            }
+#endif
+        } else if (any_stopped(c) && release_set(c, t + hs, &x1)) {
+            /* a stopped joint comes free inside the step: bisect for the time (f1 is scratch) */
+            crane_real lo = 0, hi = hs;
+            int k;
+#ifdef ROS_DEBUG
+            fprintf(stderr, "RELEASE bisect at t %g\n", (double)t);
+#endif
+            for (k = 0; k < CRANE__RELEASE_BISECTIONS; ++k) {
+                const crane_real mid = (lo + hi) / 2;
+                (void)ros_step(c, t, x, &f0, &J, mid, &f1);
+                if (release_set(c, t + mid, &f1)) {
+                    hi = mid;
+                } else {
+                    lo = mid;
+                }
+            }
+            if (hi < hs) {
+                last = 0;
+            }
+            hs = hi;
+            (void)ros_step(c, t, x, &f0, &J, hs, &x1);
+            changed = 1;
+        }
+        spools_in_range(c, &x1);
+        rates(c, t + hs, &x1, &f1);
+#ifdef ROS_DEBUG
+        if (!finite_state(c, &x1)) { int ii; fprintf(stderr, "DIVERGED first %d hs %g:", first, (double)hs); for (ii = 0; ii < n_used(c); ++ii) fprintf(stderr, " %g", (double)x1.v[ii]); fprintf(stderr, "\n"); }
+#endif
+        if (!finite_state(c, &x1)) {
+            *n_written = next;
+            return CRANE_E_DIVERGED;
+        }
+        /* the kept sample times in [t, t + hs), by dense output */
+        while (kept < n_steps && (crane_real)kept * dt < t + hs) {
+            dense_sample(c, t, x, &f0, &x1, &f1, hs, (crane_real)kept * dt, &out[next++]);
+            kept += sample_every;
+        }
+        t = last ? horizon : t + hs;
+        if (first >= 0) {
+            stop_joint(c, &x1, first, upper);
+            changed = 1;
+        }
+        /* every other free joint beyond a limit, or at it with its rate not pointing into the
+         * range, goes onto it too, in joint order (one at it moving inward stays free: a joint
+         * just released may not have moved its coordinate by an ulp yet) */
+        for (i = 0; i < 4; ++i) {
+            const crane_real q = x1.v[Q + i], w = x1.v[W + i];
+            if (c->mode[i] != CRANE__FREE) {
+                continue;
+            }
+            if (q < lo_q(c, i) || (q == lo_q(c, i) && w <= 0)) {
+                stop_joint(c, &x1, i, 0);
+                changed = 1;
+            } else if (q > hi_q(c, i) || (q == hi_q(c, i) && w >= 0)) {
+                stop_joint(c, &x1, i, 1);
+                changed = 1;
+            }
+        }
+        if (changed) {
+            release(c, t, &x1);
+            /* a new start after an event: the step is found again from the first one's size */
+            if (h > ROS_FIRST_STEP) {
+                h = ROS_FIRST_STEP;
+            }
+        } else {
+            copy_state(c, &f0, &f1);
+        }
+        copy_state(c, x, &x1);
+        if (!last) {
+            step_start(c, t, x, &f0, !changed, &J);
+        }
+    }
+    put_sample(c, horizon, x, &out[next++]);
+    *n_written = next;
+    return CRANE_OK;
+}
+
+#endif /* CRANE_ROSW */
+
 crane_status crane__integrate(const crane_model *m, const crane_state *s0, const crane_inputs *in,
                               crane_real horizon, crane_real dt, long n_steps, long sample_every,
                               crane_sample *out, size_t *n_written)
@@ -878,6 +1486,22 @@ crane_status crane__integrate(const crane_model *m, const crane_state *s0, const
     c.lo_is_max = 0;
     c.cache = 0;
     c.release_clear = 0;
+#if CRANE_ROSW
+    c.rosw = (unsigned char)(in->solver.method == CRANE_METHOD_ROSW);
+    {
+        /* the angles' tolerance: tip metres over the crane's reach (lift pivot to the tip with the
+         * telescope out), which bounds the tip's motion per radian of any joint */
+        const crane_params *p = m->params;
+        const crane_real reach =
+            crane__norm(p->tilt_pivot) +
+            crane__norm(crane__add(p->extension_mount,
+                                   crane__v2(p->extension_max + p->tip_distance, 0)));
+        c.tol_tip = in->solver.tip_tolerance > 0 ? in->solver.tip_tolerance : CRANE__TIP_TOLERANCE;
+        c.tol_p = in->solver.pressure_tolerance > 0 ? in->solver.pressure_tolerance
+                                                    : CRANE__PRESSURE_TOLERANCE;
+        c.tol_q = c.tol_tip / reach;
+    }
+#endif
     c.planar = (unsigned char)(in->drive[CRANE_SLEW].mode == CRANE_DRIVE_HOLD &&
                                in->drive[CRANE_EXTENSION].mode == CRANE_DRIVE_HOLD);
     for (i = 0; i < N_ALL; ++i) {
@@ -947,6 +1571,11 @@ crane_status crane__integrate(const crane_model *m, const crane_state *s0, const
         return CRANE_E_DIVERGED;
     }
     put_sample(&c, 0, &x, &out[0]);
+#if CRANE_ROSW
+    if (c.rosw) {
+        return integrate_rosw(&c, &x, horizon, dt, n_steps, sample_every, out, n_written);
+    }
+#endif
     /* Samples after every sample_every-th step and after the last one. The kinematic cache is
      * keyed by the angles themselves, so it stays valid whatever happens in between. */
     for (k = 0, next = 1; k < n_steps; ++k) {

@@ -524,6 +524,8 @@ const char *crane_status_message(crane_status status)
     case CRANE_E_VALVE: return "a valve drive is invalid: lever outside [-1, 1], no hydraulics, or a state's chamber pressure/spool out of range";
     case CRANE_E_ACTUATOR: return "a slew or extension drive on a crane without that actuator (its joint can only be held)";
     case CRANE_E_PARAMS: return "n_params must be 1 or n_futures";
+    case CRANE_E_METHOD: return "solver: method unknown, or a tolerance outside tip [1e-9, 1] m, pressure [1, 1e7] Pa";
+    case CRANE_E_TOLERANCE: return "the error control could not meet the tolerance (a step below the smallest, or the attempt cap)";
     case CRANE_E_SOLID:
     case CRANE_E_PART:
     case CRANE_E_GUARD:

@@ -39,6 +39,17 @@ static crane_status step_count(crane_real horizon, crane_real dt, long *n_steps)
     return CRANE_OK;
 }
 
+crane_status crane_solver_default(crane_solver *solver)
+{
+    if (solver == NULL) {
+        return CRANE_E_NULL;
+    }
+    solver->method = CRANE_METHOD_RK4;
+    solver->tip_tolerance = CRANE__TIP_TOLERANCE;
+    solver->pressure_tolerance = CRANE__PRESSURE_TOLERANCE;
+    return CRANE_OK;
+}
+
 crane_status crane_sample_count(crane_real horizon, crane_real dt, size_t *count)
 {
     long n;
@@ -198,9 +209,23 @@ static crane_status check_joint4(const crane_model *model, int j, const crane_st
 static crane_status check_future(const crane_model *model, const crane_state *state0,
                                  const crane_inputs *inputs, crane_real horizon)
 {
+    const crane_solver *sv = &inputs->solver;
     crane_status st;
     int i;
 
+    /* the solver (a zero tolerance is the default; NaN fails every range) */
+    if (sv->method != CRANE_METHOD_DEFAULT && sv->method != CRANE_METHOD_ROSW &&
+        sv->method != CRANE_METHOD_RK4) {
+        return CRANE_E_METHOD;
+    }
+    if (!CRANE_ROSW && sv->method == CRANE_METHOD_ROSW) {
+        return CRANE_E_METHOD;
+    }
+    if (sv->method == CRANE_METHOD_ROSW &&
+        ((sv->tip_tolerance != 0 && !crane__in_range(sv->tip_tolerance, (crane_real)1e-9, 1)) ||
+         (sv->pressure_tolerance != 0 && !crane__in_range(sv->pressure_tolerance, 1, (crane_real)1e7)))) {
+        return CRANE_E_METHOD;
+    }
     for (i = 0; i < 2; ++i) {
         if (crane__finite(state0->stroke[i]) == 0 || crane__finite(state0->stroke_rate[i]) == 0) {
             return CRANE_E_NONFINITE;
@@ -300,6 +325,21 @@ static crane_status check_work(const crane_model *m, const crane_inputs *in, cra
     const crane_real h = dt * (crane_real)1.25;
     const long knots = knot_count(in, horizon);
     long n_max = 1, work;
+
+    /* the error-controlled method: its attempt cap (docs/model.md, "Integration") */
+    if (CRANE_ROSW && in->solver.method == CRANE_METHOD_ROSW) {
+        work = crane__attempt_cap(horizon);
+        if (work > (long)CRANE_MAX_STEPS) {
+            return CRANE_E_STEPS;
+        }
+        if (total) {
+            if (work > (long)CRANE_MAX_BATCH_STEPS - *total) {
+                return CRANE_E_BATCH;
+            }
+            *total += work;
+        }
+        return CRANE_OK;
+    }
 #if CRANE_HYDRAULICS
     int valve[4], j, any = 0;
 

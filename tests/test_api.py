@@ -36,6 +36,31 @@ def test_predict_returns_arrays_of_the_documented_shapes(crane):
         tr.tip[0, 0] = 1.0  # read-only
 
 
+def test_a_c_trajectory_makes_its_arrays_on_first_read_and_keeps_them_read_only(crane):
+    """The arrays of a C-core Trajectory are made when read (none before), each once, equal to
+    those of the eager path (predict_many's batch, built by the constructor), and can neither be
+    written, made writable, nor replaced."""
+    import dataclasses
+
+    state, inputs = cp.State(**GOOD_STATE), _ok_inputs()
+    tr = cp.predict(crane, state, inputs, 0.5, dt=0.01)
+    assert not set(cp.types.ARRAYS) & set(vars(tr)), "an array was made before it was read"
+    tip = tr.tip
+    assert tr.tip is tip and set(cp.types.ARRAYS) & set(vars(tr)) == {"tip"}
+    eager = cp.predict_many(crane, [state], [inputs], 0.5, dt=0.01)[0]
+    for name in cp.types.ARRAYS:
+        np.testing.assert_array_equal(getattr(tr, name), getattr(eager, name), err_msg=name)
+        a = getattr(tr, name)
+        assert not a.flags.writeable, name
+        with pytest.raises(ValueError):
+            a.setflags(write=True)
+    with pytest.raises(dataclasses.FrozenInstanceError):
+        tr.tip = tip
+    with pytest.raises(AttributeError, match="no attribute 'tipp'"):
+        tr.tipp
+    assert dataclasses.replace(tr, backend="c").tip.tolist() == tip.tolist()
+
+
 @pytest.mark.parametrize("kwargs, exc, words", [
     (dict(horizon=0.0), ValueError, "horizon must be > 0 s"),
     (dict(horizon=math.inf), ValueError, "horizon must be finite"),

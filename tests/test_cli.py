@@ -68,13 +68,13 @@ def test_demo_repeat_0_is_one_line_with_status_2(capsys):
 @pytest.fixture
 def no_slow_validation(monkeypatch):
     """The reference reported available, its comparison forbidden: the checks must come first."""
-    from cranepredict import reference
+    from cranepredict import reference, validation
 
     def forbidden(*args, **kwargs):
         raise AssertionError("the slow validation ran before the arguments were checked")
 
     monkeypatch.setattr(reference, "available", lambda: True)
-    monkeypatch.setattr(reference, "compare", forbidden)
+    monkeypatch.setattr(validation, "compare", forbidden)
 
 
 def test_validate_unknown_scenario_fails_before_the_validation(capsys, no_slow_validation):
@@ -144,7 +144,7 @@ def test_validate_runs_the_spatial_scenarios_on_the_c_core(capsys, monkeypatch):
     """No scenario is dropped: the spatial ones are compared too, each with backend "c" at the
     default step; a missed target (here the tip max of one, the pressure RMS of another) is
     named, and the exit status is 1."""
-    from cranepredict import cli, reference
+    from cranepredict import cli, reference, validation
 
     calls = []
 
@@ -154,7 +154,7 @@ def test_validate_runs_the_spatial_scenarios_on_the_c_core(capsys, monkeypatch):
                          3.0 if sc.name == "valve-all-four" else (0.01 if "valve" in sc.tags else None))
 
     monkeypatch.setattr(reference, "available", lambda: True)
-    monkeypatch.setattr(reference, "compare", fake)
+    monkeypatch.setattr(validation, "compare", fake)
     status = cli.main(["validate", "--scenario", "slew-folded", "--scenario", "load-0",
                        "--scenario", "valve-all-four"])
     out = capsys.readouterr().out

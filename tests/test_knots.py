@@ -29,10 +29,10 @@ def _case(kind):
 
 def _errors(kind, backend, dts):
     crane, initial, inputs = _case(kind)
-    ref = cp.predict(crane, initial, inputs, HORIZON, dt=5e-5, backend="c")
+    ref = cp.predict(crane, initial, inputs, HORIZON, dt=5e-5, backend="c", method="rk4")
     errs = []
     for dt in dts:
-        tr = cp.predict(crane, initial, inputs, HORIZON, dt=dt, backend=backend)
+        tr = cp.predict(crane, initial, inputs, HORIZON, dt=dt, backend=backend, method="rk4")
         k = np.rint(tr.t / 5e-5).astype(int)
         errs.append(float(np.max(np.linalg.norm(tr.tip - ref.tip[k], axis=1))))
     return np.array(errs)
@@ -49,8 +49,8 @@ def test_pressure_series_knots_keep_rk4_fourth_order():
 def test_twin_cuts_at_the_same_knots_as_the_c_core():
     for kind in ("pressure", "valve"):
         crane, initial, inputs = _case(kind)
-        c = cp.predict(crane, initial, inputs, HORIZON, dt=0.02, backend="c")
-        py = cp.predict(crane, initial, inputs, HORIZON, dt=0.02, backend="python")
+        c = cp.predict(crane, initial, inputs, HORIZON, dt=0.02, backend="c", method="rk4")
+        py = cp.predict(crane, initial, inputs, HORIZON, dt=0.02, backend="python", method="rk4")
         assert np.max(np.abs(c.tip - py.tip)) < 1e-9
         assert np.max(np.abs(c.p_a - py.p_a)) < 1e-3
 
@@ -71,9 +71,9 @@ def test_every_knot_counts_against_the_step_limit(backend):
     initial = cp.State(lift_stroke=0.15, tilt_stroke=0.30)
     room = cp.MAX_STEPS - 1000
     with pytest.raises(ValueError, match="1,048,576|1048576"):
-        cp.predict(crane, initial, _series(room + 1), 2.0, dt=2e-3, backend=backend)
+        cp.predict(crane, initial, _series(room + 1), 2.0, dt=2e-3, backend=backend, method="rk4")
     if backend == "c":
-        tr = cp.predict(crane, initial, _series(room), 2.0, dt=2e-3)
+        tr = cp.predict(crane, initial, _series(room), 2.0, dt=2e-3, method="rk4")
         assert tr.t[-1] == 2.0 and tr.t.size == 1001
 
 
@@ -87,8 +87,8 @@ def test_a_60s_lever_log_at_1khz_runs_as_the_steps_on_its_knots():
     t = np.arange(60_001) * 1e-3
     lever = cp.ValveSeries(t=t, u=0.8 * np.sin(0.5 * t))
     inputs = cp.Inputs(lift=lever, tilt=cp.Valve(0.0))
-    cut = cp.predict(crane, initial, inputs, 60.0)                  # the default step
-    on_knots = cp.predict(crane, initial, inputs, 60.0, dt=1e-3,
+    cut = cp.predict(crane, initial, inputs, 60.0, method="rk4")    # the default step
+    on_knots = cp.predict(crane, initial, inputs, 60.0, dt=1e-3, method="rk4",
                           sample_every=round(cp.DEFAULT_DT / 1e-3))
     assert cut.t.size == on_knots.t.size == round(60.0 / cp.DEFAULT_DT) + 1
     np.testing.assert_array_equal(cut.t, on_knots.t)

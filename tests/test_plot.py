@@ -126,7 +126,7 @@ def test_fit_keeps_a_minimum_span_around_a_still_point():
 
 
 def test_validate_plot_of_a_slew_shows_the_top_view(tmp_path):
-    """validate's tip-path panel, given rows as reference.compare makes them (the reference's
+    """validate's tip-path panel, given rows as validation.compare makes them (the reference's
     own tip path stood in by the fast model's: what is tested is the panel, not the model)."""
     import matplotlib.image
 

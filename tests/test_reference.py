@@ -16,9 +16,10 @@ pytestmark = pytest.mark.slow
 
 import cranepredict as cp  # noqa: E402
 from cranepredict import reference as ref  # noqa: E402
+from cranepredict import reference_common, validation  # noqa: E402
 
-MAX_MM, RMS_MM = ref.TARGET_MAX_MM, ref.TARGET_RMS_MM
-PRESSURE_RMS_BAR = ref.TARGET_PRESSURE_RMS_BAR
+MAX_MM, RMS_MM = validation.TARGET_MAX_MM, validation.TARGET_RMS_MM
+PRESSURE_RMS_BAR = validation.TARGET_PRESSURE_RMS_BAR
 # the planar reference's scenarios; the spatial ones (the slew or the extension moves) are
 # tests/test_reference_spatial.py's
 NAMES = [n for n in cp.scenarios.names() if not cp.scenarios.get(n).spatial]
@@ -33,7 +34,7 @@ MISS_REASON = "see docs/validation.md"
 
 @pytest.fixture(scope="module")
 def results():
-    return {n: ref.compare(cp.scenarios.get(n), repeat_fast=5, backend=BACKEND) for n in NAMES}
+    return {n: validation.compare(cp.scenarios.get(n), repeat_fast=5, backend=BACKEND) for n in NAMES}
 
 
 def test_suite_has_the_required_scenarios():
@@ -83,7 +84,7 @@ def test_expected_misses_are_scenarios():
 def test_fast_model_is_100x_faster(results):
     rs = results.values()
     ratio = sum(r["wall_reference_s"] for r in rs) / sum(r["wall_fast_s"] for r in rs)
-    assert ratio >= ref.TARGET_SPEED_RATIO
+    assert ratio >= validation.TARGET_SPEED_RATIO
 
 
 def test_paper_reaches_upper_edge_in_both_models(results):
@@ -106,9 +107,9 @@ def test_static_equilibrium_matches_hand_statics():
     g = crane.gravity
 
     def potential(s):
-        p = ref._pose(crane, s, s_tilt)
+        p = reference_common.pose(crane, s, s_tilt)
         O1 = np.array(crane.geometry.lift_pivot)
-        R = ref._rot
+        R = reference_common.rot
         m2, c2, _ = ref._lumped_outer(crane, 0.0)
         lift = O1 + R(p.th_lift) @ np.array(crane.lift_boom.com)
         O2 = O1 + R(p.th_lift) @ np.array(crane.geometry.tilt_pivot)

@@ -5,7 +5,7 @@ valve-driven actuators; generalized-alpha at 0.25 ms. Targets as for the planar 
 max <= 20 mm, RMS <= 10 mm at the fast model's default step (2 ms), chamber pressures RMS <= 2 bar.
 The fast model is the twin (its own scenarios below, pressure-driven, and random cases) and the C
 core at its default settings (backend "c", default dt) on every named spatial scenario (the
-and valve-all-four, through reference.compare as `cranepredict validate` runs them).
+and valve-all-four, through validation.compare as `cranepredict validate` runs them).
 
 And the reference itself: with the slew and the extension held it is the planar reference
 (reference.py: 2D bodies, its own assembly) to 1e-7 m, valves and stops included; without friction
@@ -24,6 +24,7 @@ import pytest
 
 import cranepredict as cp
 from cranepredict import reference_spatial as rs
+from cranepredict import validation
 from test_four_joints import _frictionless4, _run4
 
 # The Exudyn reference runs for minutes: `pytest -m slow` (CI runs it).
@@ -81,8 +82,7 @@ def _reference(crane, start, drives, horizon=2.0, **kw):
 
 
 def _tip_error(t, tip, run):
-    ref = np.stack([np.interp(t, run.t, run.tip[:, i]) for i in range(3)], 1)
-    err = np.linalg.norm(ref - tip, axis=1)
+    err = validation.tip_errors(t, tip, run)
     return float(err.max()), float(np.sqrt(np.mean(err ** 2)))
 
 
@@ -250,20 +250,16 @@ PRESSURE_RMS_BAR = 2.0
 
 @pytest.fixture(scope="module")
 def c_results():
-    """reference.compare on each spatial scenario: the C core at its default settings (backend "c",
+    """validation.compare on each spatial scenario: the C core at its default settings (backend "c",
     default dt) against the spatial reference at its default step."""
-    from cranepredict import reference
-
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", DeprecationWarning)
-        return {n: reference.compare(cp.scenarios.get(n), repeat_fast=1, backend="c") for n in SPATIAL_NAMES}
+        return {n: validation.compare(cp.scenarios.get(n), repeat_fast=1, backend="c") for n in SPATIAL_NAMES}
 
 
 def test_spatial_scenarios_are_the_issues():
     assert set(SPATIAL_SCENARIOS) <= set(SPATIAL_NAMES)
-    from cranepredict import reference
-
-    assert (reference.TARGET_MAX_MM, reference.TARGET_RMS_MM, reference.TARGET_PRESSURE_RMS_BAR) == (
+    assert (validation.TARGET_MAX_MM, validation.TARGET_RMS_MM, validation.TARGET_PRESSURE_RMS_BAR) == (
         TIP_MAX * 1e3, TIP_RMS * 1e3, PRESSURE_RMS_BAR)
 
 

@@ -11,7 +11,7 @@ import numpy as np
 import pytest
 
 import cranepredict as cp
-from cranepredict import _core, reference, twin
+from cranepredict import _core, reference_common, twin
 from cranepredict.types import Pressure
 
 # tanh(4) and tanh(8) from a table (not from the code under test).
@@ -56,7 +56,7 @@ def test_friction_matches_s1_law_by_hand(crane, joint, k):
     pressures the cylinder force is minus the friction)."""
     model = twin.TwinModel(crane, 0.0)
     cyl = (crane.lift_cylinder, crane.tilt_cylinder)[joint]
-    law = reference._cylinder_law(cyl, reference._pressure_fn(Pressure(0.0, 0.0)), 0.0)
+    law = reference_common.cylinder_law(cyl, reference_common.pressure_fn(Pressure(0.0, 0.0)), 0.0)
     for v, friction in _hand_values(k):
         assert -_core.cylinder_force(crane, joint, 0.0, 0.0, v) == pytest.approx(friction, rel=1e-12, abs=1e-12)
         assert model.friction_force(joint, v) == pytest.approx(friction, rel=1e-12, abs=1e-12)

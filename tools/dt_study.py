@@ -1,5 +1,8 @@
 #!/usr/bin/env python3
-"""Tip error of the fast model (C core) against a converged run, for several RK4 steps.
+"""Error of the fast model (C core) against a converged RK4 run, over RK4's step or the default
+method's tolerance.
+
+--method rk4 (the default):
 
 Runs every named scenario (the spatial ones, which move the slew and the extension, included) and
 random cases, 2 s each, and prints the largest tip distance from a run at dt = 2e-5 s, per case and
@@ -16,9 +19,20 @@ the default step").
     telescope moving.
 
     python tools/dt_study.py [--random 30] [--random4 10] [--seed 5]
+
+--method rosw: the default method (ROS34PW2, error-controlled) at several tip tolerances (the
+pressure tolerance scaled alike: the default's ratio, 1e4 Pa per 5e-5 m), on every named scenario
+over its own horizon: the worst tip distance and the worst chamber pressure difference from RK4 at
+dt = 2e-5 s (both on the 5-ms sample grid), and the wall time per call (the best of 3) against RK4 at
+the default step, 5 ms. (The number of step attempts is not reported by the API; the time is what
+it costs.)
+
+    python tools/dt_study.py --method rosw
 """
 import argparse
 import sys
+import time
+import warnings
 
 import numpy as np
 
@@ -31,8 +45,11 @@ HORIZON = 2.0
 JOINTS = ("lift", "tilt", "slew", "extension")
 
 
+TIP_TOLERANCES = (1e-4, 5e-5, 1e-5, 1e-6, 1e-7)     # m; 5e-5 is the default
+
+
 def tip_error(crane, initial, inputs, dt, ref):
-    tr = cp.predict(crane, initial, inputs, HORIZON, dt=dt)
+    tr = cp.predict(crane, initial, inputs, HORIZON, dt=dt, method="rk4")
     k = np.rint(tr.t / REF_DT).astype(int)
     return float(np.max(np.linalg.norm(tr.tip - ref.tip[k], axis=1)))
 
@@ -68,12 +85,71 @@ def random_case4(rng, crane):
             return c, initial, cp.Inputs(**drives)
 
 
+def _best_time(f, repeat=3):
+    best = float("inf")
+    for _ in range(repeat):
+        t0 = time.perf_counter()
+        out = f()
+        best = min(best, time.perf_counter() - t0)
+    return best, out
+
+
+def rosw_study() -> int:
+    """The default method's errors and cost over its tolerance, per named scenario."""
+    warnings.simplefilter("ignore", UserWarning)     # the supply-short warnings of some scenarios
+    default = cp.default_tolerance()
+    per_tip = default.pressure / default.tip
+    every = round(cp.DEFAULT_DT / REF_DT)
+    print(f"{'tip mm / bar; tol [m]':22s}" + "".join(f"{t:>16g}" for t in TIP_TOLERANCES)
+          + f"{'t rosw/rk4 ms':>16s}")
+    worst = np.zeros((len(TIP_TOLERANCES), 2))
+    times = np.zeros(len(TIP_TOLERANCES))
+    time_rk4 = 0.0
+    names = cp.scenarios.names()
+    for n in names:
+        s = cp.scenarios.get(n)
+        args = (s.crane, s.initial, s.inputs, s.horizon)
+        ref = cp.predict(*args, dt=REF_DT, method="rk4", sample_every=every)
+        t_rk4, _ = _best_time(lambda: cp.predict(*args, method="rk4"))
+        time_rk4 += t_rk4
+        cells = []
+        for i, tip in enumerate(TIP_TOLERANCES):
+            tol = cp.Tolerance(tip=tip, pressure=tip * per_tip)
+            t, tr = _best_time(lambda: cp.predict(*args, method="rosw", tolerance=tol))
+            assert np.allclose(tr.t, ref.t, rtol=0, atol=1e-12)
+            e_tip = float(np.max(np.linalg.norm(tr.tip - ref.tip, axis=1)))
+            e_p = float(max(np.max(np.abs(tr.p_a - ref.p_a)), np.max(np.abs(tr.p_b - ref.p_b))))
+            worst[i] = np.maximum(worst[i], (e_tip, e_p))
+            times[i] += t
+            if tip == default.tip:
+                t_default = t
+            cells.append(f"{e_tip * 1e3:8.4f}/{e_p / 1e5:7.4f}")
+        print(f"{n:22s}" + "".join(f"{c:>16s}" for c in cells)
+              + f"{t_default * 1e3:8.2f}/{t_rk4 * 1e3:.2f}", flush=True)
+    horizon = sum(cp.scenarios.get(n).horizon for n in names)
+    print(f"{'worst tip, mm':22s}" + "".join(f"{w * 1e3:16.4f}" for w in worst[:, 0]))
+    print(f"{'worst pressure, bar':22s}" + "".join(f"{w / 1e5:16.4f}" for w in worst[:, 1]))
+    print(f"{'time, all, ms':22s}" + "".join(f"{t * 1e3:16.1f}" for t in times)
+          + f"   (RK4 at {cp.DEFAULT_DT * 1e3:g} ms: {time_rk4 * 1e3:.1f})")
+    print(f"{'x real time':22s}" + "".join(f"{horizon / t:16.0f}" for t in times)
+          + f"   (RK4: {horizon / time_rk4:.0f})")
+    print(f"({len(names)} named scenarios, {horizon:g} s of futures; pressure tolerance "
+          f"{per_tip:g} Pa per m of tip tolerance; default tip tolerance {default.tip:g} m; "
+          f"converged run: RK4 at dt = {REF_DT * 1e3:g} ms)")
+    return 0
+
+
 def main() -> int:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--method", choices=("rk4", "rosw"), default="rk4",
+                    help="rk4: sweep RK4's step (random cases too); rosw: sweep the default "
+                         "method's tolerance (named scenarios)")
     ap.add_argument("--random", type=int, default=30, help="random planar cases (random_case)")
     ap.add_argument("--random4", type=int, default=10, help="random four-joint valve-driven cases")
     ap.add_argument("--seed", type=int, default=5)
     args = ap.parse_args()
+    if args.method == "rosw":
+        return rosw_study()
     cases = []   # (name, four-joint?, crane, initial, inputs)
     for n in cp.scenarios.names():
         s = cp.scenarios.get(n)
@@ -87,7 +163,7 @@ def main() -> int:
     print(f"{'tip error [mm] / dt [ms]':26s}" + "".join(f"{d * 1e3:9g}" for d in DTS))
     errors = []
     for name, _, crane, initial, inputs in cases:
-        ref = cp.predict(crane, initial, inputs, HORIZON, dt=REF_DT)
+        ref = cp.predict(crane, initial, inputs, HORIZON, dt=REF_DT, method="rk4")
         row = [tip_error(crane, initial, inputs, d, ref) for d in DTS]
         errors.append(row)
         print(f"{name:26s}" + "".join(f"{e * 1e3:9.4f}" for e in row), flush=True)

@@ -87,6 +87,7 @@ int main(void)
     s += (int)crane_field_rule(field)[0];
     s += (int)crane_points(&model, v, 1, th, buf);
     s += (int)crane_sample_count(v, v, &n);
+    s += (int)crane_solver_default(&inputs.solver);
     s += (int)crane_joint_angle(&model, s, v, th, w);
     s += (int)crane_joint_stroke(&model, s, v, th);
     s += (int)crane_inverse_dynamics(&model, th, w, a, t);
@@ -225,6 +226,10 @@ def main(argv=None):
     ap.add_argument("--callees", metavar="FUNC", action="append", default=[],
                     help="also print FUNC's frame and the depth under each function it calls "
                          "(what takes the stack, when a path is over budget)")
+    ap.add_argument("--report", action="store_true",
+                    help="print the figures against the budget but do not fail on them (the "
+                         "build with the error-controlled method, whose stack and text are over "
+                         "the budget: docs/embedding.md)")
     a = ap.parse_args(argv)
     csrc = os.path.join(os.path.dirname(os.path.dirname(os.path.abspath(__file__))), "csrc")
     objs = sorted(p for p in glob.glob(os.path.join(a.build, "*.o")))
@@ -357,6 +362,9 @@ def main(argv=None):
         good = v <= BUDGET[k]
         ok &= good
         print(f"  {k:<12}{v:>8} <= {BUDGET[k]:<6} {'ok' if good else 'OVER BUDGET'}")
+    if a.report:
+        print("footprint: reported, not checked (" + ("within budget" if ok else "over budget") + ")")
+        return 0
     print("footprint: " + ("within budget" if ok else "FAILED"))
     return 0 if ok else 1
 

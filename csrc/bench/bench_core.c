@@ -251,6 +251,11 @@ int main(int argc, char **argv)
             return 2;
         }
     }
+    /* CRANE_BENCH_METHOD=rosw|rk4 picks the method (crane_solver); unset: the default */
+    if (getenv("CRANE_BENCH_METHOD") != NULL) {
+        in.solver.method = strcmp(getenv("CRANE_BENCH_METHOD"), "rk4") == 0 ? CRANE_METHOD_RK4
+                                                                              : CRANE_METHOD_ROSW;
+    }
     st = crane_sample_count(R(horizon), R(dt), &need);
     if (st != CRANE_OK || need > MAX_SAMPLES) {
         fprintf(stderr, "bench_core: bad horizon/dt (%s)\n", crane_status_message(st));

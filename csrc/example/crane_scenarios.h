@@ -75,7 +75,7 @@
     .stroke_rate = {CRANE_R(0.0), CRANE_R(0.0)}, \
     .slew = CRANE_R(0.5), .extension = CRANE_R(0.1), \
     .slew_rate = CRANE_R(0.0), .extension_rate = CRANE_R(0.0), \
-    .p_a = {CRANE_R(6818184.960655068), CRANE_R(100000.0), CRANE_R(100000.0), CRANE_R(112373.36320531779)}, \
+    .p_a = {CRANE_R(6818184.960655069), CRANE_R(100000.0), CRANE_R(100000.0), CRANE_R(112373.36320531779)}, \
     .p_b = {CRANE_R(100000.0), CRANE_R(3325773.0566978203), CRANE_R(100000.0), CRANE_R(100000.0)}, \
     .spool = {CRANE_R(0.0), CRANE_R(0.0), CRANE_R(0.0), CRANE_R(0.0)}}
 #define CRANE_SCENARIO_EXTEND_WHILE_SLEWING_INPUTS {.drive = { \
@@ -208,7 +208,7 @@
     .slew = CRANE_R(-1.0), .extension = CRANE_R(1.0), \
     .slew_rate = CRANE_R(0.0), .extension_rate = CRANE_R(0.0), \
     .p_a = {CRANE_R(14332452.625685323), CRANE_R(100000.0), CRANE_R(100000.0), CRANE_R(174930.91631997767)}, \
-    .p_b = {CRANE_R(100000.0), CRANE_R(10031808.243325735), CRANE_R(100000.0), CRANE_R(100000.0)}, \
+    .p_b = {CRANE_R(100000.0), CRANE_R(10031808.243325733), CRANE_R(100000.0), CRANE_R(100000.0)}, \
     .spool = {CRANE_R(0.0), CRANE_R(0.0), CRANE_R(0.0), CRANE_R(0.0)}}
 #define CRANE_SCENARIO_SLEW_STOP_LOAD_OUT_INPUTS {.drive = { \
     {.mode = CRANE_DRIVE_VALVE, .u = CRANE_R(0.0)}, \
@@ -238,7 +238,7 @@
     .stroke_rate = {CRANE_R(0.0), CRANE_R(0.0)}, \
     .slew = CRANE_R(0.0), .extension = CRANE_R(0.3), \
     .slew_rate = CRANE_R(0.0), .extension_rate = CRANE_R(0.0), \
-    .p_a = {CRANE_R(7371446.176554985), CRANE_R(100000.0), CRANE_R(100000.0), CRANE_R(100000.0)}, \
+    .p_a = {CRANE_R(7371446.176554987), CRANE_R(100000.0), CRANE_R(100000.0), CRANE_R(100000.0)}, \
     .p_b = {CRANE_R(100000.0), CRANE_R(2871255.427821799), CRANE_R(100000.0), CRANE_R(675475.5281161432)}, \
     .spool = {CRANE_R(0.0), CRANE_R(0.0), CRANE_R(0.0), CRANE_R(0.0)}}
 #define CRANE_SCENARIO_SLEW_WHILE_LIFTING_INPUTS {.drive = { \
@@ -269,7 +269,7 @@
     .stroke_rate = {CRANE_R(0.0), CRANE_R(0.0)}, \
     .slew = CRANE_R(0.0), .extension = CRANE_R(0.7), \
     .slew_rate = CRANE_R(0.0), .extension_rate = CRANE_R(0.0), \
-    .p_a = {CRANE_R(7321886.204681703), CRANE_R(100000.0), CRANE_R(100000.0), CRANE_R(112373.36320531779)}, \
+    .p_a = {CRANE_R(7321886.204681705), CRANE_R(100000.0), CRANE_R(100000.0), CRANE_R(112373.36320531779)}, \
     .p_b = {CRANE_R(100000.0), CRANE_R(4117208.333435491), CRANE_R(100000.0), CRANE_R(100000.0)}, \
     .spool = {CRANE_R(0.0), CRANE_R(0.0), CRANE_R(0.0), CRANE_R(0.0)}}
 #define CRANE_SCENARIO_TELESCOPE_END_STOP_INPUTS {.drive = { \
@@ -301,7 +301,7 @@
     .slew = CRANE_R(0.3), .extension = CRANE_R(0.8), \
     .slew_rate = CRANE_R(0.0), .extension_rate = CRANE_R(0.0), \
     .p_a = {CRANE_R(9072670.918308826), CRANE_R(100000.0), CRANE_R(100000.0), CRANE_R(100000.0)}, \
-    .p_b = {CRANE_R(100000.0), CRANE_R(4295840.218154501), CRANE_R(100000.0), CRANE_R(1040039.0358562216)}, \
+    .p_b = {CRANE_R(100000.0), CRANE_R(4295840.218154502), CRANE_R(100000.0), CRANE_R(1040039.0358562216)}, \
     .spool = {CRANE_R(0.0), CRANE_R(0.0), CRANE_R(0.0), CRANE_R(0.0)}}
 #define CRANE_SCENARIO_VALVE_ALL_FOUR_INPUTS {.drive = { \
     {.mode = CRANE_DRIVE_VALVE, .u = CRANE_R(0.5)}, \
@@ -317,8 +317,8 @@
     .stroke_rate = {CRANE_R(0.0), CRANE_R(0.0)}, \
     .slew = CRANE_R(0.0), .extension = CRANE_R(0.0), \
     .slew_rate = CRANE_R(0.0), .extension_rate = CRANE_R(0.0), \
-    .p_a = {CRANE_R(6178987.191041451), CRANE_R(100000.0), CRANE_R(100000.0), CRANE_R(100000.0)}, \
-    .p_b = {CRANE_R(100000.0), CRANE_R(2333301.382765359), CRANE_R(100000.0), CRANE_R(839174.8498331379)}, \
+    .p_a = {CRANE_R(6178987.191041452), CRANE_R(100000.0), CRANE_R(100000.0), CRANE_R(100000.0)}, \
+    .p_b = {CRANE_R(100000.0), CRANE_R(2333301.3827653592), CRANE_R(100000.0), CRANE_R(839174.8498331379)}, \
     .spool = {CRANE_R(0.0), CRANE_R(0.0), CRANE_R(0.0), CRANE_R(0.0)}}
 #define CRANE_SCENARIO_VALVE_BOTH_LEVERS_INPUTS {.drive = { \
     {.mode = CRANE_DRIVE_VALVE, .u = CRANE_R(0.7)}, \
@@ -368,8 +368,8 @@
     .stroke_rate = {CRANE_R(0.0), CRANE_R(0.0)}, \
     .slew = CRANE_R(0.0), .extension = CRANE_R(0.0), \
     .slew_rate = CRANE_R(0.0), .extension_rate = CRANE_R(0.0), \
-    .p_a = {CRANE_R(11841609.066659465), CRANE_R(100000.0), CRANE_R(100000.0), CRANE_R(100000.0)}, \
-    .p_b = {CRANE_R(100000.0), CRANE_R(6105370.016371045), CRANE_R(100000.0), CRANE_R(1131961.448418028)}, \
+    .p_a = {CRANE_R(11841609.066659464), CRANE_R(100000.0), CRANE_R(100000.0), CRANE_R(100000.0)}, \
+    .p_b = {CRANE_R(100000.0), CRANE_R(6105370.016371044), CRANE_R(100000.0), CRANE_R(1131961.448418028)}, \
     .spool = {CRANE_R(0.0), CRANE_R(0.0), CRANE_R(0.0), CRANE_R(0.0)}}
 #define CRANE_SCENARIO_VALVE_LIFT_REVERSE_INPUTS {.drive = { \
     {.mode = CRANE_DRIVE_VALVE, .t = (const crane_real[]){CRANE_R(0.0), CRANE_R(0.8), CRANE_R(0.9), CRANE_R(2.0)}, .u_samples = (const crane_real[]){CRANE_R(1.0), CRANE_R(1.0), CRANE_R(-1.0), CRANE_R(-1.0)}, .n_samples = 4}, \
@@ -385,7 +385,7 @@
     .stroke_rate = {CRANE_R(0.0), CRANE_R(0.0)}, \
     .slew = CRANE_R(0.0), .extension = CRANE_R(0.0), \
     .slew_rate = CRANE_R(0.0), .extension_rate = CRANE_R(0.0), \
-    .p_a = {CRANE_R(6572430.490678124), CRANE_R(100000.0), CRANE_R(100000.0), CRANE_R(100000.0)}, \
+    .p_a = {CRANE_R(6572430.490678125), CRANE_R(100000.0), CRANE_R(100000.0), CRANE_R(100000.0)}, \
     .p_b = {CRANE_R(100000.0), CRANE_R(2710935.7983335913), CRANE_R(100000.0), CRANE_R(665215.213013518)}, \
     .spool = {CRANE_R(0.0), CRANE_R(0.0), CRANE_R(0.0), CRANE_R(0.0)}}
 #define CRANE_SCENARIO_VALVE_LIFT_STEP_INPUTS {.drive = { \
@@ -419,8 +419,8 @@
     .stroke_rate = {CRANE_R(0.0), CRANE_R(0.0)}, \
     .slew = CRANE_R(0.0), .extension = CRANE_R(0.0), \
     .slew_rate = CRANE_R(0.0), .extension_rate = CRANE_R(0.0), \
-    .p_a = {CRANE_R(6651622.511669741), CRANE_R(100000.0), CRANE_R(100000.0), CRANE_R(100000.0)}, \
-    .p_b = {CRANE_R(100000.0), CRANE_R(2464712.084537422), CRANE_R(100000.0), CRANE_R(757837.3356677694)}, \
+    .p_a = {CRANE_R(6651622.511669743), CRANE_R(100000.0), CRANE_R(100000.0), CRANE_R(100000.0)}, \
+    .p_b = {CRANE_R(100000.0), CRANE_R(2464712.0845374228), CRANE_R(100000.0), CRANE_R(757837.3356677694)}, \
     .spool = {CRANE_R(0.0), CRANE_R(0.0), CRANE_R(0.0), CRANE_R(0.0)}}
 #define CRANE_SCENARIO_VALVE_SLOW_RAMP_INPUTS {.drive = { \
     {.mode = CRANE_DRIVE_VALVE, .t = (const crane_real[]){CRANE_R(0.0), CRANE_R(2.0)}, .u_samples = (const crane_real[]){CRANE_R(0.0), CRANE_R(1.0)}, .n_samples = 2}, \

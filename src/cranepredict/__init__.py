@@ -7,6 +7,7 @@ with ``backend="python"``) -> :class:`Trajectory` (numpy arrays) -> checks and p
 from ._checks import MAX_SAMPLES, MAX_STEPS
 from .api import BACKENDS, DEFAULT_DT, predict, predict_many, state_at_rest
 from .crane import Body, Crane, Cylinder, Friction, Geometry, Hydraulics
+from .solver import METHODS, Tolerance, default_tolerance
 from .statics import holding_pressure
 from .types import (POINT_NAMES, STROKE_RATE_MAX, Hold, Inputs, Pressure, PressureSeries, State,
                     Trajectory, TrajectoryBatch, Valve, ValveSeries)
@@ -26,5 +27,6 @@ __all__ = ["predict", "predict_many", "TrajectoryBatch", "DEFAULT_DT", "BACKENDS
            "scenarios", "holding_pressure", "guard", "Verdict", "Contact", "StopAnalysis",
            "stop_inputs", "Shape", "Part", "World", "Obstacle", "worlds", "sweep", "Study", "SweepResult",
            "studies",
-           "Measurement", "Sensor", "Sensors", "LiveTwin", "LiveVerdict", "Estimator", "EKF"]
+           "Measurement", "Sensor", "Sensors", "LiveTwin", "LiveVerdict", "Estimator", "EKF",
+           "METHODS", "Tolerance", "default_tolerance"]
 __version__ = "0.1.0"

@@ -36,6 +36,8 @@ MAX_SAMPLES = 8_388_608
 def number(value: object, name: str) -> float:
     """``value`` as a finite float; TypeError for a non-number (bools included), ValueError for
     NaN, infinity or an int too large for a float, each naming the field."""
+    if type(value) is float and math.isfinite(value):   # the common case, first
+        return value
     if isinstance(value, bool) or not isinstance(value, (int, float, np.floating, np.integer)):
         raise TypeError(f"{name} must be a number, got {type(value).__name__}")
     try:

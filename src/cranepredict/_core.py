@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import dataclasses
 import math
+import struct
 import threading
 from typing import TYPE_CHECKING, Any, Mapping, Sequence, Tuple
 
@@ -16,9 +17,11 @@ import numpy as np
 
 from ._cranepredict import ffi, lib
 
+from .types import Pressure, State
+
 if TYPE_CHECKING:  # pragma: no cover
     from .crane import Crane
-    from .types import Inputs, State
+    from .types import Inputs
 
 PRESSURE_MAX = float(lib.CRANE_PRESSURE_MAX)
 N_POINTS = int(lib.CRANE_N_POINTS)
@@ -240,12 +243,21 @@ def _sample_dtype() -> np.dtype:
 SAMPLE_DTYPE = _sample_dtype()
 
 
+_OK = lib.CRANE_OK
+_HOLD, _PRESSURE, _VALVE = lib.CRANE_DRIVE_HOLD, lib.CRANE_DRIVE_PRESSURE, lib.CRANE_DRIVE_VALVE
+
+
 def _drive(dst: Any, drive: Any, keep: list) -> None:
     if drive.held:
-        dst.mode = lib.CRANE_DRIVE_HOLD
+        dst.mode = _HOLD
+        return
+    if type(drive) is Pressure:   # the common case first
+        dst.mode = _PRESSURE
+        dst.p_a, dst.p_b = drive.p_a, drive.p_b
+        dst.n_samples = 0
         return
     if hasattr(drive, "u"):
-        dst.mode = lib.CRANE_DRIVE_VALVE
+        dst.mode = _VALVE
         if drive.t is None:
             dst.u = drive.u
             dst.n_samples = 0
@@ -256,7 +268,7 @@ def _drive(dst: Any, drive: Any, keep: list) -> None:
         dst.t, dst.u_samples = arrays
         dst.n_samples = len(drive.t)
         return
-    dst.mode = lib.CRANE_DRIVE_PRESSURE
+    dst.mode = _PRESSURE
     if drive.t is None:
         dst.p_a, dst.p_b = drive.p_a, drive.p_b
         dst.n_samples = 0
@@ -274,47 +286,110 @@ def sample_count(horizon: float, dt: float) -> int:
     return int(n[0])
 
 
-def _state(dst: Any, state: "State") -> None:
-    dst.stroke = (state.lift_stroke, state.tilt_stroke)
-    dst.stroke_rate = (state.lift_stroke_rate, state.tilt_stroke_rate)
-    dst.slew, dst.extension = state.slew, state.extension
-    dst.slew_rate = getattr(state, "slew_rate", 0.0)
-    dst.extension_rate = getattr(state, "extension_rate", 0.0)
-    # chamber pressures: only a valve-driven actuator reads them (api.py demands them there)
-    names = ("lift", "tilt", "slew", "extension")
-    dst.p_a = [getattr(state, f"{n}_p_a", None) or 0.0 for n in names]
-    dst.p_b = [getattr(state, f"{n}_p_b", None) or 0.0 for n in names]
-    dst.spool = [getattr(state, f"{n}_spool", 0.0) for n in names]
+# crane_state is 20 crane_reals (doubles in this build), in this order: packed in one call.
+_STATE_LAYOUT = (("stroke", 0), ("stroke_rate", 16), ("slew", 32), ("extension", 40),
+                 ("slew_rate", 48), ("extension_rate", 56), ("p_a", 64), ("p_b", 96), ("spool", 128))
+if ffi.sizeof("crane_real") != 8 or ffi.sizeof("crane_state") != 160 or any(
+        ffi.offsetof("crane_state", name) != offset for name, offset in _STATE_LAYOUT):
+    raise ImportError("crane_state's layout differs from _core._STATE_LAYOUT (csrc/crane.h changed): "
+                      "update _state_bytes")
+_STATE_PACK = struct.Struct("=20d").pack
+
+
+def _state_bytes(s: State) -> bytes:
+    """The crane_state of a State, as its bytes. Chamber pressures: only a valve-driven actuator
+    reads them (api.py demands them there); one not given is 0."""
+    return _STATE_PACK(s.lift_stroke, s.tilt_stroke, s.lift_stroke_rate, s.tilt_stroke_rate,
+                       s.slew, s.extension, s.slew_rate, s.extension_rate,
+                       s.lift_p_a or 0.0, s.tilt_p_a or 0.0, s.slew_p_a or 0.0,
+                       s.extension_p_a or 0.0,
+                       s.lift_p_b or 0.0, s.tilt_p_b or 0.0, s.slew_p_b or 0.0,
+                       s.extension_p_b or 0.0,
+                       s.lift_spool, s.tilt_spool, s.slew_spool, s.extension_spool)
+
+
+# What _state takes as 0 from an object that is not a State and lacks it.
+_STATE_OPTIONAL = frozenset(["slew_rate", "extension_rate"] + [
+    f"{joint}_{name}" for joint in ("lift", "tilt", "slew", "extension")
+    for name in ("p_a", "p_b", "spool")])
+
+
+class _StateLike:
+    """A State's attributes of any object (tests, tools): those in _STATE_OPTIONAL default to 0."""
+
+    def __init__(self, obj: Any) -> None:
+        self._obj = obj
+
+    def __getattr__(self, name: str) -> Any:
+        return getattr(self._obj, name, 0.0) if name in _STATE_OPTIONAL else getattr(self._obj, name)
+
+
+def _state(dst: Any, state: Any) -> None:
+    """Fills a crane_state (a pointer to one, or an element of a crane_state[]) from a State or an
+    object with its attribute names (_StateLike)."""
+    ptr = dst if ffi.typeof(dst).kind == "pointer" else ffi.addressof(dst)
+    ffi.memmove(ptr, _state_bytes(state if isinstance(state, State) else _StateLike(state)), 160)
+
+
+_JOINT_INDEX = (lib.CRANE_LIFT, lib.CRANE_TILT, lib.CRANE_SLEW, lib.CRANE_EXTENSION)
 
 
 def _inputs(dst: Any, inputs: "Inputs", keep: list) -> None:
-    _drive(dst.drive[lib.CRANE_LIFT], inputs.lift, keep)
-    _drive(dst.drive[lib.CRANE_TILT], inputs.tilt, keep)
-    # a drive left out (Inputs without it) is a hold: the zero drive
-    for joint, name in ((lib.CRANE_SLEW, "slew"), (lib.CRANE_EXTENSION, "extension")):
-        drive = getattr(inputs, name, None)
-        if drive is not None:
-            _drive(dst.drive[joint], drive, keep)
+    """Fills a zeroed crane_inputs (as ffi.new makes it), whose zero drives are holds: a held
+    drive is left as it is. ``keep`` receives what must outlive the call (sampled drives'
+    buffers)."""
+    drives = dst.drive
+    for j, drive in zip(_JOINT_INDEX, (inputs.lift, inputs.tilt, inputs.slew, inputs.extension)):
+        if not drive.held:
+            _drive(drives[j], drive, keep)
 
 
-def predict(crane: "Crane", state: "State", inputs: "Inputs", horizon: float,
-            dt: float) -> np.ndarray:
-    """Runs crane_predict (through crane_predict_model with the cached model, which gives the
-    same samples without re-deriving the crane on every call); returns the samples as a
-    structured array (SAMPLE_DTYPE)."""
-    _, m = _cached(crane, state.extension)
+def solver(dst: Any, method: str, tolerance: Any) -> None:
+    """crane_inputs.solver from a checked method and Tolerance (solver.check)."""
+    s = dst.solver
+    s.method = lib.CRANE_METHOD_RK4 if method == "rk4" else lib.CRANE_METHOD_ROSW
+    s.tip_tolerance, s.pressure_tolerance = tolerance.tip, tolerance.pressure
+
+
+SAMPLE_SIZE = ffi.sizeof("crane_sample")
+
+
+def predict_buffer(crane: "Crane", state: "State", inputs: "Inputs", horizon: float, dt: float,
+                   n: int, method: str = "rk4", tolerance: Any = None) -> Tuple[np.ndarray, int]:
+    """Runs crane_predict_model with the crane's cached model (the samples of crane_predict,
+    without re-deriving the crane on every call) into a new buffer of ``n`` samples (the count
+    crane_sample_count gives); returns the buffer, read-only (bytes: ``samples`` views them as
+    SAMPLE_DTYPE), and the number of samples written."""
+    m = _cached(crane, state.extension)[1]
     s = ffi.new("crane_state *")
-    _state(s, state)
+    ffi.memmove(s, _state_bytes(state), 160)
     inp = ffi.new("crane_inputs *")
     keep: list = []
     _inputs(inp, inputs, keep)
-    n = sample_count(horizon, dt)
-    out = np.empty(n, dtype=SAMPLE_DTYPE)
+    if tolerance is not None:
+        solver(inp, method, tolerance)
+    out = np.empty(n * SAMPLE_SIZE, dtype=np.uint8)
     written = ffi.new("size_t *")
-    ensure(lib.crane_predict_model(m, s, inp, horizon, dt,
-                                   ffi.cast("crane_sample *", ffi.from_buffer(out)), n, written),
-           "predict")
-    return out[: written[0]]
+    status = lib.crane_predict_model(m, s, inp, horizon, dt, ffi.from_buffer("crane_sample[]", out),
+                                     n, written)
+    if status != _OK:
+        ensure(status, "predict")
+    out.setflags(write=False)
+    return out, int(written[0])
+
+
+def samples(buffer: np.ndarray, n: int) -> np.ndarray:
+    """The first n samples of a predict_buffer buffer as a structured array (SAMPLE_DTYPE; a view,
+    read-only like the buffer)."""
+    return np.ndarray((n,), SAMPLE_DTYPE, buffer)
+
+
+def predict(crane: "Crane", state: "State", inputs: "Inputs", horizon: float,
+            dt: float, method: str = "rk4", tolerance: Any = None) -> np.ndarray:
+    """predict_buffer with the sample count of horizon and dt; returns the samples as a read-only
+    structured array (SAMPLE_DTYPE)."""
+    return samples(*predict_buffer(crane, state, inputs, horizon, dt, sample_count(horizon, dt),
+                                   method, tolerance))
 
 
 def sample_count_every(horizon: float, dt: float, sample_every: int) -> int:
@@ -383,7 +458,7 @@ def _run_chunk(*args: Any) -> int:
 
 def predict_many(crane: "Crane", states: Sequence["State"], inputs: Sequence["Inputs"],
                  horizon: float, dt: float, sample_every: int, threads: int,
-                 per_future: Any = None) -> np.ndarray:
+                 per_future: Any = None, method: str = "rk4", tolerance: Any = None) -> np.ndarray:
     """Runs crane_predict_many; returns the samples as a (F, N) structured array (SAMPLE_DTYPE).
     ``per_future``: a crane_params[F] (params_per_future), one crane per future; None: the crane's.
 
@@ -400,6 +475,8 @@ def predict_many(crane: "Crane", states: Sequence["State"], inputs: Sequence["In
     for k in range(f):
         _state(st[k], states[k])
         _inputs(inp[k], inputs[k], keep)
+        if tolerance is not None:
+            solver(inp[k], method, tolerance)
     n = sample_count_every(horizon, dt, sample_every)
     out = np.empty((f, n), dtype=SAMPLE_DTYPE)
     if f == 0:

@@ -5,13 +5,16 @@ from __future__ import annotations
 
 import os
 import warnings
-from typing import Any, Dict, Mapping, Optional, Sequence
+from functools import partial
+from typing import Any, Dict, Mapping, Optional, Sequence, Tuple
 
 import numpy as np
 
 from ._checks import MAX_SAMPLES, MAX_STEPS, kept_samples, step_count
 from ._checks import number as _number
+from . import solver
 from .crane import Crane
+from .solver import Tolerance
 from .statics import holding_forces, pressures_in_bar, supply_short
 from .types import (ARRAYS, POINT_NAMES, Hold, Inputs, Pressure, PressureSeries, State, Trajectory,
                     TrajectoryBatch, Valve, ValveSeries)
@@ -55,21 +58,29 @@ def _sample_arrays(samples: np.ndarray) -> dict:
 
 def _check(crane: Crane, initial: State, inputs: Inputs, horizon: float, dt: float,
            backend: str, sample_every: int = 1) -> int:
-    """Checks that need more than one argument, naming the field and the allowed range; returns
-    the number of steps."""
-    n_steps = _check_shared(crane, horizon, dt, backend)
-    _check_sample_every(sample_every)
-    kept = kept_samples(n_steps, int(sample_every))
-    if kept > MAX_SAMPLES:
-        raise ValueError(f"horizon / dt must give at most {MAX_SAMPLES:,} samples per call "
-                         f"(cranepredict.MAX_SAMPLES), got horizon {horizon:g} s / dt {dt:g} s = "
-                         f"{kept:,} samples: shorten the horizon, take a larger dt, or raise "
-                         "sample_every")
+    """predict()'s checks, naming the field and the allowed range; returns the number of steps."""
+    n_steps = _check_call(crane, horizon, dt, sample_every, backend)[2]
     _check_future(crane, initial, inputs, horizon)
     return n_steps
 
 
+def _check_call(crane: Crane, horizon: Any, dt: Any, sample_every: Any,
+                backend: Any) -> Tuple[float, float, int]:
+    """The checks of predict()'s call arguments besides the future itself (the place for a new
+    keyword's check): (horizon, dt, number of steps), the first two as floats."""
+    horizon, dt, n_steps = _check_shared(crane, horizon, dt, backend)
+    _check_sample_every(sample_every)
+    if n_steps >= MAX_SAMPLES and kept_samples(n_steps, int(sample_every)) > MAX_SAMPLES:
+        raise ValueError(f"horizon / dt must give at most {MAX_SAMPLES:,} samples per call "
+                         f"(cranepredict.MAX_SAMPLES), got horizon {horizon:g} s / dt {dt:g} s = "
+                         f"{kept_samples(n_steps, int(sample_every)):,} samples: shorten the "
+                         "horizon, take a larger dt, or raise sample_every")
+    return horizon, dt, n_steps
+
+
 def _check_sample_every(sample_every: Any) -> None:
+    if type(sample_every) is int and 1 <= sample_every <= MAX_STEPS:
+        return
     if isinstance(sample_every, bool) or not isinstance(sample_every, (int, np.integer)) \
             or not 1 <= sample_every <= MAX_STEPS:
         raise ValueError(f"sample_every must be an int in [1, {MAX_STEPS:,}] (cranepredict.MAX_STEPS), "
@@ -83,18 +94,25 @@ def _kept_rows(n_steps: int, sample_every: int) -> np.ndarray:
     return rows if rows[-1] == n_steps else np.append(rows, n_steps)
 
 
-def _check_shared(crane: Crane, horizon: float, dt: float, backend: str) -> int:
-    """The checks of the arguments a batch of futures shares; returns the number of steps."""
+def _check_shared(crane: Crane, horizon: Any, dt: Any, backend: Any) -> Tuple[float, float, int]:
+    """The checks of the arguments a batch of futures shares: (horizon, dt, number of steps),
+    the first two as floats."""
     if not isinstance(crane, Crane):
         raise TypeError(f"crane must be a cranepredict.Crane, got {type(crane).__name__}")
     if backend not in BACKENDS:
         raise ValueError(f"backend must be one of {BACKENDS}, got {backend!r}")
-    for name, value in (("horizon", horizon), ("dt", dt)):
-        if not _number(value, name) > 0:
-            raise ValueError(f"{name} must be > 0 s, got {value}")
-    if dt > horizon:
+    h = _number(horizon, "horizon")
+    if not h > 0:
+        raise ValueError(f"horizon must be > 0 s, got {horizon}")
+    d = _number(dt, "dt")
+    if not d > 0:
+        raise ValueError(f"dt must be > 0 s, got {dt}")
+    if d > h:
         raise ValueError(f"dt must be in (0, horizon] = (0, {horizon}] s, got {dt}")
-    return step_count(float(horizon), float(dt))
+    return h, d, step_count(h, d)
+
+
+_VALVES = (Valve, ValveSeries)
 
 
 def _check_future(crane: Crane, initial: State, inputs: Inputs, horizon: float) -> None:
@@ -103,15 +121,10 @@ def _check_future(crane: Crane, initial: State, inputs: Inputs, horizon: float) 
         raise TypeError(f"initial must be a cranepredict.State, got {type(initial).__name__}")
     if not isinstance(inputs, Inputs):
         raise TypeError(f"inputs must be a cranepredict.Inputs, got {type(inputs).__name__}")
-    for joint, cyl, stroke, rate, drive in (
-            ("lift", crane.lift_cylinder, initial.lift_stroke, initial.lift_stroke_rate, inputs.lift),
-            ("tilt", crane.tilt_cylinder, initial.tilt_stroke, initial.tilt_stroke_rate, inputs.tilt)):
-        if not cyl.stroke_min <= stroke <= cyl.stroke_max:
-            raise ValueError(f"State.{joint}_stroke must be in [{cyl.stroke_min}, {cyl.stroke_max}] m "
-                             f"({joint}_cylinder.stroke_min/max), got {stroke}")
-        if isinstance(drive, Hold) and rate != 0.0:
-            raise ValueError(f"State.{joint}_stroke_rate must be 0 for a held {joint} cylinder, got {rate}")
-        _check_drive(joint, cyl.hydraulics, f"{joint}_cylinder", drive, initial, horizon)
+    _check_boom("lift", crane.lift_cylinder, initial.lift_stroke, initial.lift_stroke_rate,
+                inputs.lift, initial, horizon)
+    _check_boom("tilt", crane.tilt_cylinder, initial.tilt_stroke, initial.tilt_stroke_rate,
+                inputs.tilt, initial, horizon)
     g = crane.geometry
     if not g.extension_min <= initial.extension <= g.extension_max:
         raise ValueError(f"State.extension must be in [{g.extension_min}, {g.extension_max}] m "
@@ -120,19 +133,40 @@ def _check_future(crane: Crane, initial: State, inputs: Inputs, horizon: float) 
     if sd is not None and not sd.slew_min <= initial.slew <= sd.slew_max:
         raise ValueError(f"State.slew must be in [{sd.slew_min}, {sd.slew_max}] rad "
                          f"(slew_drive.slew_min/max), got {initial.slew}")
-    for joint, actuator, rate, unit in (("slew", "slew_drive", "slew_rate", "rad/s"),
-                                        ("extension", "extension_cylinder", "extension_rate", "m/s")):
-        drive = getattr(inputs, joint)
-        if isinstance(drive, Hold):
-            if getattr(initial, rate) != 0.0:
-                raise ValueError(f"State.{rate} must be 0 for a held {joint}, got "
-                                 f"{getattr(initial, rate)} {unit}")
-            continue
-        act = getattr(crane, actuator)
-        if act is None:
-            raise ValueError(f"Inputs.{joint}: the crane has no {actuator} (crane file), so its "
-                             f"{joint} can only be held (Hold())")
-        _check_drive(joint, act.hydraulics, actuator, drive, initial, horizon)
+    slew, extension = inputs.slew, inputs.extension
+    if not (slew.held and initial.slew_rate == 0.0):   # else nothing to check
+        _check_joint("slew", "slew_drive", sd, "slew_rate", initial.slew_rate, "rad/s", slew,
+                     initial, horizon)
+    if not (extension.held and initial.extension_rate == 0.0):
+        _check_joint("extension", "extension_cylinder", crane.extension_cylinder,
+                     "extension_rate", initial.extension_rate, "m/s", extension, initial, horizon)
+
+
+def _check_boom(joint: str, cyl: Any, stroke: float, rate: float, drive: Any, initial: State,
+                horizon: float) -> None:
+    """A boom cylinder's initial stroke and rate, and its drive."""
+    if not cyl.stroke_min <= stroke <= cyl.stroke_max:
+        raise ValueError(f"State.{joint}_stroke must be in [{cyl.stroke_min}, {cyl.stroke_max}] m "
+                         f"({joint}_cylinder.stroke_min/max), got {stroke}")
+    if drive.held:
+        if rate != 0.0:
+            raise ValueError(f"State.{joint}_stroke_rate must be 0 for a held {joint} cylinder, "
+                             f"got {rate}")
+    elif type(drive) is not Pressure:
+        _check_drive(joint, cyl.hydraulics, f"{joint}_cylinder", drive, initial, horizon)
+
+
+def _check_joint(joint: str, actuator: str, act: Any, rate_name: str, rate: float, unit: str,
+                 drive: Any, initial: State, horizon: float) -> None:
+    """The slew's or the extension's drive: held from rest, or by an actuator the crane has."""
+    if drive.held:
+        if rate != 0.0:
+            raise ValueError(f"State.{rate_name} must be 0 for a held {joint}, got {rate} {unit}")
+        return
+    if act is None:
+        raise ValueError(f"Inputs.{joint}: the crane has no {actuator} (crane file), so its "
+                         f"{joint} can only be held (Hold())")
+    _check_drive(joint, act.hydraulics, actuator, drive, initial, horizon)
 
 
 def _check_drive(joint: str, hydraulics: Any, actuator: str, drive: Any, initial: State,
@@ -141,7 +175,7 @@ def _check_drive(joint: str, hydraulics: Any, actuator: str, drive: Any, initial
     if isinstance(drive, PressureSeries) and not drive.covers(horizon):
         raise ValueError(f"Inputs.{joint}: PressureSeries.t must cover [0, horizon] = [0, {horizon}] s, "
                          f"got [{drive.t[0]}, {drive.t[-1]}]")
-    if isinstance(drive, (Valve, ValveSeries)):
+    if isinstance(drive, _VALVES):
         if hydraulics is None:
             raise ValueError(f"Inputs.{joint}: a valve drive needs {actuator}.hydraulics "
                              "in the crane file")
@@ -156,7 +190,8 @@ def _check_drive(joint: str, hydraulics: Any, actuator: str, drive: Any, initial
 
 
 def predict(crane: Crane, initial: State, inputs: Inputs, horizon: float, *,
-            dt: Optional[float] = None, sample_every: int = 1, backend: str = "c") -> Trajectory:
+            dt: Optional[float] = None, sample_every: int = 1, backend: str = "c",
+            method: str = "rk4", tolerance: Optional[Tolerance] = None) -> Trajectory:
     """Predicts the crane's motion over ``horizon`` seconds from rest (or the given stroke rates).
 
     ``backend="c"`` runs the C core (the product); ``backend="python"`` runs the pure-Python twin,
@@ -165,64 +200,108 @@ def predict(crane: Crane, initial: State, inputs: Inputs, horizon: float, *,
     ``inputs`` is held at the value in ``initial``. ``sample_every = m`` keeps only t = 0, every
     m-th step and the last step, as in :func:`predict_many` (the integration still takes every
     step). A call takes at most MAX_STEPS steps and returns at most MAX_SAMPLES samples (both
-    checked before anything runs). Raises ValueError/TypeError naming the field and its allowed
+    checked before anything runs).
+
+    ``method="rk4"`` (the default) is fixed-step RK4 with step ``dt``. ``method="rosw"``
+    integrates with error control to ``tolerance`` (a :class:`Tolerance`; None: the default, within
+    0.5 mm of tip and 0.35 bar of a converged run on every named scenario) and samples every
+    ``dt``: ``dt`` is then where the samples are, not the step (docs/model.md, "Integration"). Raises ValueError/TypeError naming the field and its allowed
     range on bad input; the arguments are never modified.
 
     A valve-driven boom cylinder levered against a load that needs more than its supply pressure
     to hold is listed in ``Trajectory.supply_short`` and warned about (``warnings.warn``): levered
     against the load, the boom sinks.
     """
-    dt = DEFAULT_DT if dt is None else dt
-    n_steps = _check(crane, initial, inputs, horizon, dt, backend, sample_every)
-    pressures = (Pressure, PressureSeries)
-    if isinstance(inputs.lift, pressures) or isinstance(inputs.tilt, pressures):
+    method, tolerance = solver.check(method, tolerance)
+    seconds, step, n_steps = _check_call(crane, horizon, DEFAULT_DT if dt is None else dt,
+                                         sample_every, backend)
+    _check_future(crane, initial, inputs, horizon)
+    short = _warn(crane, initial, inputs)
+    run = _predict_c if backend == "c" else _predict_twin
+    return run(crane, initial, inputs, seconds, step, n_steps, int(sample_every), method,
+               tolerance, short)
+
+
+_PRESSURES = (Pressure, PressureSeries)
+
+
+def _warn(crane: Crane, initial: State, inputs: Inputs) -> Tuple[str, ...]:
+    """predict()'s warnings (pressures that look like bar; boom cylinders whose supply cannot
+    hold the load: returned, for Trajectory.supply_short), pointed at predict()'s caller."""
+    lift, tilt = inputs.lift, inputs.tilt
+    if isinstance(lift, _PRESSURES) or isinstance(tilt, _PRESSURES):
         for text in pressures_in_bar(crane, initial, inputs):
-            warnings.warn(text, UserWarning, stacklevel=2)
-    valves = (Valve, ValveSeries)
-    short = supply_short(crane, initial, inputs) \
-        if isinstance(inputs.lift, valves) or isinstance(inputs.tilt, valves) else ()
+            warnings.warn(text, UserWarning, stacklevel=3)
+    if not (isinstance(lift, _VALVES) or isinstance(tilt, _VALVES)):
+        return ()
+    short = supply_short(crane, initial, inputs)
     for joint, needed, supply in short:
         warnings.warn(f"Inputs.{joint}: holding the load at this pose takes {needed / 1e5:.1f} bar, "
                       f"more than the supply's {supply / 1e5:.1f} bar ({joint}_cylinder.hydraulics."
                       f"supply_pressure): levered against the load, the {joint} boom sinks",
-                      UserWarning, stacklevel=2)
-    every = int(sample_every)
-    points: Any
-    if backend == "c":
-        _core = _core_module()
-        if every == 1:
-            samples = _core.predict(crane, initial, inputs, float(horizon), float(dt))
-        else:   # the C core thins the samples itself (no full-length buffer)
-            samples = _core.predict_many(crane, [initial], [inputs], float(horizon), float(dt),
-                                         every, 1)[0]
-        arrays = _sample_arrays(samples)
+                      UserWarning, stacklevel=3)
+    return tuple(joint for joint, _, _ in short)
 
-        def points(theta: np.ndarray, slew: np.ndarray, extension: np.ndarray) -> np.ndarray:
-            return _poses(lambda e, s, th: _core.points(crane, e, s, th), theta, slew, extension)
 
-        transmission = _c_transmission(crane)
-    else:
-        from . import twin
+class _SampleFields:
+    """name -> a Trajectory array (types.ARRAYS), as a read-only field view of the C core's
+    samples, made on the first read of any (Trajectory._of_fields)."""
 
-        try:
-            arrays = twin.simulate(crane, initial, inputs, float(horizon), float(dt))
-        except (OverflowError, ZeroDivisionError) as exc:
-            raise ValueError(f"the twin's arithmetic failed ({exc}): a parameter of crane "
-                             f"{crane.name!r} is beyond what a double can carry through the model "
-                             "(check the crane file for absurd magnitudes)") from None
-        if every > 1:
-            rows = _kept_rows(n_steps, every)
-            arrays = {k: np.ascontiguousarray(a[rows]) for k, a in arrays.items()}
+    __slots__ = ("_buffer", "_n", "_samples")
 
-        def points(theta: np.ndarray, slew: np.ndarray, extension: np.ndarray) -> np.ndarray:
-            return twin.points(crane, extension, slew, theta)
+    def __init__(self, buffer: Optional[np.ndarray] = None, n: int = 0,
+                 samples: Optional[np.ndarray] = None) -> None:
+        self._buffer, self._n, self._samples = buffer, n, samples
 
-        def transmission(joint: int, stroke: float, extension: float) -> float:
-            return twin.stroke_transmission(crane, joint, stroke, extension)
+    def __call__(self, name: str) -> np.ndarray:
+        samples = self._samples
+        if samples is None:
+            samples = self._samples = _core_module().samples(self._buffer, self._n)
+        return samples[_SAMPLE_FIELD.get(name, name)]
+
+
+def _predict_c(crane: Crane, initial: State, inputs: Inputs, horizon: float, dt: float,
+               n_steps: int, every: int, method: str, tolerance: Tolerance,
+               short: Tuple[str, ...]) -> Trajectory:
+    _core = _core_module()
+    if every == 1:
+        fields = _SampleFields(*_core.predict_buffer(crane, initial, inputs, horizon, dt,
+                                                     n_steps + 1, method, tolerance))
+    else:   # the C core thins the samples itself (no full-length buffer)
+        batch = _core.predict_many(crane, [initial], [inputs], horizon, dt, every, 1, None,
+                                   method, tolerance)
+        batch.setflags(write=False)
+        fields = _SampleFields(samples=batch[0])
+    return Trajectory._of_fields(fields, "c", partial(_c_points, crane), _c_transmission(crane),
+                                 short)
+
+
+def _predict_twin(crane: Crane, initial: State, inputs: Inputs, horizon: float, dt: float,
+                  n_steps: int, every: int, method: str, tolerance: Tolerance,
+                  short: Tuple[str, ...]) -> Trajectory:
+    from . import twin
+
+    try:
+        arrays = twin.simulate(crane, initial, inputs, horizon, dt, method=method,
+                               tolerance=tolerance)
+    except (OverflowError, ZeroDivisionError) as exc:
+        raise ValueError(f"the twin's arithmetic failed ({exc}): a parameter of crane "
+                         f"{crane.name!r} is beyond what a double can carry through the model "
+                         "(check the crane file for absurd magnitudes)") from None
+    if every > 1:
+        rows = _kept_rows(n_steps, every)
+        arrays = {k: np.ascontiguousarray(a[rows]) for k, a in arrays.items()}
     for a in arrays.values():
         a.setflags(write=False)
-    return Trajectory(**arrays, backend=backend, _points=points, _transmission=transmission,
-                      supply_short=tuple(j for j, _, _ in short))
+
+    def points(theta: np.ndarray, slew: np.ndarray, extension: np.ndarray) -> np.ndarray:
+        return twin.points(crane, extension, slew, theta)
+
+    def transmission(joint: int, stroke: float, extension: float) -> float:
+        return twin.stroke_transmission(crane, joint, stroke, extension)
+
+    return Trajectory(**arrays, backend="python", _points=points, _transmission=transmission,
+                      supply_short=short)
 
 
 def _sample_times(n_steps: int, horizon: float, dt: float, sample_every: int) -> np.ndarray:
@@ -238,11 +317,17 @@ def _sample_times(n_steps: int, horizon: float, dt: float, sample_every: int) ->
 
 def _c_transmission(crane: Crane) -> Any:
     """(joint, stroke, extension) -> ds/dtheta of a boom cylinder, by the C core."""
-    _core = _core_module()
+    return partial(_c_stroke_transmission, crane)
 
-    def transmission(joint: int, stroke: float, extension: float) -> float:
-        return _core.joint_angle(crane, joint, stroke, extension)[1]
-    return transmission
+
+def _c_stroke_transmission(crane: Crane, joint: int, stroke: float, extension: float) -> float:
+    return _core_module().joint_angle(crane, joint, stroke, extension)[1]
+
+
+def _c_points(crane: Crane, theta: np.ndarray, slew: np.ndarray, extension: np.ndarray) -> np.ndarray:
+    """The world positions of the crane's points at the poses of the samples, by the C core."""
+    points = _core_module().points
+    return _poses(lambda e, s, th: points(crane, e, s, th), theta, slew, extension)
 
 
 def _poses(points: Any, theta: np.ndarray, slew: np.ndarray, extension: np.ndarray) -> np.ndarray:
@@ -421,7 +506,8 @@ def _value(crane: Crane, dotted: str) -> Any:
 def predict_many(crane: Crane, initials: Sequence[State], inputs_list: Sequence[Inputs],
                  horizon: float, *, dt: Optional[float] = None, sample_every: int = 1,
                  threads: Optional[int] = None,
-                 vary: Optional[Mapping[str, Sequence[float]]] = None) -> TrajectoryBatch:
+                 vary: Optional[Mapping[str, Sequence[float]]] = None,
+                 method: str = "rk4", tolerance: Optional[Tolerance] = None) -> TrajectoryBatch:
     """Predicts many futures of one crane in one C call: future k from ``initials[k]`` under
     ``inputs_list[k]``, all over the same ``horizon`` with the same ``dt``.
 
@@ -444,7 +530,8 @@ def predict_many(crane: Crane, initials: Sequence[State], inputs_list: Sequence[
     file's rules (an error names the future, the field and its range).
     """
     dt = DEFAULT_DT if dt is None else dt
-    n_steps = _check_shared(crane, horizon, dt, "c")
+    method, tolerance = solver.check(method, tolerance)
+    n_steps = _check_shared(crane, horizon, dt, "c")[2]
     _check_sample_every(sample_every)
     initials = _sequence(initials, "initials", State)
     inputs_list = _sequence(inputs_list, "inputs_list", Inputs)
@@ -476,14 +563,10 @@ def predict_many(crane: Crane, initials: Sequence[State], inputs_list: Sequence[
     _core = _core_module()
     arrays = _sample_arrays(_core.predict_many(crane, initials, inputs_list, float(horizon),
                                                float(dt), int(sample_every), min(int(threads), max(f, 1)),
-                                               per_future))
+                                               per_future, method, tolerance))
     arrays["t"] = arrays["t"][0] if f else _sample_times(n_steps, float(horizon), float(dt),
                                                           int(sample_every))
     for a in arrays.values():
         a.setflags(write=False)
-
-    def points(theta: np.ndarray, slew: np.ndarray, extension: np.ndarray) -> np.ndarray:
-        return _poses(lambda e, s, th: _core.points(crane, e, s, th), theta, slew, extension)
-
-    return TrajectoryBatch(**arrays, backend="c", sample_every=int(sample_every), _points=points,
-                           _transmission=_c_transmission(crane))
+    return TrajectoryBatch(**arrays, backend="c", sample_every=int(sample_every),
+                           _points=partial(_c_points, crane), _transmission=_c_transmission(crane))

@@ -81,11 +81,11 @@ def _scenarios(args: argparse.Namespace) -> int:
 def _validate(args: argparse.Namespace) -> int:
     """Every chosen scenario on the fast model (the C core at its default step) and on the
     reference: the planar one (reference.py) where the slew and the extension are held, the
-    spatial one (reference_spatial.py) where either moves. Exit status 1 if a scenario misses an
-    accuracy target (tip max, tip RMS, chamber-pressure RMS)."""
+    spatial one (reference_spatial.py) where either moves (validation.py compares them). Exit
+    status 1 if a scenario misses an accuracy target (tip max, tip RMS, chamber-pressure RMS)."""
     import json
 
-    from . import reference, scenarios
+    from . import reference, scenarios, validation
 
     # Everything that can fail fast is checked before the slow validation starts.
     if not reference.available():
@@ -96,34 +96,15 @@ def _validate(args: argparse.Namespace) -> int:
     dt_ref = reference.DEFAULT_REFERENCE_DT if args.dt_ref is None else args.dt_ref
     if not 0.0 < dt_ref <= min(sc.horizon for sc in chosen):
         raise ValueError(f"--dt-ref must be in (0, horizon] s, got {dt_ref:g}")
-    rows = [reference.compare(sc, dt_ref=dt_ref, backend="c") for sc in chosen]
+    rows = validation.compare_all(chosen, dt_ref=dt_ref, backend="c")
     if args.plot:
         _plots(rows, args.plot)
     public = [{k: v for k, v in r.items() if not k.startswith("_")} for r in rows]
     missed = [r["name"] for r in public if not r["within_targets"]]
     if args.json:
         print(json.dumps(public, indent=2))
-        return 1 if missed else 0
-
-    def f(v, fmt):
-        return "-" if v is None else format(v, fmt)
-
-    print(f"fast model: C core, dt {public[0]['dt_fast_s']:g} s; reference: Exudyn, dt {dt_ref:g} s "
-          "(planar: slew and extension held; spatial: either moves)")
-    print(f"{'scenario':22s} {'ref':>7s} {'max mm':>8s} {'rms mm':>8s} {'pre-stop':>9s} {'post-stop':>9s} "
-          f"{'stop s':>6s} {'p rms bar':>9s} {'fast ms':>8s} {'ref s':>6s} {'ratio':>6s} {'targets':>7s}")
-    for r in public:
-        print(f"{r['name']:22s} {r['reference']:>7s} {r['max_error_mm']:8.3f} {r['rms_error_mm']:8.3f} "
-              f"{f(r['max_error_before_stop_mm'], '9.3f'):>9s} {f(r['max_error_after_stop_mm'], '9.3f'):>9s} "
-              f"{f(r['first_stop_time_s'], '6.3f'):>6s} {f(r['pressure_rms_bar'], '9.4f'):>9s} "
-              f"{r['wall_fast_s'] * 1e3:8.3f} "
-              f"{r['wall_reference_s']:6.2f} {r['speed_ratio']:6.0f} {'met' if r['within_targets'] else 'MISSED':>7s}")
-    print(f"targets per scenario: max <= {reference.TARGET_MAX_MM:g} mm, RMS <= "
-          f"{reference.TARGET_RMS_MM:g} mm, chamber pressures RMS <= "
-          f"{reference.TARGET_PRESSURE_RMS_BAR:g} bar (valve drives); speed ratio >= "
-          f"{reference.TARGET_SPEED_RATIO:g} (see docs/validation.md)")
-    if missed:
-        print(f"missed the targets: {', '.join(missed)}")
+    else:
+        print("\n".join(validation.table(public, dt_ref)))
     return 1 if missed else 0
 
 

@@ -20,12 +20,13 @@ and the C core. What it does differently:
 * the drives are those of the fast model: pressure (constant or samples), hold, and the **valve
   with the oil** on any of the four actuators: the chamber pressures (and the spool) are
   integrated by Exudyn with the mechanics from the chamber equations of docs/model.md
-  "Hydraulics" as :mod:`cranepredict.reference` writes them (its ``_oil_rates``: one formula for
+  "Hydraulics" as :mod:`cranepredict.reference_common` writes them (``oil_rates``: one formula for
   both references), fed by the stroke and the stroke rate measured on the actuator's force element
   (pin distance, or the slew connector's rotation: rack travel ``r_p (psi - slew_min)``);
 * the **end stops** of all four actuators (lift and tilt stroke, the slew range, the extension
   range) are rigid unilateral contacts with a perfectly plastic impact, event-driven as in
-  :mod:`cranepredict.reference` (its event locator ``_watch`` is shared): the motion is integrated
+  :mod:`cranepredict.reference` (the impact, the event locator and the loop over the pieces are
+  :mod:`cranepredict.reference_common`'s): the motion is integrated
   in smooth pieces; a piece ends when an actuator reaches a limit (located to ``STOP_TOLERANCE``)
   or a stop would have to pull (``RELEASE_TOLERANCE``); the impact's impulse acts along that
   actuator only (``dv = -v_j M^-1 e_j / (M^-1)_jj`` over the free actuators, M the 4x4 mass
@@ -46,8 +47,9 @@ from typing import Any, Dict, List, Optional, Tuple
 
 import numpy as np
 
-from . import reference as _ref
+from . import reference_common as common
 from .crane import Crane
+from .reference_common import available
 from .types import Hold, Pressure, PressureSeries, Valve, ValveSeries
 
 __all__ = ["SpatialRun", "simulate", "DEFAULT_SPATIAL_DT", "JOINTS", "available"]
@@ -64,11 +66,6 @@ _EXT_BEHIND = 1.0
 
 # the boom plane (x out, y up, z normal) into the world at slew 0: (x, y, z) -> (x, -z, y)
 _PLANE = np.array([[1.0, 0.0, 0.0], [0.0, 0.0, -1.0], [0.0, 1.0, 0.0]])
-
-
-def available() -> bool:
-    """True if the Exudyn engine can be imported."""
-    return _ref.available()
 
 
 def _rz(a: float) -> np.ndarray:
@@ -150,14 +147,14 @@ def _frames(crane: Crane, q) -> Dict[str, Tuple[float, np.ndarray]]:
     """(in-plane angle, origin) of every body frame in the boom plane at q (closed-form triangle
     and four-bar: the initial condition of a piece; the engine then keeps the loops closed)."""
     g = crane.geometry
-    p = _ref._pose(crane, q[LIFT], q[TILT])
+    p = common.pose(crane, q[LIFT], q[TILT])
     o1, o2, p1 = (np.array(v, float) for v in (g.lift_pivot, g.tilt_pivot, g.link1_pivot))
-    outer = o1 + _ref._rot(p.th_lift) @ o2
+    outer = o1 + common.rot(p.th_lift) @ o2
     return {"pillar": (0.0, np.zeros(2)),
             "lift": (p.th_lift, o1),
             "outer": (p.th_outer, outer),
-            "ext": (p.th_outer, outer + _ref._rot(p.th_outer) @ (np.array(g.extension_mount) + [q[EXTENSION], 0.0])),
-            "link1": (p.ph_link1, o1 + _ref._rot(p.th_lift) @ p1),
+            "ext": (p.th_outer, outer + common.rot(p.th_outer) @ (np.array(g.extension_mount) + [q[EXTENSION], 0.0])),
+            "link1": (p.ph_link1, o1 + common.rot(p.th_lift) @ p1),
             "link2": (p.ph_link2, p.o_link2)}
 
 
@@ -166,7 +163,7 @@ def _poses(crane: Crane, masses, q) -> Dict[str, Tuple[np.ndarray, np.ndarray]]:
     w = _world(q[SLEW])
     out = {}
     for name, (phi, origin) in _frames(crane, q).items():
-        com = origin + _ref._rot(phi) @ masses[name][1]
+        com = origin + common.rot(phi) @ masses[name][1]
         out[name] = (w @ _rz(phi), w @ np.array([com[0], com[1], 0.0]))
     return out
 
@@ -202,26 +199,7 @@ def _mass_matrix(crane: Crane, masses, q) -> np.ndarray:
     return m
 
 
-def _plastic_impact(crane: Crane, masses, q, qd, j: int, modes) -> List[float]:
-    """Rates after a perfectly plastic impact of actuator j on its stop: the stop's impulse acts
-    along actuator j only and ends its rate; the other free actuators keep the momentum the
-    impulse does not take (M dv = P e_j over the free ones)."""
-    free = [k for k in range(4) if modes[k] == 0 or k == j]
-    out = list(qd)
-    if len(free) > 1:
-        minv = np.linalg.inv(_mass_matrix(crane, masses, q)[np.ix_(free, free)])
-        i = free.index(j)
-        for a, k in enumerate(free):
-            out[k] = qd[k] - qd[j] * minv[a, i] / minv[i, i]
-    out[j] = 0.0
-    return out
-
-
 # -- drives ----------------------------------------------------------------------------------------
-
-def _is_valve(drive) -> bool:
-    return isinstance(drive, (Valve, ValveSeries))
-
 
 def _drives(inputs) -> List[Any]:
     """[lift, tilt, slew, extension] drives; a drive left out is held."""
@@ -245,20 +223,12 @@ def _check(crane: Crane, acts, q, qd, drives, oil, horizon: float, dt: float) ->
             raise ValueError(f"state: {name} {q[j]!r} outside its range [{act.lo}, {act.hi}]")
         if isinstance(d, Hold) and qd[j] != 0.0:
             raise ValueError(f"state: the held {name} must have rate 0, got {qd[j]!r}")
-        if _is_valve(d):
+        if common.is_valve(d):
             if act.cyl.hydraulics is None:
                 raise ValueError(f"inputs.{name}: a valve drive needs the crane file's "
                                  f"{name} hydraulics table")
             if oil[j][0] is None or oil[j][1] is None:
                 raise ValueError(f"state: the valve-driven {name} needs {name}_p_a and {name}_p_b")
-
-
-def _drive_pressures(drive, t: np.ndarray) -> np.ndarray:
-    """(N, 2) pressures of a pressure drive at times t, zeros for any other drive."""
-    if not isinstance(drive, (Pressure, PressureSeries)):
-        return np.zeros((t.size, 2))
-    fn = _ref._pressure_fn(drive)
-    return np.array([fn(None, x) for x in t]).reshape(-1, 2)
 
 
 # -- one smooth piece as an Exudyn system ----------------------------------------------------------
@@ -280,11 +250,10 @@ def _piece(crane: Crane, masses, acts, drives, modes, q, qd, held, oil, t0: floa
     a release)."""
     import exudyn as exu
     from exudyn.itemInterface import (MarkerBodyPosition, MarkerBodyRigid, NodeGenericData,
-                                      NodeGenericODE2, ObjectConnectorDistance,
-                                      ObjectConnectorSpringDamper, ObjectConnectorTorsionalSpringDamper,
-                                      ObjectGenericODE2, ObjectGround, ObjectJointGeneric,
-                                      ObjectJointPrismaticX, ObjectJointRevoluteZ, SensorBody,
-                                      SensorNode)
+                                      ObjectConnectorDistance, ObjectConnectorSpringDamper,
+                                      ObjectConnectorTorsionalSpringDamper, ObjectGround,
+                                      ObjectJointGeneric, ObjectJointPrismaticX,
+                                      ObjectJointRevoluteZ, SensorBody, SensorNode)
     from exudyn.utilities import RigidBodyInertia
 
     g = crane.geometry
@@ -331,19 +300,14 @@ def _piece(crane: Crane, masses, acts, drives, modes, q, qd, held, oil, t0: floa
     # --- actuators: force elements, stops, holds, oil --------------------------------------------
     force_el: Dict[int, int] = {}            # actuator -> its force element
     measure: Dict[int, Any] = {}             # actuator -> mbs -> (q_j, qd_j) from its force element
-    gaps: Dict[int, tuple] = {}              # actuator -> (kind, gap(), gap at start) for _ref._watch
+    gaps: Dict[int, tuple] = {}              # actuator -> (kind, gap(), gap at start) for common.watch
     oil_nodes: Dict[int, int] = {}
 
     def pressures_of(j):
         """(mbs, t) -> (p_a, p_b) at absolute time t: the oil state or the pressure drive."""
-        if _is_valve(drives[j]):
-            node = oil_nodes[j]
-
-            def from_oil(mbs_, t):
-                x = mbs_.GetNodeOutput(node, exu.OutputVariableType.Coordinates_t)
-                return x[0] * _ref._P_UNIT, x[1] * _ref._P_UNIT
-            return from_oil
-        return _ref._pressure_fn(drives[j])
+        if common.is_valve(drives[j]):
+            return common.oil_pressures(oil_nodes[j])
+        return common.pressure_fn(drives[j])
 
     # the slew: revolute (free) or fixed (held, on a stop) about the world Z axis through the base
     to_y = np.array([[1.0, 0.0, 0.0], [0.0, 0.0, 1.0], [0.0, -1.0, 0.0]])   # joint z on the pillar's y
@@ -411,37 +375,18 @@ def _piece(crane: Crane, masses, acts, drives, modes, q, qd, held, oil, t0: floa
                 return dist - length0, float(d @ v) / dist
             measure[j] = lin_measure
 
-        if _is_valve(drives[j]):
-            c = _ref._circuit(act.cyl)
-            lever = _ref._lever_fn(drives[j])
-            n = 3 if c.tau > 0 else 2
-            x0 = [oil[j][0] / _ref._P_UNIT, oil[j][1] / _ref._P_UNIT] + ([oil[j][2]] if n == 3 else [])
-            node = mbs.AddNode(NodeGenericODE2(referenceCoordinates=[0.0] * n, initialCoordinates=[0.0] * n,
-                                               initialCoordinates_t=x0, numberOfODE2Coordinates=n))
-            oil_nodes[j] = node
-
-            # each first-order oil quantity is the velocity of an ODE2 coordinate, so that
-            # generalized-alpha integrates it at second order (docs/validation.md)
-            def oil_rates(mbs_, t, item, x, x_t, c=c, lever=lever, n=n, j=j, act=act):
+        if common.is_valve(drives[j]):
+            def stroke_of(mbs_, j=j, act=act):
                 qj, qdj = measure[j](mbs_)
-                u = lever(t + t0)
-                y = x_t[2] if n == 3 else u
-                dpa, dpb = _ref._oil_rates(c, y, act.scale * (qj - act.origin), act.scale * qdj,
-                                           x_t[0] * _ref._P_UNIT, x_t[1] * _ref._P_UNIT)
-                out = [dpa / _ref._P_UNIT, dpb / _ref._P_UNIT]
-                if n == 3:
-                    out.append((u - y) / c.tau)
-                return np.array(out)
-
-            mbs.AddObject(ObjectGenericODE2(nodeNumbers=[node], massMatrix=np.eye(n), forceUserFunction=oil_rates))
-        holder["law"] = _ref._cylinder_law(act.cyl, pressures_of(j), t0)
+                return act.scale * (qj - act.origin), act.scale * qdj
+            oil_nodes[j] = common.add_oil(mbs, common.circuit(act.cyl), common.lever_fn(drives[j]), oil[j],
+                                          t0, stroke_of)
+        holder["law"] = common.cylinder_law(act.cyl, pressures_of(j), t0)
 
         if modes[j] == 0:
             def impact_gap(j=j, act=act):
-                qj = measure[j](mbs)[0]
-                up, lo = qj - act.hi, act.lo - qj
-                return (up, +1) if up >= lo else (lo, -1)
-            gaps[j] = ("impact", impact_gap, max(q[j] - act.hi, act.lo - q[j]))
+                return common.stop_gap(measure[j](mbs)[0], act.lo, act.hi)
+            gaps[j] = ("impact", impact_gap, common.stop_gap(q[j], act.lo, act.hi)[0])
         elif j == SLEW:
             # the fixed joint's torque on the pillar about Z (its z axis): a stop at slew_max
             # pushes towards -psi (torque <= 0); it would have to pull when the sign turns
@@ -453,11 +398,8 @@ def _piece(crane: Crane, masses, acts, drives, modes, q, qd, held, oil, t0: floa
             lim = act.hi if modes[j] > 0 else act.lo
             stop = mbs.AddObject(ObjectConnectorDistance(markerNumbers=mks, distance=length0 + lim))
 
-            # the constraint's force is its tension: an upper stop holds the pins together
-            # (tension >= 0), a lower stop pushes them apart (tension <= 0)
             def pull(side=modes[j], stop=stop):
-                tension = float(mbs.GetObjectOutput(stop, exu.OutputVariableType.Force))
-                return (-tension if side > 0 else tension), side
+                return common.stop_pull(float(mbs.GetObjectOutput(stop, exu.OutputVariableType.Force)), side)
             gaps[j] = ("release", pull, None)
 
     # --- sensors: the coordinates from the pins, the slew from the pillar, the tip -----------------
@@ -477,8 +419,8 @@ def _piece(crane: Crane, masses, acts, drives, modes, q, qd, held, oil, t0: floa
         nodeNumber=node, storeInternal=True, writeToFile=False,
         outputVariableType=exu.OutputVariableType.Coordinates_t)) for j, node in oil_nodes.items()}
 
-    st = _ref._watch(mbs, gaps)
-    _ref._solve(SimpleNamespace(mbs=mbs), t_end - t0, dt, spectral_radius)
+    st = common.watch(mbs, gaps)
+    common.solve(mbs, t_end - t0, dt, spectral_radius)
 
     def data(s):
         return mbs.GetSensorStoredData(s)
@@ -502,42 +444,16 @@ def _piece(crane: Crane, masses, acts, drives, modes, q, qd, held, oil, t0: floa
             qds[:, j] = 0.0
     oil_out = {}
     for j, s in oil_sensors.items():
-        x = data(s)[:, 1:]
-        o = np.zeros((t.size, 3))
-        o[:, :2] = x[:, :2] * _ref._P_UNIT
-        o[:, 2] = x[:, 2] if x.shape[1] > 2 else [_ref._lever_fn(drives[j])(tt) for tt in t]
-        oil_out[j] = o
+        oil_out[j] = common.oil_samples(data(s)[:, 1:], common.P_UNIT, common.lever_fn(drives[j]), t)
     return _Piece(t=t, q=qs, qd=qds, tip=data(tip_sensor)[:, 1:], modes=list(modes), oil=oil_out), st["events"]
 
 
 # -- the event loop ---------------------------------------------------------------------------------
 
-def _start_on_stops(crane, masses, acts, modes, q, qd, events: list) -> None:
-    """At t = 0 a free actuator on a limit whose rate does not point into its range is on its stop
-    (a plastic impact at t = 0)."""
-    for j in range(4):
-        if modes[j] != 0:
-            continue
-        for side, lim in ((+1, acts[j].hi), (-1, acts[j].lo)):
-            if abs(q[j] - lim) <= _ref.STOP_TOLERANCE and side * qd[j] >= 0:
-                qd[:] = _plastic_impact(crane, masses, q, qd, j, modes)
-                q[j], modes[j] = lim, side
-                events.append((0.0, "impact", JOINTS[j], side))
-                break
-
-
-def _apply_events(crane, masses, acts, evs, t0: float, modes, q, qd, events: list) -> None:
-    for kind, j, side in evs:
-        events.append((t0, kind, JOINTS[j], side))
-        if kind == "impact":
-            q[j] = acts[j].hi if side > 0 else acts[j].lo
-            qd[:] = _plastic_impact(crane, masses, q, qd, j, modes)
-            modes[j] = side
-        else:
-            modes[j] = 0
-    for j in range(4):
-        if modes[j] != 0:
-            qd[j] = 0.0
+def _limits(acts):
+    """(lower, upper) limit of each actuator's coordinate (None: the crane has no such actuator,
+    which is then held)."""
+    return [None if a is None else (a.lo, a.hi) for a in acts]
 
 
 @dataclass(frozen=True)
@@ -581,7 +497,7 @@ def simulate(crane: Crane, initial, inputs, horizon: float, *, dt: float = DEFAU
                 else getattr(initial, f"{n}_stroke_rate", 0.0)) for n in JOINTS]
     oil0 = {j: (getattr(initial, f"{n}_p_a", None), getattr(initial, f"{n}_p_b", None),
                 float(getattr(initial, f"{n}_spool", 0.0)))
-            for j, n in enumerate(JOINTS) if _is_valve(drives[j])}
+            for j, n in enumerate(JOINTS) if common.is_valve(drives[j])}
     _check(crane, acts, q, qd, drives, oil0, horizon, dt)
 
     wall0 = time.perf_counter()
@@ -589,46 +505,46 @@ def simulate(crane: Crane, initial, inputs, horizon: float, *, dt: float = DEFAU
     held = list(q)
     modes: list = ["held" if isinstance(d, Hold) else 0 for d in drives]
     events: list = []
-    _start_on_stops(crane, masses, acts, modes, q, qd, events)
-    oil = dict(oil0)
-    pieces: List[_Piece] = []
-    t0 = 0.0
-    for _ in range(_ref.MAX_PIECES):
-        piece, evs = _piece(crane, masses, acts, drives, modes, q, qd, held, oil, t0, horizon, dt,
-                            spectral_radius)
-        pieces.append(piece)
-        t0 = float(piece.t[-1])
-        if not evs or horizon - t0 <= 1e-12:
-            break
-        oil = {j: tuple(o[-1]) for j, o in piece.oil.items()}
-        q, qd = list(piece.q[-1]), list(piece.qd[-1])
-        _apply_events(crane, masses, acts, evs, t0, modes, q, qd, events)
-    else:
-        raise RuntimeError(f"more than {_ref.MAX_PIECES} end-stop events: the stops chatter")
+    limits = _limits(acts)
+
+    def mass_matrix(q_):
+        return _mass_matrix(crane, masses, q_)
+
+    common.start_on_stops(limits, mass_matrix, modes, q, qd, events, JOINTS.__getitem__)
+    x = SimpleNamespace(q=q, qd=qd, oil=dict(oil0))
+
+    def integrate(t0):
+        return _piece(crane, masses, acts, drives, modes, x.q, x.qd, held, x.oil, t0, horizon, dt,
+                      spectral_radius)
+
+    def after_events(piece, evs, t0):
+        x.oil = {j: tuple(o[-1]) for j, o in piece.oil.items()}
+        x.q, x.qd = list(piece.q[-1]), list(piece.qd[-1])
+        common.apply_events(limits, mass_matrix, evs, t0, modes, x.q, x.qd, events, JOINTS.__getitem__)
+
+    pieces = common.run_pieces(integrate, after_events, horizon)
     wall = time.perf_counter() - wall0
 
     # one series: each piece's first sample replaces the previous piece's last (the same instant,
     # after the event)
-    last = len(pieces) - 1
-
     def cat(get):
-        return np.concatenate([get(p) if i == last else get(p)[:-1] for i, p in enumerate(pieces)])
+        return common.join_pieces(pieces, get)
 
     t = cat(lambda p: p.t)
-    keep = np.concatenate([np.diff(t) > 0, [True]])
+    keep = common.increasing(t)
     qs, qds, tip = (cat(lambda p, a=a: getattr(p, a))[keep] for a in ("q", "qd", "tip"))
-    stop = cat(lambda p: np.tile([[m if m != "held" else 0 for m in p.modes]], (p.t.size, 1)))[keep]
+    stop = common.stop_rows(pieces)[keep]
     t = t[keep]
     p_a, p_b, spool = np.zeros((t.size, 4)), np.zeros((t.size, 4)), np.zeros((t.size, 4))
     for j, d in enumerate(drives):
-        if _is_valve(d):
+        if common.is_valve(d):
             o = cat(lambda p, j=j: p.oil[j])[keep]
             p_a[:, j], p_b[:, j], spool[:, j] = o[:, 0], o[:, 1], o[:, 2]
         else:
-            p_a[:, j], p_b[:, j] = _drive_pressures(d, t).T
+            p_a[:, j], p_b[:, j] = common.drive_pressures(d, t).T
     out = dict(t=t, tip=tip, strokes=qs[:, :2], stroke_rates=qds[:, :2], slew=qs[:, SLEW],
                extension=qs[:, EXTENSION], slew_rate=qds[:, SLEW], extension_rate=qds[:, EXTENSION],
-               stop=stop.astype(np.int32), p_a=p_a, p_b=p_b, spool=spool)
+               stop=stop, p_a=p_a, p_b=p_b, spool=spool)
     for a in out.values():
         a.setflags(write=False)
     return SpatialRun(events=tuple(events), wall=wall, dt=dt, **out)

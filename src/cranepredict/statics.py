@@ -14,7 +14,8 @@ import numpy as np
 
 from ._checks import number as _number
 from .crane import Crane
-from .types import PRESSURE_MAX, State
+from .types import (PRESSURE_MAX, Pressure, PressureSeries, State, Valve, ValveSeries, bar_for_pa,
+                    looks_like_bar)
 
 if TYPE_CHECKING:
     from .types import Inputs
@@ -100,8 +101,6 @@ def supply_short(crane: Crane, state: State, inputs: "Inputs") -> Tuple[Tuple[st
     pressure, as when the lever drives against the load. Above the supply pressure the lever
     cannot move the boom against its load: levered up, it sinks. The pose must be in range (the
     callers check it)."""
-    from .types import Valve, ValveSeries
-
     driven = [j for j, name in enumerate(_JOINTS)
               if isinstance(getattr(inputs, name), (Valve, ValveSeries))]
     if not driven:
@@ -128,17 +127,18 @@ def pressures_in_bar(crane: Crane, state: State, inputs: "Inputs") -> Tuple[str,
     """Warning texts for the pressure-driven boom cylinders whose given pressures all lie below
     1 bar while holding the booms at the pose of ``state`` takes more than 10 bar: pressures
     written in bar where Pa are meant (``Pressure(175, 0)``)."""
-    from .types import Pressure, PressureSeries, bar_for_pa
-
     texts = []
     forces = None
-    for j, name in enumerate(_JOINTS):
-        drive = getattr(inputs, name)
-        if not isinstance(drive, (Pressure, PressureSeries)):
+    for j, name, drive in ((0, "lift", inputs.lift), (1, "tilt", inputs.tilt)):
+        if type(drive) is Pressure:
+            p_a, p_b = drive.p_a, drive.p_b
+        elif isinstance(drive, PressureSeries):
+            p_a, p_b = float(drive.p_a.max()), float(drive.p_b.max())
+        else:
             continue
-        kind = type(drive).__name__
-        text = bar_for_pa(f"Inputs.{name}: {kind}", {"p_a": float(np.max(drive.p_a)),
-                                                     "p_b": float(np.max(drive.p_b))})
+        if not looks_like_bar(max(p_a, p_b)):
+            continue
+        text = bar_for_pa(f"Inputs.{name}: {type(drive).__name__}", {"p_a": p_a, "p_b": p_b})
         if text is None:
             continue
         if forces is None:
@@ -149,4 +149,4 @@ def pressures_in_bar(crane: Crane, state: State, inputs: "Inputs") -> Tuple[str,
             texts.append(text.replace("where the boom cylinders need tens of bar",
                                       f"where holding the {name} boom at this pose takes "
                                       f"{needed / 1e5:.0f} bar"))
-    return tuple(texts)
+    return tuple(texts) if texts else ()

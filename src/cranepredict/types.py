@@ -59,11 +59,16 @@ def _pressure(value: object, name: str) -> float:
 PLAUSIBLE_PRESSURE_MIN = 1e5
 
 
+def looks_like_bar(peak: float) -> bool:
+    """Whether pressures whose largest is ``peak`` (Pa) look written in bar: above 0 but below
+    PLAUSIBLE_PRESSURE_MIN (175 for 175 bar)."""
+    return 0.0 < peak < PLAUSIBLE_PRESSURE_MIN
+
+
 def bar_for_pa(owner: str, peaks: Dict[str, float]) -> Optional[str]:
-    """The warning text when the largest of ``peaks`` (Pa) is above 0 but below
-    PLAUSIBLE_PRESSURE_MIN (175 for 175 bar), naming the fields; else None."""
-    top = max(peaks.values())
-    if not 0.0 < top < PLAUSIBLE_PRESSURE_MIN:
+    """The warning text when the largest of ``peaks`` (Pa) looks written in bar
+    (:func:`looks_like_bar`), naming the fields; else None."""
+    if not looks_like_bar(max(peaks.values())):
         return None
     fields = ", ".join(f"{owner}.{k} = {v:g} Pa" for k, v in peaks.items() if v > 0.0)
     return (f"{fields}: below 1 bar, where the boom cylinders need tens of bar; pressures are in "
@@ -347,6 +352,8 @@ class Trajectory:
     ``supply_short``: the valve-driven boom cylinders ("lift", "tilt") levered against their load
     whose load at the initial pose needs more than their supply pressure to hold: levered
     against it, the boom sinks (:func:`cranepredict.holding_pressure`); empty otherwise.
+    Every array is read-only; those of a C-core prediction are views of the core's samples,
+    each made on its first read.
     """
 
     t: np.ndarray
@@ -369,6 +376,29 @@ class Trajectory:
     supply_short: Tuple[str, ...] = ()
     #: (joint, stroke, extension) -> ds/dtheta of a boom cylinder, by the backend that predicted
     _transmission: Optional[Callable[[int, float, float], float]] = field(default=None, repr=False)
+
+    @classmethod
+    def _of_fields(cls, fields: Callable[[str], np.ndarray], backend: str,
+                   points: Callable[[np.ndarray, np.ndarray, np.ndarray], np.ndarray],
+                   transmission: Optional[Callable[[int, float, float], float]],
+                   supply_short: Tuple[str, ...] = ()) -> "Trajectory":
+        """A Trajectory whose arrays (ARRAYS) are made on their first read, by ``fields(name)``
+        (read-only views of the backend's samples), then kept: an array never read costs
+        nothing. Reads as one built by the constructor with every array given."""
+        self = object.__new__(cls)
+        d = self.__dict__   # frozen: the fields are set here, once, as the constructor would
+        d["backend"], d["_points"], d["_transmission"] = backend, points, transmission
+        d["supply_short"], d["_fields"] = supply_short, fields
+        return self
+
+    def __getattr__(self, name: str) -> Any:
+        # Called only for an attribute not yet in the instance: an array of a Trajectory made
+        # by _of_fields, on its first read.
+        fields = self.__dict__.get("_fields")
+        if fields is None or name not in _ARRAY_SET:
+            raise AttributeError(f"{type(self).__name__!r} object has no attribute {name!r}")
+        a = self.__dict__[name] = fields(name)
+        return a
 
     def state(self, i: int) -> State:
         """The :class:`State` at sample ``i`` (negative counts from the end): the one the
@@ -422,6 +452,15 @@ class Trajectory:
         that stop (+1 stroke_max, -1 stroke_min), or None."""
         hits = np.flatnonzero(self.stop[:, joint] == side)
         return float(self.t[hits[0]]) if hits.size else None
+
+
+# The arrays with a default (None) would be found on the class before Trajectory.__getattr__
+# made them: the class keeps none (the constructor's defaults are its own).
+for _name in ARRAYS:
+    if _name in Trajectory.__dict__:
+        delattr(Trajectory, _name)
+del _name
+_ARRAY_SET = frozenset(ARRAYS)
 
 
 @dataclass(frozen=True, eq=False)

@@ -74,6 +74,9 @@ static void drives(const cfmu_instance *f, crane_inputs *in)
     int j;
 
     memset(in, 0, sizeof *in);
+    /* fixed RK4 steps: a fixed cost per communication step, and chained steps that continue one
+     * prediction exactly (docs/fmu.md) */
+    in->solver.method = CRANE_METHOD_RK4;
     for (j = 0; j < 4; ++j) {
         crane_drive *d = &in->drive[j];
         if (valve_driven(j)) {

@@ -1,0 +1,65 @@
+"""How a future is integrated (docs/model.md, "Integration"): the method and its tolerances.
+
+``method="rk4"`` (the default) is fixed-step RK4 with step ``dt`` (a fixed cost per call: what
+the embedded worst case is stated for). ``method="rosw"`` is the ROS34PW2 Rosenbrock-W method with
+error control: it takes the steps the accuracy needs and samples the future every ``dt`` by dense
+output, so ``dt`` is where the samples are, not how the core steps.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from functools import lru_cache
+from typing import Optional, Tuple
+
+from ._checks import number
+
+__all__ = ["METHODS", "Tolerance", "default_tolerance", "TIP_TOLERANCE_RANGE",
+           "PRESSURE_TOLERANCE_RANGE"]
+
+METHODS = ("rosw", "rk4")
+#: The tolerances a user may ask for (crane_solver in csrc/crane.h; CRANE_E_METHOD outside).
+TIP_TOLERANCE_RANGE = (1e-9, 1.0)
+PRESSURE_TOLERANCE_RANGE = (1.0, 1e7)
+
+
+@dataclass(frozen=True)
+class Tolerance:
+    """The error control's tolerances per step of the default method: ``tip`` in m of tip position
+    (an angle's share is ``tip`` over the crane's reach), ``pressure`` in Pa of chamber pressure.
+    None: the core's default (:func:`default_tolerance`)."""
+
+    tip: Optional[float] = None
+    pressure: Optional[float] = None
+
+    def __post_init__(self) -> None:
+        for name, unit, (lo, hi) in (("tip", "m", TIP_TOLERANCE_RANGE),
+                                     ("pressure", "Pa", PRESSURE_TOLERANCE_RANGE)):
+            value = getattr(self, name)
+            if value is not None and not lo <= number(value, f"Tolerance.{name}") <= hi:
+                raise ValueError(f"Tolerance.{name} must be in [{lo:g}, {hi:g}] {unit}, got {value}")
+
+
+@lru_cache(maxsize=None)
+def default_tolerance() -> Tolerance:
+    """The default tolerances, as the C core defines them (crane_solver_default; asked once: a
+    Tolerance is immutable)."""
+    from ._cranepredict import ffi, lib
+
+    s = ffi.new("crane_solver *")
+    lib.crane_solver_default(s)
+    return Tolerance(tip=float(s.tip_tolerance), pressure=float(s.pressure_tolerance))
+
+
+def check(method: str, tolerance: Optional[Tolerance]) -> Tuple[str, Tolerance]:
+    """The method and tolerance checked, the tolerance's defaults filled in."""
+    if method not in METHODS:
+        raise ValueError(f"method must be one of {METHODS}, got {method!r}")
+    if tolerance is not None and not isinstance(tolerance, Tolerance):
+        raise TypeError(f"tolerance must be a cranepredict.Tolerance, got {type(tolerance).__name__}")
+    default = default_tolerance()
+    if tolerance is None:
+        return method, default
+    return method, Tolerance(tip=default.tip if tolerance.tip is None else float(tolerance.tip),
+                             pressure=default.pressure if tolerance.pressure is None
+                             else float(tolerance.pressure))

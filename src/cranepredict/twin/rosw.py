@@ -1,0 +1,344 @@
+"""The twin's error-controlled method (docs/model.md, "Integration: the default method
+(ROS34PW2)"; the C core's integrator.c): the ROS34PW2 Rosenbrock-W method with error control,
+dense output at the sample times, the end stops, the releases and the relief and anti-cavitation
+valves' openings located in the step.
+
+An independent implementation of the specification: the W-method's matrix is assembled here as
+the dense matrix of the state (the C core eliminates the chambers and solves the mass matrix
+instead), and the linear systems are solved by numpy."""
+
+from __future__ import annotations
+
+import math
+from typing import Callable, List, Optional, Sequence, Tuple
+
+import numpy as np
+
+from ._internal import EXTENSION, HYD, JOINTS, LIFT, SLEW, SPOOL, TILT, State
+from .cylinder import friction_rate
+from .integrator import RELEASE_BISECTIONS, _physical, _Prediction
+
+#: ROS34PW2 (Rang and Angermann 2005) in Hairer and Wanner's transformed form (spec).
+GAMMA = 0.43586652150845900
+ALPHA = (0.0, 0.87173304301691801, 0.73157995778885238, 1.0)
+A = ((), (2.0,), (1.4192173174557647, -0.25923221167296971),
+     (4.1847604823191607, -0.28519201735549591, 2.2942803602790417))
+C = ((), (-4.5885607205580835,), (-4.1847604823191607, 0.28519201735549591),
+     (-6.3681792001283578, -6.7956209444668362, 2.8700986043310561))
+M = (4.1847604823191601, -0.28519201735549587, 2.2942803602790414, 1.0)
+E = (0.27774994764796811, -1.403239895175999, 1.7726301276675507, 0.5)
+
+#: The step control of the spec: first, largest and smallest step (s), shrink and growth limits,
+#: safety factor, the early-event fraction, a spool's tolerance, a chamber event's least fraction.
+FIRST_STEP = 1e-3
+MAX_STEP = 0.1
+MIN_STEP = 1e-7
+SHRINK = 0.2
+GROW = 5.0
+SAFETY = 0.9
+EVENT_FRACTION = 0.125
+SPOOL_TOLERANCE = 1e-3
+CHAMBER_EVENT_MIN = 1e-3
+
+
+def attempt_cap(horizon: float) -> int:
+    """The most step attempts over a horizon (spec): 64 + ceil(4096 horizon)."""
+    return 64 + int(math.ceil(horizon * 4096.0))
+
+
+class _Rosw:
+    """One prediction with ROS34PW2: the prediction's model, drives and joint status (pred), the
+    limit valves' modes and the tolerances."""
+
+    def __init__(self, pred: _Prediction, tip: float, pressure: float) -> None:
+        self.pred = pred
+        model = pred.model
+        #: open[j][side]: that chamber's limit valve is open over the current step
+        self.open = [[False, False] for _ in JOINTS]
+        reach = math.hypot(*model.tilt_pivot) + math.hypot(
+            model.extension_mount[0] + model.extension_limits[1] + model.tip_distance,
+            model.extension_mount[1])
+        n = len(self._dims())
+        self.tol = [0.0] * n
+        for j in JOINTS:
+            q_tol = tip if j == EXTENSION else tip / reach
+            self.tol[j] = self.tol[4 + j] = q_tol
+        if pred.hydraulic:
+            for j in JOINTS:
+                self.tol[HYD + 2 * j] = self.tol[HYD + 2 * j + 1] = pressure
+                self.tol[SPOOL + j] = SPOOL_TOLERANCE
+
+    def _dims(self) -> range:
+        return range(SPOOL + 4 if self.pred.hydraulic else 8)
+
+    # -- the rates and the matrix ---------------------------------------------------------------
+
+    def rates(self, t: float, x: State) -> List[float]:
+        """f(t, x) under the joint status and the limit valves' modes of the step."""
+        pred = self.pred
+        locked = pred.locked()
+        f = list(pred.derivative(t, x, locked))
+        if pred.hydraulic:
+            for j in JOINTS:
+                if pred.valve[j] and any(self.open[j]):
+                    stroke = pred.stroke(j, x[j])
+                    drive = pred.drives[j]
+                    for side in (0, 1):
+                        if self.open[j][side]:
+                            i = HYD + 2 * j + side
+                            f[i] += drive.limit_rate(stroke, side, x[i])  # type: ignore[union-attr]
+        return f
+
+    def modes(self, x: State, f: Sequence[float]) -> bool:
+        """The limit valves' modes at a step's start (spec: beyond the nearer setting, or at it
+        with the rate pointing beyond); True if any changed."""
+        pred = self.pred
+        changed = False
+        for j in JOINTS:
+            if not pred.valve[j]:
+                continue
+            drive = pred.drives[j]
+            for side in (0, 1):
+                i = HYD + 2 * j + side
+                beyond, setting = drive.limit_side(x[i])  # type: ignore[union-attr]
+                is_open = beyond != 0 or (x[i] == setting and
+                                          (f[i] < 0.0 if setting == drive.p_c else f[i] > 0.0))  # type: ignore[union-attr]
+                changed = changed or is_open != self.open[j][side]
+                self.open[j][side] = is_open
+        return changed
+
+    def matrix(self, t: float, x: State) -> np.ndarray:
+        """The W-method's matrix J at (t, x) (spec): the stiff couplings only."""
+        pred, model = self.pred, self.pred.model
+        n = len(self._dims())
+        J = np.zeros((n, n))
+        locked = pred.locked()
+        free = [j for j in JOINTS if not locked[j]]
+        if not free:
+            minv = np.zeros((0, 0))
+        else:
+            conf = pred._conf(x)
+            if pred.held[SLEW] and pred.held[EXTENSION]:
+                full = np.array(model._mass_matrix(conf))
+                mass = full[np.ix_(free, free)]
+            else:
+                mass = np.array(model._mass_matrix4(conf, free))
+            minv = np.linalg.inv(mass)
+        conf = pred._conf(x)
+        for k, j in enumerate(free):
+            ds = pred.ratio(conf, j)
+            J[j, 4 + j] = 1.0
+            slope = friction_rate(model.friction[j], ds * x[4 + j])
+            damping = ds * ds * slope if slope > 0.0 else 0.0
+            for r, i in enumerate(free):
+                J[4 + i, 4 + j] = -minv[r, k] * damping
+            if pred.valve[j]:
+                drive = pred.drives[j]
+                for r, i in enumerate(free):
+                    J[4 + i, HYD + 2 * j] = minv[r, k] * drive.area_a * ds  # type: ignore[union-attr]
+                    J[4 + i, HYD + 2 * j + 1] = -minv[r, k] * drive.area_b * ds  # type: ignore[union-attr]
+                c_a, c_b = drive.compliances(pred.stroke(j, x[j], conf))  # type: ignore[union-attr]
+                J[HYD + 2 * j, 4 + j] = -drive.area_a * ds / c_a  # type: ignore[union-attr]
+                J[HYD + 2 * j + 1, 4 + j] = drive.area_b * ds / c_b  # type: ignore[union-attr]
+        for j in JOINTS:
+            if not pred.valve[j]:
+                continue
+            drive = pred.drives[j]
+            stroke = pred.stroke(j, x[j], conf if free else None)
+            c_a, c_b = drive.compliances(stroke)  # type: ignore[union-attr]
+            y = x[SPOOL + j] if drive.tau > 0.0 else drive.lever(t)  # type: ignore[union-attr]
+            d_a, d_b = drive.flow_slopes(y, x[HYD + 2 * j], x[HYD + 2 * j + 1])  # type: ignore[union-attr]
+            g = drive.limit_gradient  # type: ignore[union-attr]
+            leak = drive.leakage  # type: ignore[union-attr]
+            a, b = HYD + 2 * j, HYD + 2 * j + 1
+            J[a, a] = (d_a - leak - (g if self.open[j][0] else 0.0)) / c_a
+            J[a, b] = leak / c_a
+            J[b, a] = leak / c_b
+            J[b, b] = (-d_b - leak - (g if self.open[j][1] else 0.0)) / c_b
+            if drive.tau > 0.0:  # type: ignore[union-attr]
+                J[SPOOL + j, SPOOL + j] = -1.0 / drive.tau  # type: ignore[union-attr]
+        return J
+
+    # -- a step -------------------------------------------------------------------------------
+
+    def step(self, t: float, x: State, f0: Sequence[float], W: np.ndarray, h: float
+             ) -> Tuple[State, float]:
+        """One ROS34PW2 step of size h from (t, x), f0 = f(t, x), W = I - gamma h J factor
+        (solved afresh); returns (x1, the error's largest ratio to its tolerance)."""
+        gh = GAMMA * h
+        xa = np.asarray(x, dtype=float)
+        lhs = np.eye(len(xa)) - gh * W
+        us: List[np.ndarray] = []
+        for s in range(4):
+            if s == 0:
+                f = np.asarray(f0, dtype=float)
+            else:
+                xs = xa + sum(A[s][k] * us[k] for k in range(s))
+                f = np.asarray(self.rates(t + ALPHA[s] * h, tuple(xs.tolist())))
+            rhs = gh * f
+            if s:
+                rhs = rhs + GAMMA * sum(C[s][k] * us[k] for k in range(s))
+            us.append(np.linalg.solve(lhs, rhs))
+        x1 = xa + sum(M[s] * us[s] for s in range(4))
+        e = sum(E[s] * us[s] for s in range(4))
+        with np.errstate(invalid="ignore", divide="ignore"):
+            ratios = np.abs(e) / np.asarray(self.tol)
+        err = float(np.max(ratios)) if not np.isnan(ratios).any() else math.nan
+        return tuple(x1.tolist()), err
+
+
+def integrate(pred: _Prediction, x: State, horizon: float, dt: float, n: int, tip: float,
+              pressure: float, record: Callable[[int, float, State], None]) -> State:
+    """x over [0, horizon] with ROS34PW2 (spec), recording the sample at k dt for k = 1..n - 1
+    by dense output and the final state at the horizon as sample n."""
+    ros = _Rosw(pred, tip, pressure)
+    model = pred.model
+    cap = attempt_cap(horizon)
+    pred.release(0.0, x)
+
+    def start(t: float, x: State, f: Optional[List[float]]) -> Tuple[List[float], np.ndarray]:
+        if f is None:
+            f = ros.rates(t, x)
+        if ros.modes(x, f):
+            f = ros.rates(t, x)
+        return f, ros.matrix(t, x)
+
+    f0, J = start(0.0, x, None)
+    t = 0.0
+    h = min(dt, FIRST_STEP)
+    grow = GROW
+    attempts = 0
+    k = 1
+    while t < horizon:
+        hs = min(h, MAX_STEP)
+        last = False
+        if hs >= horizon - t:
+            hs = horizon - t
+            last = True
+        attempts += 1
+        if attempts > cap:
+            raise ArithmeticError("the error control could not meet the tolerance within the "
+                                  "attempt cap")
+        x1, err = ros.step(t, x, f0, J, hs)
+        if not err <= 1.0:
+            if hs <= MIN_STEP:
+                raise ArithmeticError("the error control could not meet the tolerance at the "
+                                      "smallest step")
+            grow = 1.0
+            fac = SAFETY / err ** (1.0 / 3.0) if err == err else SHRINK
+            h = max(hs * max(fac, SHRINK), MIN_STEP)
+            continue
+        fac = SAFETY / err ** (1.0 / 3.0) if err > 0.0 else GROW
+        h = hs * min(fac, grow)
+        grow = GROW
+        # events: the first end stop, then an earlier chamber crossing
+        tau = hs
+        joint, upper = -1, False
+        for j in JOINTS:
+            if pred.locked()[j]:
+                continue
+            lo_q, hi_q = model.angle_limits[j]
+            if x1[j] > hi_q:
+                up = True
+            elif x1[j] < lo_q:
+                up = False
+            else:
+                continue
+            tj = pred.crossing_time(x[j], x[4 + j], x1[j], x1[4 + j], hs, hi_q if up else lo_q,
+                                    not up)
+            if joint < 0 or tj < tau:
+                joint, tau, upper = j, tj, up
+        chamber = -1
+        if pred.hydraulic:
+            for j in JOINTS:
+                if not pred.valve[j]:
+                    continue
+                for side in (0, 1):
+                    i = HYD + 2 * j + side
+                    beyond, setting = pred.drives[j].limit_side(x1[i])  # type: ignore[union-attr]
+                    if ros.open[j][side] == (beyond != 0) or x1[i] == x[i]:
+                        continue
+                    tk = hs * ((x[i] - setting) / (x[i] - x1[i]))
+                    if tk > hs * CHAMBER_EVENT_MIN and tk < tau:
+                        tau, chamber = tk, i
+        if chamber >= 0:
+            joint = -1
+        changed = False
+        if (joint >= 0 or chamber >= 0) and tau < hs * EVENT_FRACTION and \
+                hs > FIRST_STEP * EVENT_FRACTION:
+            h = hs * EVENT_FRACTION
+            grow = 1.0
+            continue
+        if joint >= 0 or chamber >= 0:
+            hs = tau
+            last = False
+            x1, _ = ros.step(t, x, f0, J, hs)
+            if chamber >= 0:
+                jj, side = divmod(chamber - HYD, 2)
+                setting = pred.drives[jj].limit_side(x1[chamber])[1]  # type: ignore[union-attr]
+                x1 = x1[:chamber] + (setting,) + x1[chamber + 1:]
+                changed = True
+        elif any(pred.stop) and pred.released(t + hs, x1):
+            lo, hi = 0.0, hs
+            for _ in range(RELEASE_BISECTIONS):
+                mid = 0.5 * (lo + hi)
+                x_mid, _ = ros.step(t, x, f0, J, mid)
+                if pred.released(t + mid, x_mid):
+                    hi = mid
+                else:
+                    lo = mid
+            if hi < hs:
+                last = False
+            hs = hi
+            x1, _ = ros.step(t, x, f0, J, hs)
+            changed = True
+        if pred.hydraulic:
+            x1 = x1[:SPOOL] + tuple(min(max(y, -1.0), 1.0) if pred.valve[j] else y
+                                    for j, y in zip(JOINTS, x1[SPOOL:]))
+        f1 = ros.rates(t + hs, x1)
+        if not _physical(x1):
+            raise ValueError(f"the prediction diverged at t = {t:g} s (the state is no longer "
+                             "finite, or a spool or chamber pressure left its range): check the "
+                             "crane's parameters for absurd values")
+        while k < n and k * dt < t + hs:
+            s = (k * dt - t) / hs
+            xs = [(1.0 - s) * a + s * b + s * (s - 1.0) * ((1.0 - 2.0 * s) * (b - a)
+                                                            + (s - 1.0) * hs * fa + s * hs * fb)
+                  for a, b, fa, fb in zip(x, x1, f0, f1)]
+            # a held or stopped joint stays exactly where it is (spec)
+            for j, lk in enumerate(pred.locked()):
+                if lk:
+                    xs[j], xs[4 + j] = x[j], x[4 + j]
+                if pred.hydraulic and pred.valve[j]:   # the cubic can pass a clamped end
+                    xs[SPOOL + j] = min(max(xs[SPOOL + j], -1.0), 1.0)
+                    for side in (0, 1):   # an open limit valve's chamber: linear (spec)
+                        if ros.open[j][side]:
+                            i = HYD + 2 * j + side
+                            xs[i] = (1.0 - s) * x[i] + s * x1[i]
+            record(k, k * dt, tuple(xs))
+            k += 1
+        t = horizon if last else t + hs
+        if joint >= 0:
+            x1 = pred.plastic_impact(x1, joint, +1 if upper else -1)
+            pred.events.append((t, joint, +1 if upper else -1))
+            changed = True
+        for j in JOINTS:
+            if pred.locked()[j]:
+                continue
+            lo_q, hi_q = model.angle_limits[j]
+            if x1[j] < lo_q or (x1[j] == lo_q and x1[4 + j] <= 0.0):
+                x1 = pred.plastic_impact(x1, j, -1)
+                pred.events.append((t, j, -1))
+                changed = True
+            elif x1[j] > hi_q or (x1[j] == hi_q and x1[4 + j] >= 0.0):
+                x1 = pred.plastic_impact(x1, j, +1)
+                pred.events.append((t, j, +1))
+                changed = True
+        if changed:
+            pred.release(t, x1)
+            h = min(h, FIRST_STEP)
+        x = x1
+        if not last:
+            f0, J = start(t, x, None if changed else f1)
+    record(n, horizon, x)
+    return x
