@@ -218,12 +218,14 @@ static crane_status check_future(const crane_model *model, const crane_state *st
         sv->method != CRANE_METHOD_RK4) {
         return CRANE_E_METHOD;
     }
-    if (!CRANE_ROSW && sv->method == CRANE_METHOD_ROSW) {
+    if (CRANE_ROSW == 0 && sv->method == CRANE_METHOD_ROSW) {
         return CRANE_E_METHOD;
     }
     if (sv->method == CRANE_METHOD_ROSW &&
-        ((sv->tip_tolerance != 0 && !crane__in_range(sv->tip_tolerance, (crane_real)1e-9, 1)) ||
-         (sv->pressure_tolerance != 0 && !crane__in_range(sv->pressure_tolerance, 1, (crane_real)1e7)))) {
+        ((sv->tip_tolerance != 0 &&
+          crane__in_range(sv->tip_tolerance, (crane_real)1e-9, 1) == 0) ||
+         (sv->pressure_tolerance != 0 &&
+          crane__in_range(sv->pressure_tolerance, 1, (crane_real)1e7) == 0))) {
         return CRANE_E_METHOD;
     }
     for (i = 0; i < 2; ++i) {
@@ -327,12 +329,12 @@ static crane_status check_work(const crane_model *m, const crane_inputs *in, cra
     long n_max = 1, work;
 
     /* the error-controlled method: its attempt cap (docs/model.md, "Integration") */
-    if (CRANE_ROSW && in->solver.method == CRANE_METHOD_ROSW) {
+    if (CRANE_ROSW != 0 && in->solver.method == CRANE_METHOD_ROSW) {
         work = crane__attempt_cap(horizon);
         if (work > (long)CRANE_MAX_STEPS) {
             return CRANE_E_STEPS;
         }
-        if (total) {
+        if (total != NULL) {
             if (work > (long)CRANE_MAX_BATCH_STEPS - *total) {
                 return CRANE_E_BATCH;
             }
