@@ -195,8 +195,8 @@ static inline crane_real crane__crossing_time(crane_real th0, crane_real w0, cra
         const crane_real s = (lo + hi) / 2, s2 = s * s, s3 = s2 * s;
         const crane_real H = (2 * s3 - 3 * s2 + 1) * th0 + (s3 - 2 * s2 + s) * hw0 +
                              (-2 * s3 + 3 * s2) * th1 + (s3 - s2) * hw1;
-        const int outside = upper ? H > limit : H < limit;
-        if (outside)
+        const int outside = upper != 0 ? H > limit : H < limit;
+        if (outside != 0)
             hi = s;
         else
             lo = s;
@@ -489,7 +489,7 @@ crane_status crane__integrate(const crane_model *m, const crane_state *s0, const
 static inline crane_real crane__extension_friction_slope(const crane_params *p)
 {
     const crane_friction *f = &p->extension_cylinder.friction;
-    if (!p->extension_cylinder.present)
+    if (p->extension_cylinder.present == 0)
         return 0;
     return f->factor * (4 * f->coulomb + (crane_real)16 / 9 * (f->static_ - f->coulomb)) /
                f->stribeck_velocity +

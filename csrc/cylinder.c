@@ -134,13 +134,13 @@ crane_status crane_cylinder_force(const crane_model *model, int joint, crane_rea
     const crane_real pmax = (crane_real)CRANE_PRESSURE_MAX;
     crane_real f;
 
-    if (!model || !force) {
+    if (model == NULL || force == NULL) {
         return CRANE_E_NULL;
     }
     if (joint != CRANE_LIFT && joint != CRANE_TILT) {
         return CRANE_E_CYLINDER;
     }
-    if (!crane__finite(p_a) || !crane__finite(p_b) || !crane__finite(stroke_rate)) {
+    if (crane__finite(p_a) == 0 || crane__finite(p_b) == 0 || crane__finite(stroke_rate) == 0) {
         return CRANE_E_NONFINITE;
     }
     if (p_a < 0 || p_a > pmax || p_b < 0 || p_b > pmax) {
@@ -148,7 +148,7 @@ crane_status crane_cylinder_force(const crane_model *model, int joint, crane_rea
     }
     /* The viscous term overflows for stroke rates near the largest real (1e307 m/s). */
     f = crane__cylinder_force(model, joint, p_a, p_b, stroke_rate);
-    if (!crane__finite(f)) {
+    if (crane__finite(f) == 0) {
         return CRANE_E_OVERFLOW;
     }
     *force = f;

@@ -56,7 +56,7 @@ void crane__id_planar(const crane_model *m, const crane__conf *cf, const crane_r
                           crane__cross(r12, f2) + n2;
     tau[0] = n1;
     tau[1] = n2;
-    if (m->links) {
+    if (m->links != 0) {
         side_links(&cf->tk, cf->c0, cf->s0, omega, alpha, g, tau);
     }
 }
@@ -76,7 +76,7 @@ void crane__mass_planar(const crane_model *m, const crane__conf *cf, crane_real 
     Mp[3] = m->j2;
     Mp[2] = Mp[4] = 0;
     Mp[5] = 1;
-    if (m->links) {
+    if (m->links != 0) {
         Mp[0] += cf->tk.M[0];
         Mp[1] += cf->tk.M[1];
         Mp[3] += cf->tk.M[2];
@@ -203,7 +203,7 @@ void crane__id_spatial(const crane_model *m, const crane__bodies *b, const crane
          crane__cross(r12, f2) + n2;
     tau[0] = n1;
     tau[1] = n2;
-    if (m->links) {
+    if (m->links != 0) {
         const crane_real w[2] = {qd[0], qd[1]}, a[2] = {qdd[0], qdd[1]};
         side_links(&cf->tk, cf->c0, cf->s0, w, a, g, tau);
     }
@@ -249,10 +249,10 @@ void crane__slew_inertia(const crane_model *m, const crane__bodies *b, const cra
      * its turn rate per unit tilt rate kl and cos cl, sin sl of its turn relative to the lift
      * boom (R(phi1) takes link_pin to qp, R(phi2) link2_end to aq: the dot and cross products
      * over the equal lengths). Worked here from the four-bar rather than kept (the stack). */
-    if (m->links) {
+    if (m->links != 0) {
         crane__link_vectors(m, &cf->tk, &l);
     }
-    for (k = 0; m->links && k < 2; ++k) {
+    for (k = 0; m->links != 0 && k < 2; ++k) {
         const crane_body *lbody = k == 0 ? &p->side_link1 : &p->side_link2;
         const crane_vec2 pin = k == 0 ? p->link_pin : p->link2_end, rel = k == 0 ? l.qp : l.aq;
         const crane_real n = crane__norm2(pin), kl = k == 0 ? l.k1 : l.k2;
@@ -303,7 +303,7 @@ void crane__mass_spatial(const crane_model *m, const crane__bodies *b, const cra
     Mp[3] = i23 + m2 * crane__norm2(ar.C2) + m3 * crane__norm2(ar.C3);
     Mp[4] = m3 * crane__cross(ar.C3, u);
     Mp[5] = m3;
-    if (m->links) {
+    if (m->links != 0) {
         Mp[0] += cf->tk.M[0];
         Mp[1] += cf->tk.M[1];
         Mp[3] += cf->tk.M[2];
@@ -320,12 +320,12 @@ crane_status crane_inverse_dynamics(const crane_model *model, const crane_real q
     crane_real t[4];
     int i;
 
-    if (!model || !q || !qd || !qdd || !tau) {
+    if (model == NULL || q == NULL || qd == NULL || qdd == NULL || tau == NULL) {
         return CRANE_E_NULL;
     }
     p = model->params;
     for (i = 0; i < 4; ++i) {
-        if (!crane__finite(q[i]) || !crane__finite(qd[i]) || !crane__finite(qdd[i])) {
+        if (crane__finite(q[i]) == 0 || crane__finite(qd[i]) == 0 || crane__finite(qdd[i]) == 0) {
             return CRANE_E_NONFINITE;
         }
     }
@@ -349,7 +349,7 @@ crane_status crane_inverse_dynamics(const crane_model *model, const crane_real q
     }
     /* squares of rates near 1e160 (double) overflow */
     for (i = 0; i < 4; ++i) {
-        if (!crane__finite(t[i])) {
+        if (crane__finite(t[i]) == 0) {
             return CRANE_E_OVERFLOW;
         }
     }

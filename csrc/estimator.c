@@ -26,20 +26,21 @@ static int config_ok(const crane_estimator_config *c)
 {
     int i;
 
-    if (!crane__finite(c->dt) || !(c->dt > 0)) {
+    if (crane__finite(c->dt) == 0 || !(c->dt > 0)) {
         return 0;
     }
     for (i = 0; i < N; ++i) {
-        if (!crane__finite(c->lo[i]) || !crane__finite(c->hi[i]) || !(c->lo[i] < c->hi[i])) {
+        if (crane__finite(c->lo[i]) == 0 || crane__finite(c->hi[i]) == 0 ||
+            !(c->lo[i] < c->hi[i])) {
             return 0;
         }
-        if (!crane__finite(c->noise[i]) || !(c->noise[i] >= 0)) {
+        if (crane__finite(c->noise[i]) == 0 || !(c->noise[i] >= 0)) {
             return 0;
         }
-        if (!crane__finite(c->fd_step[i]) || !(c->fd_step[i] > 0)) {
+        if (crane__finite(c->fd_step[i]) == 0 || !(c->fd_step[i] > 0)) {
             return 0;
         }
-        if (!crane__finite(c->scale[i]) || !(c->scale[i] > 0)) {
+        if (crane__finite(c->scale[i]) == 0 || !(c->scale[i] > 0)) {
             return 0;
         }
     }
@@ -59,7 +60,7 @@ static int cholesky(const crane_real *a, int m, crane_real *l)
                 s -= l[i * N + k] * l[j * N + k];
             }
             if (i == j) {
-                if (!(s > 0) || !crane__finite(s)) {
+                if (!(s > 0) || crane__finite(s) == 0) {
                     return 0;
                 }
                 l[i * N + i] = crane__sqrt(s);
@@ -146,7 +147,7 @@ static int jacobi(crane_real *a, crane_real *v)
                 off += a[p * N + q] * a[p * N + q];
             }
         }
-        if (!crane__finite(off) || !crane__finite(diag)) {
+        if (crane__finite(off) == 0 || crane__finite(diag) == 0) {
             return 0;
         }
         if (off <= diag * (crane_real)1e-30 || off == 0) {
@@ -207,12 +208,12 @@ static CRANE__NOINLINE int make_positive(crane_estimator *est)
     for (i = 0; i < N; ++i) {
         ps[i * N + i] += CRANE__EST_FLOOR;
     }
-    if (!j) {
+    if (j == 0) {
         /* l: the eigenvalues floored on the diagonal of ps, then v diag v^T */
         for (i = 0; i < N * N; ++i) {
             l[i] = ps[i];
         }
-        if (!jacobi(l, v)) {
+        if (jacobi(l, v) == 0) {
             return 0;
         }
         for (i = 0; i < N; ++i) {
@@ -234,7 +235,7 @@ static CRANE__NOINLINE int make_positive(crane_estimator *est)
     for (i = 0; i < N; ++i) {
         for (j = 0; j < N; ++j) {
             p[i * N + j] = ps[i * N + j] * (s[i] * s[j]);
-            if (!crane__finite(p[i * N + j])) {
+            if (crane__finite(p[i * N + j]) == 0) {
                 return 0;
             }
         }
@@ -249,24 +250,24 @@ crane_status crane_estimator_init(crane_estimator *est, const crane_estimator_co
 {
     int i;
 
-    if (!est || !config || !x0 || !covariance0 || !spool0) {
+    if (est == NULL || config == NULL || x0 == NULL || covariance0 == NULL || spool0 == NULL) {
         return CRANE_E_NULL;
     }
-    if (!config_ok(config)) {
+    if (config_ok(config) == 0) {
         return CRANE_E_ESTIMATOR;
     }
     for (i = 0; i < N; ++i) {
-        if (!crane__finite(x0[i]) || x0[i] < config->lo[i] || x0[i] > config->hi[i]) {
+        if (crane__finite(x0[i]) == 0 || x0[i] < config->lo[i] || x0[i] > config->hi[i]) {
             return CRANE_E_ESTIMATOR;
         }
     }
     for (i = 0; i < N * N; ++i) {
-        if (!crane__finite(covariance0[i])) {
+        if (crane__finite(covariance0[i]) == 0) {
             return CRANE_E_NONFINITE;
         }
     }
     for (i = 0; i < 4; ++i) {
-        if (!crane__in_range(spool0[i], -1, 1)) {
+        if (crane__in_range(spool0[i], -1, 1) == 0) {
             return CRANE_E_VALVE;
         }
     }
@@ -284,7 +285,7 @@ crane_status crane_estimator_init(crane_estimator *est, const crane_estimator_co
     est->nis = 0;
     est->n_measured = 0;
     est->projected = 0;
-    if (!make_positive(est)) {
+    if (make_positive(est) == 0) {
         return CRANE_E_ESTIMATOR;
     }
     return CRANE_OK;
@@ -448,7 +449,7 @@ static CRANE__NOINLINE int measurement_update(crane_estimator *est, const int *r
     for (i = 0; i < m; ++i) {
         est->field_nis[rows[i]] = innov[i] * innov[i] / s[i * N + i];
     }
-    if (!cholesky(s, m, l)) {
+    if (cholesky(s, m, l) == 0) {
         return 0;
     }
     /* K^T (m x N): column c of K^T solves S k = P[c, rows]^T */
@@ -504,27 +505,27 @@ crane_status crane_estimator_update(crane_estimator *est, const crane_model *mod
                                     const crane_real z[CRANE_EST_N],
                                     const crane_real variance[CRANE_EST_N])
 {
-    crane_real *const y0 = est ? est->y0 : NULL;
-    int *const rows = est ? est->rows : NULL;
+    crane_real *const y0 = est != NULL ? est->y0 : NULL;
+    int *const rows = est != NULL ? est->rows : NULL;
     int m = 0, i;
     size_t failed, count;
     crane_status st;
 
-    if (!est || !model || !inputs || !z || !variance) {
+    if (est == NULL || model == NULL || inputs == NULL || z == NULL || variance == NULL) {
         return CRANE_E_NULL;
     }
-    if (!crane__finite(period)) {
+    if (crane__finite(period) == 0) {
         return CRANE_E_NONFINITE;
     }
     if (!(period > 0)) {
         return CRANE_E_HORIZON;
     }
     for (i = 0; i < N; ++i) {
-        if (!crane__finite(variance[i]) || variance[i] < 0) {
+        if (crane__finite(variance[i]) == 0 || variance[i] < 0) {
             return CRANE_E_ESTIMATOR;
         }
         if (variance[i] > 0) {
-            if (!crane__finite(z[i])) {
+            if (crane__finite(z[i]) == 0) {
                 return CRANE_E_NONFINITE;
             }
             rows[m] = i;
@@ -562,7 +563,7 @@ crane_status crane_estimator_update(crane_estimator *est, const crane_model *mod
     time_update(est, period);
     est->n_measured = m;
     est->nis = 0;
-    if (m > 0 && !measurement_update(est, rows, m, z, variance, y0)) {
+    if (m > 0 && measurement_update(est, rows, m, z, variance, y0) == 0) {
         return CRANE_E_ESTIMATOR;
     }
     if (m == 0) {
@@ -570,12 +571,12 @@ crane_status crane_estimator_update(crane_estimator *est, const crane_model *mod
             est->field_nis[i] = 0;
         }
     }
-    if (!make_positive(est)) {
+    if (make_positive(est) == 0) {
         return CRANE_E_ESTIMATOR;
     }
     est->projected = 0;
     for (i = 0; i < N; ++i) {
-        if (!crane__finite(y0[i])) {
+        if (crane__finite(y0[i]) == 0) {
             return CRANE_E_DIVERGED;
         }
         if (y0[i] < est->config.lo[i]) {
@@ -584,6 +585,8 @@ crane_status crane_estimator_update(crane_estimator *est, const crane_model *mod
         } else if (y0[i] > est->config.hi[i]) {
             y0[i] = est->config.hi[i];
             est->projected = 1;
+        } else {
+            /* within its bounds: kept */
         }
         est->x[i] = y0[i];
     }

@@ -202,9 +202,9 @@ static crane_real seg_plane(crane__v3 s0, crane__v3 s1, crane__v3 p, crane__v3 n
 
 static crane__v3 box_vertex(const crane_solid *b, int v)
 {
-    return from_box(b, crane__v3_make((v & 1) ? b->half[0] : -b->half[0],
-                                      (v & 2) ? b->half[1] : -b->half[1],
-                                      (v & 4) ? b->half[2] : -b->half[2]));
+    return from_box(b, crane__v3_make((v & 1) != 0 ? b->half[0] : -b->half[0],
+                                      (v & 2) != 0 ? b->half[1] : -b->half[1],
+                                      (v & 4) != 0 ? b->half[2] : -b->half[2]));
 }
 
 /* Box-box: if the boxes are apart, a closest pair has a vertex or an edge point of one box on the
@@ -217,7 +217,7 @@ static CRANE__NOINLINE crane_real box_box(const crane_solid *x, const crane_soli
     crane_real best = -1;
     int side, v, i;
     for (side = 0; side < 2 && best != 0; ++side) {
-        const crane_solid *m = side ? y : x, *o = side ? x : y;
+        const crane_solid *m = side != 0 ? y : x, *o = side != 0 ? x : y;
         for (v = 0; v < 8 && best != 0; ++v) {
             for (i = 0; i < 3; ++i) {
                 const int w = v | (1 << i);
@@ -229,8 +229,8 @@ static CRANE__NOINLINE crane_real box_box(const crane_solid *x, const crane_soli
                 dd = seg_box(box_vertex(m, v), box_vertex(m, w), o, &qa, &qb);
                 if (best < 0 || dd < best) {
                     best = dd;
-                    *pa = side ? qb : qa;
-                    *pb = side ? qa : qb;
+                    *pa = side != 0 ? qb : qa;
+                    *pb = side != 0 ? qa : qb;
                 }
             }
         }
@@ -278,10 +278,10 @@ static crane__v3 grow(crane__v3 c, crane__v3 o, crane_real r)
 static int core_distance(const crane_solid *a, const crane_solid *b, crane_real *d, crane__v3 *pa,
                          crane__v3 *pb)
 {
-    if (seglike(a->kind)) {
+    if (seglike(a->kind) != 0) {
         crane__v3 a0, a1;
         segment_of(a, &a0, &a1);
-        if (seglike(b->kind)) {
+        if (seglike(b->kind) != 0) {
             crane__v3 b0, b1;
             segment_of(b, &b0, &b1);
             *d = seg_seg(a0, a1, b0, b1, pa, pb);
@@ -305,21 +305,33 @@ static int core_distance(const crane_solid *a, const crane_solid *b, crane_real 
 
 static crane_real radius_of(const crane_solid *s)
 {
-    return seglike(s->kind) ? s->radius : 0;
+    return seglike(s->kind) != 0 ? s->radius : 0;
+}
+
+/* The order of the kinds for core_distance: seglike 0 < box 1 < plane 2. */
+static int kind_rank(int kind)
+{
+    int rank;
+    if (seglike(kind) != 0) {
+        rank = 0;
+    } else if (kind == CRANE_SOLID_BOX) {
+        rank = 1;
+    } else {
+        rank = 2;
+    }
+    return rank;
 }
 
 int crane__solid_distance(const crane_solid *a, const crane_solid *b, crane_real *distance,
                           crane__v3 *pa, crane__v3 *pb)
 {
-    /* order: seglike < box < plane, so core_distance sees (a, b) with b not "smaller" */
-    const int ra = seglike(a->kind) ? 0 : (a->kind == CRANE_SOLID_BOX ? 1 : 2);
-    const int rb = seglike(b->kind) ? 0 : (b->kind == CRANE_SOLID_BOX ? 1 : 2);
-    const int swap = rb < ra;
-    const crane_solid *x = swap ? b : a, *y = swap ? a : b;
+    /* so that core_distance sees (a, b) with b not "smaller" */
+    const int swap = kind_rank(b->kind) < kind_rank(a->kind);
+    const crane_solid *x = swap != 0 ? b : a, *y = swap != 0 ? a : b;
     crane__v3 px, py;
     crane_real d, rx, ry;
 
-    if (!core_distance(x, y, &d, &px, &py)) {
+    if (core_distance(x, y, &d, &px, &py) == 0) {
         return 0;
     }
     rx = radius_of(x);
@@ -333,8 +345,8 @@ int crane__solid_distance(const crane_solid *a, const crane_solid *b, crane_real
         d = 0;
     }
     *distance = d;
-    *pa = swap ? py : px;
-    *pb = swap ? px : py;
+    *pa = swap != 0 ? py : px;
+    *pb = swap != 0 ? px : py;
     return 1;
 }
 
@@ -357,24 +369,24 @@ int crane__solid_field(const crane_solid *s)
     if (s->kind < CRANE_SOLID_PLANE || s->kind > CRANE_SOLID_CYLINDER) {
         return CRANE_GUARD_FIELD_KIND;
     }
-    if (!finite3(s->a)) {
+    if (finite3(s->a) == 0) {
         return CRANE_GUARD_FIELD_A;
     }
     if (s->kind == CRANE_SOLID_PLANE) {
         const crane__v3 n = crane__v3_load(s->b);
-        if (!finite3(s->b) || crane__fabs(crane__v3_dot(n, n) - 1) > tol) {
+        if (finite3(s->b) == 0 || crane__fabs(crane__v3_dot(n, n) - 1) > tol) {
             return CRANE_GUARD_FIELD_B;
         }
         return 0;
     }
     if (s->kind == CRANE_SOLID_BOX) {
         for (i = 0; i < 3; ++i) {
-            if (!(crane__length_ok(s->half[i]) && s->half[i] > 0)) {
+            if (!(crane__length_ok(s->half[i]) != 0 && s->half[i] > 0)) {
                 return CRANE_GUARD_FIELD_HALF;
             }
         }
         for (i = 0; i < 9; ++i) {
-            if (!crane__finite(s->axes[i])) {
+            if (crane__finite(s->axes[i]) == 0) {
                 return CRANE_GUARD_FIELD_AXES;
             }
         }
@@ -389,10 +401,10 @@ int crane__solid_field(const crane_solid *s)
         }
         return 0;
     }
-    if (s->kind != CRANE_SOLID_SPHERE && !finite3(s->b)) {
+    if (s->kind != CRANE_SOLID_SPHERE && finite3(s->b) == 0) {
         return CRANE_GUARD_FIELD_B;
     }
-    if (!(crane__length_ok(s->radius) && s->radius >= 0) ||
+    if (!(crane__length_ok(s->radius) != 0 && s->radius >= 0) ||
         (s->kind != CRANE_SOLID_CAPSULE && !(s->radius > 0))) {
         return CRANE_GUARD_FIELD_RADIUS;
         }
@@ -408,12 +420,12 @@ int crane__solid_field(const crane_solid *s)
 crane_status crane_solid_check(const crane_solid *s, int *field)
 {
     int f;
-    if (!s || !field) {
+    if (s == NULL || field == NULL) {
         return CRANE_E_NULL;
     }
     f = crane__solid_field(s);
     *field = f;
-    return f ? CRANE_E_SOLID : CRANE_OK;
+    return f != 0 ? CRANE_E_SOLID : CRANE_OK;
 }
 
 crane_status crane_solid_distance(const crane_solid *a, const crane_solid *b, crane_real *distance,
@@ -422,13 +434,13 @@ crane_status crane_solid_distance(const crane_solid *a, const crane_solid *b, cr
     crane__v3 qa, qb;
     crane_real d;
 
-    if (!a || !b || !distance || !pa || !pb) {
+    if (a == NULL || b == NULL || distance == NULL || pa == NULL || pb == NULL) {
         return CRANE_E_NULL;
     }
-    if (crane__solid_field(a) || crane__solid_field(b)) {
+    if (crane__solid_field(a) != 0 || crane__solid_field(b) != 0) {
         return CRANE_E_SOLID;
     }
-    if (!crane__solid_distance(a, b, &d, &qa, &qb)) {
+    if (crane__solid_distance(a, b, &d, &qa, &qb) == 0) {
         return CRANE_E_SOLID;
     }
     *distance = d;

@@ -197,6 +197,8 @@ static void part_rates(const crane_model *m, const crane_part *pt, crane_real e_
         /* the box turns with the slew about the vertical axis: its corners lie up to its
          * horizontal half diagonal further out than its centre */
         k[CRANE_SLEW] += crane__sqrt(pt->half[0] * pt->half[0] + pt->half[1] * pt->half[1]);
+    } else {
+        /* a sphere: its centre's rates bound every point of it */
     }
 }
 
@@ -274,6 +276,8 @@ static void coord_range(const crane_sample *s0, const crane_sample *s1, int j, c
         if (r > ua && r < ub) {
             widen(cubic_at(c, r), lo, hi);
         }
+    } else {
+        /* at most linear: its ends bound it */
     }
 }
 
@@ -292,7 +296,7 @@ static CRANE__NOINLINE crane_real motion_bound(const crane_real k[RATES], const 
         /* a coordinate at rest over the step (the same value, no rate at either end) stays put */
         const int still = coord(s0, j) == coord(s1, j) && coord_rate(s0, j) == 0 &&
                           coord_rate(s1, j) == 0;
-        if (!still && (k[j] > 0 || (j == CRANE_TILT && k[LINK] > 0))) {
+        if (still == 0 && (k[j] > 0 || (j == CRANE_TILT && k[LINK] > 0))) {
             coord_range(s0, s1, j, ua, ub, &lo, &hi);
             d += k[j] * larger(hi - a->q[j], a->q[j] - lo);
             if (j == CRANE_TILT && k[LINK] > 0) {
@@ -317,7 +321,8 @@ static crane_real clearance(scene *sc, size_t j, crane__v3 *pa, crane__v3 *pb)
 {
     crane__v3 qa, qb;
     crane_real d = 0;
-    (void)crane__solid_distance(sc->posed, &sc->obstacles[j], &d, pa ? pa : &qa, pb ? pb : &qb);
+    (void)crane__solid_distance(sc->posed, &sc->obstacles[j], &d, pa != NULL ? pa : &qa,
+                                pb != NULL ? pb : &qb);
     sc->evaluations++;
     return d;
 }
@@ -389,8 +394,9 @@ static CRANE__NOINLINE int advance(scene *sc, size_t i, size_t j, const crane_re
 
 static crane_status check_config(const crane_guard_config *c)
 {
-    if (!crane__finite(c->margin) || !crane__finite(c->reaction) || !crane__finite(c->cycle) ||
-        !crane__finite(c->time_tolerance) || !crane__finite(c->clearance_tolerance)) {
+    if (crane__finite(c->margin) == 0 || crane__finite(c->reaction) == 0 ||
+        crane__finite(c->cycle) == 0 || crane__finite(c->time_tolerance) == 0 ||
+        crane__finite(c->clearance_tolerance) == 0) {
         return CRANE_E_NONFINITE;
         }
     if (c->margin < 0 || c->reaction < 0 || !(c->cycle > 0) || !(c->time_tolerance > 0) ||
@@ -412,26 +418,26 @@ static int part_field(const crane_part *p)
     if (p->kind != CRANE_SOLID_CAPSULE && p->kind != CRANE_SOLID_SPHERE && p->kind != CRANE_SOLID_BOX) {
         return CRANE_GUARD_FIELD_KIND;
     }
-    if (!anchor_ok(p->a)) {
+    if (anchor_ok(p->a) == 0) {
         return CRANE_GUARD_FIELD_A;
     }
     if (p->kind == CRANE_SOLID_CAPSULE) {
-        if (!anchor_ok(p->b)) {
+        if (anchor_ok(p->b) == 0) {
             return CRANE_GUARD_FIELD_B;
         }
-        if (!(crane__length_ok(p->radius) && p->radius >= 0)) {
+        if (!(crane__length_ok(p->radius) != 0 && p->radius >= 0)) {
             return CRANE_GUARD_FIELD_RADIUS;
         }
         return 0;
     }
-    if (!crane__length_ok(p->drop)) {
+    if (crane__length_ok(p->drop) == 0) {
         return CRANE_GUARD_FIELD_DROP;
     }
     if (p->kind == CRANE_SOLID_SPHERE) {
-        return crane__length_ok(p->radius) && p->radius > 0 ? 0 : CRANE_GUARD_FIELD_RADIUS;
+        return crane__length_ok(p->radius) != 0 && p->radius > 0 ? 0 : CRANE_GUARD_FIELD_RADIUS;
     }
     for (i = 0; i < 3; ++i) {
-        if (!(crane__length_ok(p->half[i]) && p->half[i] > 0)) {
+        if (!(crane__length_ok(p->half[i]) != 0 && p->half[i] > 0)) {
             return CRANE_GUARD_FIELD_HALF;
         }
     }
@@ -442,12 +448,13 @@ crane_status crane_guard_check(const crane_part *parts, size_t n_parts, const cr
                                size_t n_obstacles, size_t *which, int *field)
 {
     size_t i;
-    if ((n_parts && !parts) || (n_obstacles && !obstacles) || !which || !field) {
+    if ((n_parts != 0u && parts == NULL) || (n_obstacles != 0u && obstacles == NULL) ||
+        which == NULL || field == NULL) {
         return CRANE_E_NULL;
     }
     for (i = 0; i < n_parts; ++i) {
         const int f = part_field(&parts[i]);
-        if (f) {
+        if (f != 0) {
             *which = i;
             *field = f;
             return CRANE_E_PART;
@@ -455,7 +462,7 @@ crane_status crane_guard_check(const crane_part *parts, size_t n_parts, const cr
     }
     for (i = 0; i < n_obstacles; ++i) {
         const int f = crane__solid_field(&obstacles[i]);
-        if (f) {
+        if (f != 0) {
             *which = i;
             *field = f;
             return CRANE_E_SOLID;
@@ -474,15 +481,15 @@ crane_status crane_part_solids(const crane_model *model, const crane_part *parts
     pose p;
     crane_status st;
 
-    if (!model || !theta || (n_parts && (!parts || !out))) {
+    if (model == NULL || theta == NULL || (n_parts != 0u && (parts == NULL || out == NULL))) {
         return CRANE_E_NULL;
     }
     st = crane_guard_check(parts, n_parts, NULL, 0, &which, &field);
     if (st != CRANE_OK) {
         return st;
     }
-    if (!crane__finite(slew) || !crane__finite(extension) || !crane__finite(theta[0]) ||
-        !crane__finite(theta[1])) {
+    if (crane__finite(slew) == 0 || crane__finite(extension) == 0 || crane__finite(theta[0]) == 0 ||
+        crane__finite(theta[1]) == 0) {
         return CRANE_E_NONFINITE;
         }
     if (extension < model->params->extension_min || extension > model->params->extension_max) {
@@ -504,14 +511,14 @@ static crane_status check_samples(const crane_model *m, const crane_sample *s, s
     size_t k;
     int j;
     for (k = 0; k < n; ++k) {
-        if (!crane__finite(s[k].t)) {
+        if (crane__finite(s[k].t) == 0) {
             return CRANE_E_NONFINITE;
         }
         if (k > 0 && !(s[k].t > s[k - 1].t)) {
             return CRANE_E_SAMPLES;
         }
         for (j = 0; j < 4; ++j) {
-            if (!crane__finite(coord(&s[k], j)) || !crane__finite(coord_rate(&s[k], j))) {
+            if (crane__finite(coord(&s[k], j)) == 0 || crane__finite(coord_rate(&s[k], j)) == 0) {
                 return CRANE_E_NONFINITE;
             }
         }
@@ -645,8 +652,9 @@ crane_status crane_guard(const crane_model *model, const crane_part *parts, size
     int field, searching = 1;
     crane_status st;
 
-    if (!model || !samples || !config || !result || (n_parts && (!parts || !part_clearance)) ||
-        (n_obstacles && !obstacles) || (n_parts && !work)) {
+    if (model == NULL || samples == NULL || config == NULL || result == NULL ||
+        (n_parts != 0u && (parts == NULL || part_clearance == NULL)) ||
+        (n_obstacles != 0u && obstacles == NULL) || (n_parts != 0u && work == NULL)) {
         return CRANE_E_NULL;
         }
     st = check_config(config);
@@ -663,7 +671,7 @@ crane_status crane_guard(const crane_model *model, const crane_part *parts, size
     if (st != CRANE_OK) {
         return st;
     }
-    if (n_parts && (n_obstacles > ((size_t)-1) / n_parts - CRANE_GUARD_PART_WORK ||
+    if (n_parts != 0u && (n_obstacles > ((size_t)-1) / n_parts - CRANE_GUARD_PART_WORK ||
                     work_capacity < n_pairs + CRANE_GUARD_PART_WORK * n_parts)) {
         return CRANE_E_CAPACITY;
                     }
@@ -715,7 +723,7 @@ crane_status crane_guard(const crane_model *model, const crane_part *parts, size
             if (d < part_clearance[i]) {
                 part_clearance[i] = d;
             }
-            if (d <= margin && (!result->contact || d < result->clearance)) {
+            if (d <= margin && (result->contact == 0 || d < result->clearance)) {
                 record_contact(&sc, result, i, j, samples[0].t, &cur); /* re-poses ps: same pose */
                 result->at_start = 1;
                 for (k = 0; k < 4; ++k) {
@@ -741,18 +749,19 @@ crane_status crane_guard(const crane_model *model, const crane_part *parts, size
                 pp[CUM] += pp[r] * ex[r];
             }
             least = pp[MIN_KEY] - pp[CUM];
-            if ((!searching || least > margin) && least >= floor_min) {
+            if ((searching == 0 || least > margin) && least >= floor_min) {
                 continue;
             }
             for (j = 0; j < n_obstacles; ++j) {
                 crane_real *kj = &key[i * n_obstacles + j];
                 const crane_real lb = *kj - pp[CUM];
                 crane_real d;
-                if (searching && lb <= margin) {
+                if (searching != 0 && lb <= margin) {
                     crane_real u_hit;
                     if (advance(&sc, i, j, pp, s0, s1, margin,
-                                u_tolerance(config->time_tolerance, s1->t - s0->t), &u_hit, &d)) {
-                        if (!found || s0->t + u_hit * (s1->t - s0->t) < result->t) {
+                                u_tolerance(config->time_tolerance, s1->t - s0->t), &u_hit,
+                                &d) != 0) {
+                        if (found == 0 || s0->t + u_hit * (s1->t - s0->t) < result->t) {
                             note_contact(&sc, result, i, j, s0, s1, u_hit, hit_rate);
                             if (result->clearance < part_clearance[i]) {
                                 part_clearance[i] = result->clearance;
@@ -767,7 +776,7 @@ crane_status crane_guard(const crane_model *model, const crane_part *parts, size
                         part_clearance[i] = d;
                     }
                 } else if (lb < floor_min) {
-                    if (!posed) {
+                    if (posed == 0) {
                         part_solid(model, &parts[i], &cur, &ps);
                     }
                     posed = 1;
@@ -776,6 +785,8 @@ crane_status crane_guard(const crane_model *model, const crane_part *parts, size
                     if (d < part_clearance[i]) {
                         part_clearance[i] = d;
                     }
+                } else {
+                    /* its bound clears the margin and the part's least clearance: key kept */
                 }
                 if (*kj < min_key) {
                     min_key = *kj;
@@ -783,15 +794,15 @@ crane_status crane_guard(const crane_model *model, const crane_part *parts, size
             }
             pp[MIN_KEY] = min_key;
         }
-        if (found) {
+        if (found != 0) {
             searching = 0;
         }
     }
 
-    if (result->contact) {
+    if (result->contact != 0) {
         approach(&sc, result, hit_rate);
         result->stop_latest = result->t - config->reaction;
-        result->signal = (result->at_start || result->stop_latest < config->cycle) ? CRANE_STOP
+        result->signal = (result->at_start != 0 || result->stop_latest < config->cycle) ? CRANE_STOP
                                                                                    : CRANE_WARN;
     }
     result->evaluations = sc.evaluations;

@@ -109,11 +109,11 @@ const crane_hydraulics *crane__circuit(const crane_model *m, int joint)
     if (joint < 2) {
         h = &p->cylinder[joint].hydraulics;
     } else if (joint == CRANE_SLEW) {
-        h = p->slew_drive.present ? &p->slew_drive.hydraulics : NULL;
+        h = p->slew_drive.present != 0 ? &p->slew_drive.hydraulics : NULL;
     } else {
-        h = p->extension_cylinder.present ? &p->extension_cylinder.hydraulics : NULL;
+        h = p->extension_cylinder.present != 0 ? &p->extension_cylinder.hydraulics : NULL;
     }
-    return h && h->valve != CRANE_VALVE_NONE ? h : NULL;
+    return h != NULL && h->valve != CRANE_VALVE_NONE ? h : NULL;
 }
 
 /* The chamber volumes of actuator j at a stroke, V_a = V_hose,a + A_a (s - s_min) and
@@ -134,17 +134,18 @@ void crane__chamber_rates(const crane_model *m, int joint, crane_real lever, cra
 {
     const crane_hydraulics *const h = crane__circuit(m, joint);
     crane_real q_l, q_a, q_b, v_a, v_b;
-    crane_real ab[4];   /* the piston areas and the stroke range */
+    crane_real spool = y; /* the spool the valve's flows see: the lever itself without a lag */
+    crane_real ab[4];     /* the piston areas and the stroke range */
 
     /* the valve (the call) first, the chambers after: fewer values are held
      * across the calls, which keeps this frame, on the stack budget's deepest path, smaller */
     if (h->spool_time_constant > 0) {
         rate[2] = (lever - y) / h->spool_time_constant;
     } else {
-        y = lever;
+        spool = lever;
         rate[2] = 0;
     }
-    crane__valve_flows(h, y, p[0], p[1], &q_a, &q_b);
+    crane__valve_flows(h, spool, p[0], p[1], &q_a, &q_b);
     volumes(m, joint, h, stroke, ab, &v_a, &v_b);
     q_l = h->leakage * (p[0] - p[1]);
     /* the relief and anti-cavitation valves are not here: crane__limit_valves, implicitly */
@@ -276,7 +277,7 @@ void crane__limit_valves(const crane__limits *l, crane_real dt, crane_real *p, i
 
     /* chamber i: actuator i / 2, a side (even) or b side (odd) */
     for (i = 0; i < 8; ++i) {
-        if ((l->valves >> (i >> 1)) & 1u) {
+        if (((l->valves >> (i >> 1)) & 1u) != 0u) {
             const crane_hydraulics *const h = crane__circuit(l->m, i >> 1);
             crane_real *const pk = &p[stride * (i >> 1) + (i & 1)];
             /* the setting the pressure is beyond (none: ref = p, which leaves p exactly) */
@@ -340,7 +341,7 @@ long crane__substeps(const crane_model *m, const crane_real stroke[4], const int
     int j;
 
     for (j = 0; j < 4; ++j) {
-        if (valve[j]) {
+        if (valve[j] != 0) {
             const crane_real l = stiffness(m, j, stroke[j], &coef[2 * j]);
             if (l > lam) {
                 lam = l;
@@ -356,7 +357,7 @@ long crane__substeps_bound(const crane_model *m, const int valve[4], crane_real 
     int j;
 
     for (j = 0; j < 4; ++j) {
-        if (valve[j]) {
+        if (valve[j] != 0) {
             crane_real s_min, s_max, l, coef[2];
             crane__actuator_range(m, j, &s_min, &s_max);
             l = stiffness(m, j, s_min, coef);

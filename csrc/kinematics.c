@@ -35,14 +35,17 @@ crane_real crane__wrap_tilt(crane_real theta)
     const crane_real two_pi = 2 * crane__pi();
     const crane_real hi = crane__pi() / 2;
     const crane_real lo = -3 * crane__pi() / 2;
+    crane_real wrapped = theta;
 
     /* atan2 - alpha_a lies in (-2pi, 2pi), so one turn either way is enough. */
-    if (theta > hi) {
-        theta -= two_pi;
-    } else if (theta <= lo) {
-        theta += two_pi;
+    if (wrapped > hi) {
+        wrapped -= two_pi;
+    } else if (wrapped <= lo) {
+        wrapped += two_pi;
+    } else {
+        /* already in (lo, hi] */
     }
-    return theta;
+    return wrapped;
 }
 
 void crane__lift_from_stroke(const crane_model *m, crane_real stroke, crane_real *theta,
@@ -58,6 +61,8 @@ void crane__lift_from_stroke(const crane_model *m, crane_real stroke, crane_real
         cg = 1;
     } else if (cg < -1) {
         cg = -1;
+    } else {
+        /* within [-1, 1] */
     }
     gamma = crane__acos(cg);
     /* theta = gamma - eps + beta (eps, beta: crane__lift_offsets; this inverse runs only at the
@@ -80,10 +85,10 @@ void crane__lift_from_angle(const crane_model *m, crane_real c0, crane_real s0,
     const crane_real L2 = db * db + dr * dr - 2 * db * dr * cg;
     const crane_real L = crane__sqrt(L2 > 0 ? L2 : 0);
 
-    if (stroke) {
+    if (stroke != NULL) {
         *stroke = L - m->params->cylinder[CRANE_LIFT].length_retracted;
     }
-    if (ds) {
+    if (ds != NULL) {
         *ds = db * dr * sg / L;
     }
 }
@@ -117,10 +122,10 @@ int crane__tilt_from_stroke(const crane_model *m, crane_real stroke, crane_real 
     *theta = crane__wrap_tilt(crane__atan2(oa.y, oa.x) -
                               crane__atan2(p->link2_attach.y, p->link2_attach.x));
     *ds = tilt_ds(p, Q, A, L);
-    if (q) {
+    if (q != NULL) {
         *q = Q;
     }
-    if (a) {
+    if (a != NULL) {
         *a = A;
     }
     return ok;
@@ -136,16 +141,16 @@ void crane__tilt_from_angle(const crane_model *m, crane_real c1, crane_real s1,
 
     (void)circle(p->link1_pivot, m->tilt_l1, A, m->tilt_l2, m->tilt_branch, &Q);
     L = crane__norm(crane__sub(Q, p->tilt_cylinder_base));
-    if (stroke) {
+    if (stroke != NULL) {
         *stroke = L - p->cylinder[CRANE_TILT].length_retracted;
     }
-    if (ds) {
+    if (ds != NULL) {
         *ds = tilt_ds(p, Q, A, L);
     }
-    if (q) {
+    if (q != NULL) {
         *q = Q;
     }
-    if (a) {
+    if (a != NULL) {
         *a = A;
     }
 }
@@ -201,7 +206,7 @@ void crane__tilt_kinematics(const crane_model *m, crane_real c1, crane_real s1,
     L = crane__norm(crane__sub(tk->q, p->tilt_cylinder_base));
     tk->stroke = L - p->cylinder[CRANE_TILT].length_retracted;
     tk->ds = tilt_ds(p, tk->q, tk->a, L);
-    if (m->links) {
+    if (m->links != 0) {
         side_links(m, tk);
     }
 }
@@ -210,16 +215,19 @@ void crane__tilt_kinematics(const crane_model *m, crane_real c1, crane_real s1,
 static crane_real wrap_2pi(crane_real x)
 {
     const crane_real two_pi = 2 * crane__pi();
+    crane_real wrapped = x;
     int k;
 
     for (k = 0; k < 2; ++k) {
-        if (x < 0) {
-            x += two_pi;
-        } else if (x >= two_pi) {
-            x -= two_pi;
+        if (wrapped < 0) {
+            wrapped += two_pi;
+        } else if (wrapped >= two_pi) {
+            wrapped -= two_pi;
+        } else {
+            /* already in [0, 2pi) */
         }
     }
-    return x;
+    return wrapped;
 }
 
 /* The pins of the four-bar at psi, the angle at P1 from u = (B2 - P1)/|B2 - P1| clockwise to
@@ -349,7 +357,7 @@ crane_field crane__fourbar_check(crane_model *m)
         const crane_real s =
             k == 0 ? crane__stroke_min(m, CRANE_TILT) : crane__stroke_max(m, CRANE_TILT);
         (void)crane__tilt_from_stroke(m, s, &theta[k], &ds[k], NULL, NULL);
-        if (!(theta[k] > lo && theta[k] < hi) || !crane__finite(ds[k]) || !(ds[k] != 0)) {
+        if (!(theta[k] > lo && theta[k] < hi) || crane__finite(ds[k]) == 0 || !(ds[k] != 0)) {
             return CRANE_FIELD_GEOMETRY_LINK2_ATTACH;
         }
     }
@@ -364,13 +372,13 @@ crane_status crane_joint_angle(const crane_model *model, int joint, crane_real s
 {
     crane_real th, ds;
 
-    if (!model || !theta || !dstroke_dtheta) {
+    if (model == NULL || theta == NULL || dstroke_dtheta == NULL) {
         return CRANE_E_NULL;
     }
     if (joint != CRANE_LIFT && joint != CRANE_TILT) {
         return CRANE_E_CYLINDER;
     }
-    if (!crane__finite(stroke)) {
+    if (crane__finite(stroke) == 0) {
         return CRANE_E_NONFINITE;
     }
     if (stroke < crane__stroke_min(model, joint) || stroke > crane__stroke_max(model, joint)) {
@@ -391,13 +399,13 @@ crane_status crane_joint_stroke(const crane_model *model, int joint, crane_real 
 {
     crane_real s, c1, s1;
 
-    if (!model || !stroke) {
+    if (model == NULL || stroke == NULL) {
         return CRANE_E_NULL;
     }
     if (joint != CRANE_LIFT && joint != CRANE_TILT) {
         return CRANE_E_CYLINDER;
     }
-    if (!crane__finite(theta)) {
+    if (crane__finite(theta) == 0) {
         return CRANE_E_NONFINITE;
     }
     if (theta < model->theta_min[joint] || theta > model->theta_max[joint]) {
@@ -431,10 +439,10 @@ crane_status crane_points(const crane_model *model, crane_real slew, size_t n,
     crane_real cpsi, spsi;
     size_t k;
 
-    if (!model) {
+    if (model == NULL) {
         return CRANE_E_NULL;
     }
-    if (n > 0 && (!theta || !xyz)) {
+    if (n > 0 && (theta == NULL || xyz == NULL)) {
         return CRANE_E_NULL;
     }
     /* n poses are 2 n angles in and 3 CRANE_N_POINTS n coordinates out: a count whose sizes do
@@ -442,12 +450,12 @@ crane_status crane_points(const crane_model *model, crane_real slew, size_t n,
     if (n > SIZE_MAX / (3 * (size_t)CRANE_N_POINTS * sizeof(crane_real))) {
         return CRANE_E_OVERFLOW;
     }
-    if (!crane__finite(slew)) {
+    if (crane__finite(slew) == 0) {
         return CRANE_E_NONFINITE;
     }
     /* Validate every pose before the first write. */
     for (k = 0; k < 2 * n; ++k) {
-        if (!crane__finite(theta[k])) {
+        if (crane__finite(theta[k]) == 0) {
             return CRANE_E_NONFINITE;
         }
     }
@@ -512,20 +520,21 @@ void crane__sincosf(float x, float *sp, float *cp)
                        S4 = 2.7557314297e-06f;
     static const float C1 = 4.1666667908e-02f, C2 = -1.3888889225e-03f, C3 = 2.4801587642e-05f,
                        C4 = -2.7557314297e-07f;
+    float a = x; /* the argument, below 64 in magnitude once reduced */
     float r, z, s, c, fk;
     int k;
 
-    if (!(fabsf(x) <= 64.0f)) {
-        x = fmodf(x, 6.2831854820e+00f);
+    if (!(fabsf(a) <= 64.0f)) {
+        a = fmodf(a, 6.2831854820e+00f);
     }
-    if (!(x == x)) {
-        *sp = *cp = x;
+    if (!(a == a)) {
+        *sp = *cp = a;
         return;
     }
-    fk = x * two_over_pi;
+    fk = a * two_over_pi;
     k = (int)(fk < 0 ? fk - 0.5f : fk + 0.5f);
     fk = (float)k;
-    r = ((x - fk * pio2_1) - fk * pio2_2) - (fk * pio2_3 + fk * pio2_3t);
+    r = ((a - fk * pio2_1) - fk * pio2_2) - (fk * pio2_3 + fk * pio2_3t);
     z = r * r;
     s = r + r * z * (S1 + z * (S2 + z * (S3 + z * S4)));
     c = 1.0f - 0.5f * z + z * z * (C1 + z * (C2 + z * (C3 + z * C4)));

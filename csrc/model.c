@@ -19,12 +19,14 @@ static void rule(verdict *v, crane_field f, crane_real x, int ok, crane_status b
     if (v->status != CRANE_OK) {
         return;
     }
-    if (!crane__finite(x)) {
+    if (crane__finite(x) == 0) {
         v->status = CRANE_E_NONFINITE;
         v->field = f;
-    } else if (!ok) {
+    } else if (ok == 0) {
         v->status = bad;
         v->field = f;
+    } else {
+        /* finite and keeps its rule */
     }
 }
 
@@ -40,9 +42,10 @@ static void point_rule(verdict *v, crane_field f, crane_vec2 x)
  * may give ixy and leave out ixx (taken as 0), and [S1]'s tensors are what they are. */
 static void body_rules(verdict *v, crane_field mass, const crane_body *b, int massless_ok)
 {
-    rule(v, mass, b->mass, massless_ok ? b->mass >= 0 : b->mass > 0, CRANE_E_BODY);
+    rule(v, mass, b->mass, massless_ok != 0 ? b->mass >= 0 : b->mass > 0, CRANE_E_BODY);
     point_rule(v, (crane_field)(mass + 1), b->com);
-    rule(v, (crane_field)(mass + 2), b->izz, massless_ok ? b->izz >= 0 : b->izz > 0, CRANE_E_BODY);
+    rule(v, (crane_field)(mass + 2), b->izz, massless_ok != 0 ? b->izz >= 0 : b->izz > 0,
+         CRANE_E_BODY);
     rule(v, (crane_field)(mass + 3), b->ixx, b->ixx >= 0, CRANE_E_BODY);
     rule(v, (crane_field)(mass + 4), b->iyy, b->iyy >= 0, CRANE_E_BODY);
     rule(v, (crane_field)(mass + 5), b->ixy, 1, CRANE_OK);
@@ -89,12 +92,13 @@ static void hydraulics_rules(verdict *v, crane_field first, const crane_hydrauli
     rule(v, block_field(first, lift, CRANE_FIELD_LIFT_CYLINDER_HYDRAULICS_NOMINAL_PRESSURE_DROP),
          h->nominal_pressure_drop, h->nominal_pressure_drop > 0, bad);
     rule(v, block_field(first, lift, CRANE_FIELD_LIFT_CYLINDER_HYDRAULICS_DEAD_BAND), h->dead_band,
-         comp ? h->dead_band >= 0 && h->dead_band <= (crane_real)0.99 : h->dead_band == 0, bad);
+         comp != 0 ? h->dead_band >= 0 && h->dead_band <= (crane_real)0.99 : h->dead_band == 0,
+         bad);
     rule(v, block_field(first, lift, CRANE_FIELD_LIFT_CYLINDER_HYDRAULICS_METER_OUT_FLOW),
-         h->meter_out_flow, comp ? h->meter_out_flow > 0 : h->meter_out_flow >= 0, bad);
+         h->meter_out_flow, comp != 0 ? h->meter_out_flow > 0 : h->meter_out_flow >= 0, bad);
     rule(v, block_field(first, lift, CRANE_FIELD_LIFT_CYLINDER_HYDRAULICS_METER_OUT_PRESSURE_DROP),
          h->meter_out_pressure_drop,
-         comp ? h->meter_out_pressure_drop > 0 : h->meter_out_pressure_drop >= 0, bad);
+         comp != 0 ? h->meter_out_pressure_drop > 0 : h->meter_out_pressure_drop >= 0, bad);
     rule(v, block_field(first, lift, CRANE_FIELD_LIFT_CYLINDER_HYDRAULICS_SPOOL_TIME_CONSTANT),
          h->spool_time_constant, h->spool_time_constant >= 0 && h->spool_time_constant <= 10, bad);
     rule(v, block_field(first, lift, CRANE_FIELD_LIFT_CYLINDER_HYDRAULICS_LAMINAR_PRESSURE_DROP),
@@ -157,7 +161,7 @@ static void actuator_rules(verdict *v, const crane_params *p)
     const crane_slew_drive *sd = &p->slew_drive;
     const crane_extension_cylinder *ec = &p->extension_cylinder;
 
-    if (sd->present) {
+    if (sd->present != 0) {
         rule(v, CRANE_FIELD_SLEW_DRIVE_BORE, sd->bore, sd->bore > 0, CRANE_E_CYLINDER);
         rule(v, CRANE_FIELD_SLEW_DRIVE_PINION_RADIUS, sd->pinion_radius, sd->pinion_radius > 0,
              CRANE_E_CYLINDER);
@@ -167,7 +171,7 @@ static void actuator_rules(verdict *v, const crane_params *p)
         friction_rules(v, CRANE_FIELD_SLEW_DRIVE_FRICTION_COULOMB, &sd->friction);
         hydraulics_rules(v, CRANE_FIELD_SLEW_DRIVE_HYDRAULICS_VALVE, &sd->hydraulics);
     }
-    if (ec->present) {
+    if (ec->present != 0) {
         rule(v, CRANE_FIELD_EXTENSION_CYLINDER_ROD, ec->rod, ec->rod > 0, CRANE_E_CYLINDER);
         rule(v, CRANE_FIELD_EXTENSION_CYLINDER_BORE, ec->bore, ec->bore > ec->rod, CRANE_E_CYLINDER);
         friction_rules(v, CRANE_FIELD_EXTENSION_CYLINDER_FRICTION_COULOMB, &ec->friction);
@@ -253,7 +257,7 @@ const char *crane_field_rule(crane_field field)
 
     for (k = 0; k < 4; ++k) {
         const char *r = block_rule(field, blocks[k][0], blocks[k][1]);
-        if (r) {
+        if (r != NULL) {
             return r;
         }
     }
@@ -366,7 +370,7 @@ crane_status crane__model_derive(crane_model *m, const crane_params *params, cra
     if (st != CRANE_OK) {
         return st;
     }
-    if (!crane__finite(extension)) {
+    if (crane__finite(extension) == 0) {
         return CRANE_E_NONFINITE;
     }
     if (extension < p->extension_min || extension > p->extension_max) {
@@ -456,7 +460,7 @@ crane_status crane_model_init(crane_model *model, const crane_params *params, cr
     crane_field field;
     crane_status st;
 
-    if (!model || !params) {
+    if (model == NULL || params == NULL) {
         return CRANE_E_NULL;
     }
     st = crane__model_derive(&m, params, extension, &field);
@@ -474,14 +478,14 @@ crane_status crane_params_check(const crane_params *params, crane_field *field)
     crane_field f = CRANE_FIELD_NONE;
     crane_status st;
 
-    if (field) {
+    if (field != NULL) {
         *field = CRANE_FIELD_NONE;
     }
-    if (!params) {
+    if (params == NULL) {
         return CRANE_E_NULL;
     }
     st = crane__model_derive(&m, params, params->extension_min, &f);
-    if (field) {
+    if (field != NULL) {
         *field = st == CRANE_OK ? CRANE_FIELD_NONE : f;
     }
     return st;
@@ -527,6 +531,8 @@ const char *crane_status_message(crane_status status)
     case CRANE_E_GUARD:
     case CRANE_E_ESTIMATOR: /* the optional modules' messages: the guard's, then the estimator's */
         return crane__guard_status_message(status);
+    default: /* not a crane_status: the fallback after the switch */
+        break;
     }
     return crane__guard_status_message(status);
 }

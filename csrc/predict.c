@@ -16,7 +16,7 @@ static crane_status step_count(crane_real horizon, crane_real dt, long *n_steps)
 {
     double q, n;
 
-    if (!crane__finite(horizon) || !crane__finite(dt)) {
+    if (crane__finite(horizon) == 0 || crane__finite(dt) == 0) {
         return CRANE_E_NONFINITE;
     }
     if (!(horizon > 0)) {
@@ -55,7 +55,7 @@ crane_status crane_sample_count(crane_real horizon, crane_real dt, size_t *count
     long n;
     crane_status st;
 
-    if (!count) {
+    if (count == NULL) {
         return CRANE_E_NULL;
     }
     st = step_count(horizon, dt, &n);
@@ -104,35 +104,36 @@ static crane_status check_valve(const crane_model *model, int i, const crane_sta
     size_t k;
 
 #if CRANE_HYDRAULICS
-    if (!crane__circuit(model, i)) {
+    if (crane__circuit(model, i) == NULL) {
         return CRANE_E_VALVE;
     }
 #else
     (void)model;
     return CRANE_E_VALVE;
 #endif
-    if (!crane__finite(s->p_a[i]) || !crane__finite(s->p_b[i]) || !crane__finite(s->spool[i])) {
+    if (crane__finite(s->p_a[i]) == 0 || crane__finite(s->p_b[i]) == 0 ||
+        crane__finite(s->spool[i]) == 0) {
         return CRANE_E_NONFINITE;
     }
-    if (!chamber_ok(s->p_a[i]) || !chamber_ok(s->p_b[i]) || !lever_ok(s->spool[i])) {
+    if (chamber_ok(s->p_a[i]) == 0 || chamber_ok(s->p_b[i]) == 0 || lever_ok(s->spool[i]) == 0) {
         return CRANE_E_VALVE;
     }
     if (d->n_samples == 0) {
-        if (!crane__finite(d->u)) {
+        if (crane__finite(d->u) == 0) {
             return CRANE_E_NONFINITE;
         }
-        return lever_ok(d->u) ? CRANE_OK : CRANE_E_VALVE;
+        return lever_ok(d->u) != 0 ? CRANE_OK : CRANE_E_VALVE;
     }
-    if (!d->t || !d->u_samples) {
+    if (d->t == NULL || d->u_samples == NULL) {
         return CRANE_E_NULL;
     }
     for (k = 0; k < d->n_samples; ++k) {
-        if (!crane__finite(d->t[k]) || !crane__finite(d->u_samples[k])) {
+        if (crane__finite(d->t[k]) == 0 || crane__finite(d->u_samples[k]) == 0) {
             return CRANE_E_NONFINITE;
         }
     }
     for (k = 0; k < d->n_samples; ++k) {
-        if (!lever_ok(d->u_samples[k])) {
+        if (lever_ok(d->u_samples[k]) == 0) {
             return CRANE_E_VALVE;
         }
     }
@@ -146,7 +147,7 @@ static crane_status check_drive(const crane_drive *d, crane_real stroke_rate, cr
     if (d->mode != CRANE_DRIVE_PRESSURE && d->mode != CRANE_DRIVE_HOLD) {
         return CRANE_E_DRIVE;
     }
-    if (!crane__finite(d->p_a) || !crane__finite(d->p_b)) {
+    if (crane__finite(d->p_a) == 0 || crane__finite(d->p_b) == 0) {
         return CRANE_E_NONFINITE;
     }
     if (d->mode == CRANE_DRIVE_HOLD) {
@@ -154,20 +155,20 @@ static crane_status check_drive(const crane_drive *d, crane_real stroke_rate, cr
         return stroke_rate != 0 ? CRANE_E_STROKE_RATE : CRANE_OK;
     }
     if (d->n_samples == 0) {
-        return pressure_ok(d->p_a) && pressure_ok(d->p_b) ? CRANE_OK : CRANE_E_PRESSURE;
+        return pressure_ok(d->p_a) != 0 && pressure_ok(d->p_b) != 0 ? CRANE_OK : CRANE_E_PRESSURE;
     }
 
-    if (!d->t || !d->p_a_samples || !d->p_b_samples) {
+    if (d->t == NULL || d->p_a_samples == NULL || d->p_b_samples == NULL) {
         return CRANE_E_NULL;
     }
     for (k = 0; k < d->n_samples; ++k) {
-        if (!crane__finite(d->t[k]) || !crane__finite(d->p_a_samples[k]) ||
-            !crane__finite(d->p_b_samples[k])) {
+        if (crane__finite(d->t[k]) == 0 || crane__finite(d->p_a_samples[k]) == 0 ||
+            crane__finite(d->p_b_samples[k]) == 0) {
             return CRANE_E_NONFINITE;
             }
     }
     for (k = 0; k < d->n_samples; ++k) {
-        if (!pressure_ok(d->p_a_samples[k]) || !pressure_ok(d->p_b_samples[k])) {
+        if (pressure_ok(d->p_a_samples[k]) == 0 || pressure_ok(d->p_b_samples[k]) == 0) {
             return CRANE_E_PRESSURE;
         }
     }
@@ -184,7 +185,7 @@ static crane_status check_joint4(const crane_model *model, int j, const crane_st
     const crane_real rate = j == CRANE_SLEW ? s->slew_rate : s->extension_rate;
     const int present = j == CRANE_SLEW ? p->slew_drive.present : p->extension_cylinder.present;
 
-    if (j == CRANE_SLEW && present &&
+    if (j == CRANE_SLEW && present != 0 &&
         (s->slew < p->slew_drive.slew_min || s->slew > p->slew_drive.slew_max)) {
         return CRANE_E_ANGLE;
         }
@@ -194,7 +195,7 @@ static crane_status check_joint4(const crane_model *model, int j, const crane_st
     if (d->mode != CRANE_DRIVE_PRESSURE && d->mode != CRANE_DRIVE_VALVE) {
         return CRANE_E_DRIVE;
     }
-    if (!present) {
+    if (present == 0) {
         return CRANE_E_ACTUATOR;
     }
     if (d->mode == CRANE_DRIVE_VALVE) {
@@ -217,21 +218,23 @@ static crane_status check_future(const crane_model *model, const crane_state *st
         sv->method != CRANE_METHOD_RK4) {
         return CRANE_E_METHOD;
     }
-    if (!CRANE_ROSW && sv->method == CRANE_METHOD_ROSW) {
+    if (CRANE_ROSW == 0 && sv->method == CRANE_METHOD_ROSW) {
         return CRANE_E_METHOD;
     }
     if (sv->method == CRANE_METHOD_ROSW &&
-        ((sv->tip_tolerance != 0 && !crane__in_range(sv->tip_tolerance, (crane_real)1e-9, 1)) ||
-         (sv->pressure_tolerance != 0 && !crane__in_range(sv->pressure_tolerance, 1, (crane_real)1e7)))) {
+        ((sv->tip_tolerance != 0 &&
+          crane__in_range(sv->tip_tolerance, (crane_real)1e-9, 1) == 0) ||
+         (sv->pressure_tolerance != 0 &&
+          crane__in_range(sv->pressure_tolerance, 1, (crane_real)1e7) == 0))) {
         return CRANE_E_METHOD;
     }
     for (i = 0; i < 2; ++i) {
-        if (!crane__finite(state0->stroke[i]) || !crane__finite(state0->stroke_rate[i])) {
+        if (crane__finite(state0->stroke[i]) == 0 || crane__finite(state0->stroke_rate[i]) == 0) {
             return CRANE_E_NONFINITE;
         }
     }
-    if (!crane__finite(state0->slew) || !crane__finite(state0->slew_rate) ||
-        !crane__finite(state0->extension_rate)) {
+    if (crane__finite(state0->slew) == 0 || crane__finite(state0->slew_rate) == 0 ||
+        crane__finite(state0->extension_rate) == 0) {
         return CRANE_E_NONFINITE;
         }
     for (i = 0; i < 2; ++i) {
@@ -326,12 +329,12 @@ static crane_status check_work(const crane_model *m, const crane_inputs *in, cra
     long n_max = 1, work;
 
     /* the error-controlled method: its attempt cap (docs/model.md, "Integration") */
-    if (CRANE_ROSW && in->solver.method == CRANE_METHOD_ROSW) {
+    if (CRANE_ROSW != 0 && in->solver.method == CRANE_METHOD_ROSW) {
         work = crane__attempt_cap(horizon);
         if (work > (long)CRANE_MAX_STEPS) {
             return CRANE_E_STEPS;
         }
-        if (total) {
+        if (total != NULL) {
             if (work > (long)CRANE_MAX_BATCH_STEPS - *total) {
                 return CRANE_E_BATCH;
             }
@@ -346,7 +349,7 @@ static crane_status check_work(const crane_model *m, const crane_inputs *in, cra
         valve[j] = in->drive[j].mode == CRANE_DRIVE_VALVE;
         any = any || valve[j];
     }
-    if (any) {
+    if (any != 0) {
         n_max = crane__substeps_bound(m, valve, h);
     }
 #endif
@@ -372,7 +375,7 @@ static crane_status check_work(const crane_model *m, const crane_inputs *in, cra
         return CRANE_E_STEPS;
     }
     work += knots;
-    if (total) {
+    if (total != NULL) {
         if (work > (long)CRANE_MAX_BATCH_STEPS - *total) {
             return CRANE_E_BATCH;
         }
@@ -404,7 +407,7 @@ static CRANE__ALWAYS_INLINE crane_status predict(const crane_model *model,
     crane_status st;
     long n_steps;
 
-    if (!crane__finite(state0->extension)) {
+    if (crane__finite(state0->extension) == 0) {
         return CRANE_E_NONFINITE;
     }
     if (state0->extension != model->extension) {
@@ -437,7 +440,7 @@ crane_status crane_predict(const crane_params *params, const crane_state *state0
     crane_field field;
     crane_status st;
 
-    if (!params || !state0 || !inputs || !out || !n_written) {
+    if (params == NULL || state0 == NULL || inputs == NULL || out == NULL || n_written == NULL) {
         return CRANE_E_NULL;
     }
     st = crane__model_derive(&model, params, state0->extension, &field);
@@ -451,7 +454,7 @@ crane_status crane_predict_model(const crane_model *model, const crane_state *st
                                  const crane_inputs *inputs, crane_real horizon, crane_real dt,
                                  crane_sample *out, size_t capacity, size_t *n_written)
 {
-    if (!model || !state0 || !inputs || !out || !n_written) {
+    if (model == NULL || state0 == NULL || inputs == NULL || out == NULL || n_written == NULL) {
         return CRANE_E_NULL;
     }
     return crane__predict_every(model, state0, inputs, horizon, dt, 1, out, capacity, n_written);
@@ -471,7 +474,7 @@ crane_status crane_sample_count_every(crane_real horizon, crane_real dt, size_t 
     long n;
     crane_status st;
 
-    if (!count) {
+    if (count == NULL) {
         return CRANE_E_NULL;
     }
     if (sample_every == 0 || sample_every > (size_t)LONG_MAX) {
@@ -504,7 +507,7 @@ static CRANE__NOINLINE crane_status check_futures(crane_model *model, const cran
 
     for (k = 0; k < n_futures; ++k) {
         const crane_state *s = &states[k];
-        if (k == 0 || each || !(s->extension == states[k - 1].extension)) {
+        if (k == 0 || each != 0u || !(s->extension == states[k - 1].extension)) {
             /* straight into the caller's model: crane_model_init's own copy would add its size
              * to the entry point's stack */
             st = crane__model_derive(model, params + k * each, s->extension, &field);
@@ -540,18 +543,18 @@ crane_status crane_predict_many(const crane_params *params, size_t n_params, siz
     /* 1: params[k] is future k's crane; 0: params[0] is every future's */
     const size_t each = n_params != 1;
 
-    if (!failed) {
+    if (failed == NULL) {
         return CRANE_E_NULL;
     }
     *failed = n_futures;
-    if (!params || (n_futures > 0 && (!states || !inputs || !out))) {
+    if (params == NULL || (n_futures > 0 && (states == NULL || inputs == NULL || out == NULL))) {
         return CRANE_E_NULL;
     }
-    if (each && n_params != n_futures) {
+    if (each != 0u && n_params != n_futures) {
         return CRANE_E_PARAMS;
     }
     /* one crane for all: checked as a shared argument; a crane per future: with its future */
-    st = each ? CRANE_OK : crane__check_params(params, &field);
+    st = each != 0u ? CRANE_OK : crane__check_params(params, &field);
     if (st != CRANE_OK) {
         return st;
     }
@@ -578,7 +581,7 @@ crane_status crane_predict_many(const crane_params *params, size_t n_params, siz
         return st;
     }
     for (k = 0; k < n_futures; ++k) {
-        if (k == 0 || each || !(states[k].extension == states[k - 1].extension)) {
+        if (k == 0 || each != 0u || !(states[k].extension == states[k - 1].extension)) {
             (void)crane__model_derive(&model, params + k * each, states[k].extension, &field);
         }
         st = integrate(&model, &states[k], &inputs[k], horizon, dt, n_steps, (long)sample_every,

@@ -41,7 +41,7 @@ crane_status crane_step(const crane_model *model, const crane_state *state,
     crane_status st;
     size_t n_written;
 
-    if (!model || !state || !inputs || !next || !out) {
+    if (model == NULL || state == NULL || inputs == NULL || next == NULL || out == NULL) {
         return CRANE_E_NULL;
     }
     /* LONG_MAX: no step but the last is kept, so out[2] holds the period's two ends */

@@ -6,7 +6,8 @@
 Runs cppcheck on csrc/*.c (and so on the headers they include: crane.h, crane_internal.h; not the
 tests, fuzzer, example, benchmark or board harnesses) in every preprocessor configuration it finds
 (double and -DCRANE_FLOAT), prints the violations per rule, and fails on:
-  * a violation of a rule that deviations.txt does not list (a new violation);
+  * a violation of a rule that deviations.txt does not list (a new violation), or lists for some
+    files only ("only:FILE,..." before the reason) and that occurs in another file;
   * any mandatory rule (MISRA C:2012 with Amendments 1 and 2; never deviable) and any cppcheck
     error (e.g. an uninitialised read, rule 9.1);
   * a cppcheck finding that is not a rule (e.g. a file it could not parse).
@@ -32,12 +33,23 @@ LINE = re.compile(r"^(?P<file>[^:]+):(?P<line>\d+):(?P<severity>\w+):(?P<id>[\w.
 
 
 def deviations(path):
+    """{rule: (category, reason, files)}: files is None (anywhere in the core) or the set of files
+    (relative to csrc/) the deviation is scoped to, given as "only:FILE,FILE" before the reason."""
     dev = {}
     for line in open(path):
         if line.strip() and not line.startswith("#"):
             rule, category, reason = line.split(None, 2)
-            dev[rule] = (category, reason.strip())
+            files = None
+            if reason.startswith("only:"):
+                scope, reason = reason.split(None, 1)
+                files = set(scope[len("only:"):].split(","))
+            dev[rule] = (category, reason.strip(), files)
     return dev
+
+
+def outside(where, files):
+    """The violations (file:line) outside a deviation's files (all of them inside if None)."""
+    return [w for w in where if files is not None and w.rsplit(":", 1)[0] not in files]
 
 
 def main(argv=None):
@@ -80,8 +92,13 @@ def main(argv=None):
             status = "FAIL (mandatory)" if n else "deviation listed for a mandatory rule: FAIL"
             problems.append(f"rule {rule} is mandatory: " +
                             (", ".join(by_rule[rule]) if n else "it cannot be deviated"))
+        elif rule in dev and outside(by_rule.get(rule, []), dev[rule][2]):
+            status = "NEW VIOLATION outside " + ",".join(sorted(dev[rule][2]))
+            problems.append(f"rule {rule} (deviated in {', '.join(sorted(dev[rule][2]))} only): "
+                            f"{', '.join(outside(by_rule[rule], dev[rule][2]))}")
         elif rule in dev:
-            status = "deviation" if n else "deviation, no instance found now"
+            scope = f" ({','.join(sorted(dev[rule][2]))} only)" if dev[rule][2] else ""
+            status = ("deviation" if n else "deviation, no instance found now") + scope
         else:
             status = "NEW VIOLATION"
             problems.append(f"rule {rule} (not deviated): {', '.join(by_rule[rule])}")
@@ -90,6 +107,8 @@ def main(argv=None):
         print("\n| rule | category | count | reason |\n|---|---|---|---|")
         for rule in sorted(dev, key=key):
             reason = re.sub(r"(\|\|)", r"`\\|\\|`", dev[rule][1])
+            if dev[rule][2]:
+                reason = f"({', '.join(sorted(dev[rule][2]))} only) {reason}"
             print(f"| {rule} | {dev[rule][0]} | {len(by_rule.get(rule, []))} | {reason} |")
     for p in problems:
         print("FAIL  " + p)
