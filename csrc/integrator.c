@@ -12,9 +12,6 @@
  * Everything here runs on inputs that crane_predict has already validated.
  */
 #include "crane_internal.h"
-#ifdef ROS_DEBUG
-#include <stdio.h>
-#endif
 
 /* State layout: q[4], qd[4], then with valve-driven actuators joint j's p_a, p_b and spool at
  * H + 3j (the order of crane__chamber_rates's rates); entries of joints that are not valve-driven
@@ -73,9 +70,6 @@ typedef struct {
     /* its tolerances: tip metres over the crane's reach (angles), tip metres (the extension),
      * Pa (the pressures) */
     crane_real tol_q, tol_tip, tol_p;
-#endif
-#ifdef ROS_DEBUG
-    int dbg_i;
 #endif
 } ctx_t;
 
@@ -1154,6 +1148,9 @@ static CRANE__NOINLINE crane_real ros_step(ctx_t *c, crane_real t, const xstate 
         for (i = 0; i < n; ++i) {
             crane_real v = 0;
             for (k = 0; k < s; ++k) {
+                /* u[k] for k < s was written at stage k (cppcheck 2.10 does not see it: a false
+                 * "uninitvar") */
+                /* cppcheck-suppress uninitvar */
                 v += ROS_C[row + k] * u[k].v[i];
             }
             xs.v[i] = gh * xs.v[i] + ROS_GAMMA * v;
@@ -1171,9 +1168,6 @@ static CRANE__NOINLINE crane_real ros_step(ctx_t *c, crane_real t, const xstate 
                              ROS_M[3] * xs.v[i]);
         if (!(r <= err)) {
             err = r; /* and NaN stays */
-#ifdef ROS_DEBUG
-            c->dbg_i = i;
-#endif
         }
     }
     return err;
@@ -1317,11 +1311,13 @@ static CRANE__NOINLINE crane_status integrate_rosw(ctx_t *c, xstate *x, crane_re
     crane_real t = 0, h = dt < ROS_FIRST_STEP ? dt : ROS_FIRST_STEP, grow = ROS_GROW;
     long attempts = 0, kept = sample_every;
     size_t next = 1;
+    int more = 1;
 
     release(c, 0, x);
     c->open = 0;
     step_start(c, 0, x, &f0, 0, &J);
-    while (t < horizon) {
+    /* an int controls the loop (MISRA 14.1): 0 once the step that ends at the horizon is taken */
+    while (more != 0) {
         crane_real hs = h < ROS_MAX_STEP ? h : ROS_MAX_STEP, err, tau = 0;
         int last = 0, first, chamber, upper = 0, changed = 0, i;
 
@@ -1335,9 +1331,6 @@ static CRANE__NOINLINE crane_status integrate_rosw(ctx_t *c, xstate *x, crane_re
             return CRANE_E_TOLERANCE;
         }
         err = ros_step(c, t, x, &f0, &J, hs, &x1);
-#ifdef ROS_DEBUG
-        fprintf(stderr, "t %.6f h %.3e err %.3e p %.3e %.3e i %d x %.6e\n", (double)t, (double)hs, (double)err, (double)x1.v[H], (double)x1.v[H+1], c->dbg_i, (double)x1.v[c->dbg_i]);
-#endif
         if (!(err <= 1)) {
             if (hs <= ROS_MIN_STEP) {
                 *n_written = next;
@@ -1372,15 +1365,9 @@ static CRANE__NOINLINE crane_status integrate_rosw(ctx_t *c, xstate *x, crane_re
             continue;
         }
         if (first >= 0 || chamber >= 0) {
-#ifdef ROS_DEBUG
-            fprintf(stderr, "EVENT joint %d chamber %d at t %g\n", first, chamber, (double)(t + tau));
-#endif
             hs = tau;
             last = 0;
             (void)ros_step(c, t, x, &f0, &J, hs, &x1);
-#ifdef ROS_DEBUG
-            if (first >= 0) fprintf(stderr, "  residual q %g (w %g) -> dt %g\n", (double)(x1.v[Q + first] - (upper ? hi_q(c, first) : lo_q(c, first))), (double)x1.v[W + first], (double)((x1.v[Q + first] - (upper ? hi_q(c, first) : lo_q(c, first))) / x1.v[W + first]));
-#endif
 #if CRANE_HYDRAULICS
             if (chamber >= 0) {
                 crane_real set;
@@ -1393,9 +1380,6 @@ static CRANE__NOINLINE crane_status integrate_rosw(ctx_t *c, xstate *x, crane_re
             /* a stopped joint comes free inside the step: bisect for the time (f1 is scratch) */
             crane_real lo = 0, hi = hs;
             int k;
-#ifdef ROS_DEBUG
-            fprintf(stderr, "RELEASE bisect at t %g\n", (double)t);
-#endif
             for (k = 0; k < CRANE__RELEASE_BISECTIONS; ++k) {
                 const crane_real mid = (lo + hi) / 2;
                 (void)ros_step(c, t, x, &f0, &J, mid, &f1);
@@ -1414,9 +1398,6 @@ static CRANE__NOINLINE crane_status integrate_rosw(ctx_t *c, xstate *x, crane_re
         }
         spools_in_range(c, &x1);
         rates(c, t + hs, &x1, &f1);
-#ifdef ROS_DEBUG
-        if (!finite_state(c, &x1)) { int ii; fprintf(stderr, "DIVERGED first %d hs %g:", first, (double)hs); for (ii = 0; ii < n_used(c); ++ii) fprintf(stderr, " %g", (double)x1.v[ii]); fprintf(stderr, "\n"); }
-#endif
         if (!finite_state(c, &x1)) {
             *n_written = next;
             return CRANE_E_DIVERGED;
@@ -1457,9 +1438,10 @@ static CRANE__NOINLINE crane_status integrate_rosw(ctx_t *c, xstate *x, crane_re
             copy_state(c, &f0, &f1);
         }
         copy_state(c, x, &x1);
-        if (!last) {
-            step_start(c, t, x, &f0, !changed, &J);
+        if (last == 0) {
+            step_start(c, t, x, &f0, changed == 0, &J);
         }
+        more = last == 0;
     }
     put_sample(c, horizon, x, &out[next++]);
     *n_written = next;
