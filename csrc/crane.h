@@ -403,12 +403,13 @@ typedef struct {
     const crane_real *u_samples; /* CRANE_DRIVE_VALVE: the lever at the times t */
 } crane_drive;
 
-/* How a future is integrated (docs/model.md, "Integration"). All zero is the default:
- * fixed-step RK4 with step dt (the fixed cost per call that the embedded worst case is stated
- * for). CRANE_METHOD_ROSW is the ROS34PW2 Rosenbrock-W method with error control to the
- * tolerances, dt then the sample interval (a zero tolerance: the default one). */
+/* How a future is integrated (docs/model.md, "Integration"). All zero is the default: the
+ * ROS34PW2 Rosenbrock-W method with error control at the default tolerances, dt the sample
+ * interval (in a build with -DCRANE_ROSW=0: RK4). CRANE_METHOD_RK4 is fixed-step RK4 with step
+ * dt (the fixed cost per call that the embedded worst case is stated for); the tolerances are not
+ * read then. */
 typedef struct {
-    int method;                  /* CRANE_METHOD_DEFAULT (0, RK4), CRANE_METHOD_ROSW, CRANE_METHOD_RK4 */
+    int method;                  /* CRANE_METHOD_DEFAULT (0), CRANE_METHOD_ROSW, CRANE_METHOD_RK4 */
     crane_real tip_tolerance;    /* m of tip position per step; 0: CRANE_TIP_TOLERANCE; else in
                                     [1e-9, 1] */
     crane_real pressure_tolerance; /* Pa of chamber pressure per step; 0: CRANE_PRESSURE_TOLERANCE;
@@ -418,7 +419,7 @@ typedef struct {
 typedef struct {
     crane_drive drive[4];        /* [CRANE_LIFT], [CRANE_TILT], [CRANE_SLEW], [CRANE_EXTENSION];
                                     a zero drive is a hold */
-    crane_solver solver;         /* zero: the default method (RK4) */
+    crane_solver solver;         /* zero: the default method and tolerances */
 } crane_inputs;
 
 typedef struct {
@@ -501,8 +502,8 @@ const char *crane_field_rule(crane_field field);
  * used. */
 crane_status crane_model_init(crane_model *model, const crane_params *params, crane_real extension);
 
-/* The default solver with its numbers filled in: the default method (RK4) and the default tip
- * and pressure tolerances of CRANE_METHOD_ROSW (what a zero tolerance means). */
+/* The default solver with its numbers filled in: CRANE_METHOD_ROSW (RK4 in a build without it)
+ * at the default tip and pressure tolerances (what a zero crane_solver means). */
 crane_status crane_solver_default(crane_solver *solver);
 
 /* Number of samples a prediction writes: ceil(horizon/dt - 1e-9) + 1. */

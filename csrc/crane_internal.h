@@ -379,7 +379,8 @@ crane_real crane__actuator_force(const crane_model *m, int joint, crane_real p_a
 
 /* The error-controlled method (ROS34PW2, docs/model.md "Integration") is compiled in unless
  * CRANE_ROSW is defined to 0: a build for a controller that needs the fixed cost and the 1-kB
- * stack of RK4 (docs/embedding.md); there CRANE_METHOD_ROSW is refused (CRANE_E_METHOD). */
+ * stack of RK4 (docs/embedding.md); there the default method is RK4 and CRANE_METHOD_ROSW is
+ * refused (CRANE_E_METHOD). */
 #ifndef CRANE_ROSW
 #define CRANE_ROSW 1
 #endif

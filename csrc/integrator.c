@@ -1469,7 +1469,7 @@ crane_status crane__integrate(const crane_model *m, const crane_state *s0, const
     c.cache = 0;
     c.release_clear = 0;
 #if CRANE_ROSW
-    c.rosw = (unsigned char)(in->solver.method == CRANE_METHOD_ROSW);
+    c.rosw = (unsigned char)(in->solver.method != CRANE_METHOD_RK4);
     {
         /* the angles' tolerance: tip metres over the crane's reach (lift pivot to the tip with the
          * telescope out), which bounds the tip's motion per radian of any joint */

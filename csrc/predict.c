@@ -44,7 +44,7 @@ crane_status crane_solver_default(crane_solver *solver)
     if (solver == NULL) {
         return CRANE_E_NULL;
     }
-    solver->method = CRANE_METHOD_RK4;
+    solver->method = CRANE_ROSW != 0 ? CRANE_METHOD_ROSW : CRANE_METHOD_RK4;
     solver->tip_tolerance = CRANE__TIP_TOLERANCE;
     solver->pressure_tolerance = CRANE__PRESSURE_TOLERANCE;
     return CRANE_OK;
@@ -221,7 +221,7 @@ static crane_status check_future(const crane_model *model, const crane_state *st
     if (CRANE_ROSW == 0 && sv->method == CRANE_METHOD_ROSW) {
         return CRANE_E_METHOD;
     }
-    if (sv->method == CRANE_METHOD_ROSW &&
+    if (sv->method != CRANE_METHOD_RK4 &&
         ((sv->tip_tolerance != 0 &&
           crane__in_range(sv->tip_tolerance, (crane_real)1e-9, 1) == 0) ||
          (sv->pressure_tolerance != 0 &&
@@ -329,7 +329,7 @@ static crane_status check_work(const crane_model *m, const crane_inputs *in, cra
     long n_max = 1, work;
 
     /* the error-controlled method: its attempt cap (docs/model.md, "Integration") */
-    if (CRANE_ROSW != 0 && in->solver.method == CRANE_METHOD_ROSW) {
+    if (CRANE_ROSW != 0 && in->solver.method != CRANE_METHOD_RK4) {
         work = crane__attempt_cap(horizon);
         if (work > (long)CRANE_MAX_STEPS) {
             return CRANE_E_STEPS;

@@ -355,7 +355,7 @@ SAMPLE_SIZE = ffi.sizeof("crane_sample")
 
 
 def predict_buffer(crane: "Crane", state: "State", inputs: "Inputs", horizon: float, dt: float,
-                   n: int, method: str = "rk4", tolerance: Any = None) -> Tuple[np.ndarray, int]:
+                   n: int, method: str = "rosw", tolerance: Any = None) -> Tuple[np.ndarray, int]:
     """Runs crane_predict_model with the crane's cached model (the samples of crane_predict,
     without re-deriving the crane on every call) into a new buffer of ``n`` samples (the count
     crane_sample_count gives); returns the buffer, read-only (bytes: ``samples`` views them as
@@ -385,7 +385,7 @@ def samples(buffer: np.ndarray, n: int) -> np.ndarray:
 
 
 def predict(crane: "Crane", state: "State", inputs: "Inputs", horizon: float,
-            dt: float, method: str = "rk4", tolerance: Any = None) -> np.ndarray:
+            dt: float, method: str = "rosw", tolerance: Any = None) -> np.ndarray:
     """predict_buffer with the sample count of horizon and dt; returns the samples as a read-only
     structured array (SAMPLE_DTYPE)."""
     return samples(*predict_buffer(crane, state, inputs, horizon, dt, sample_count(horizon, dt),
@@ -458,7 +458,7 @@ def _run_chunk(*args: Any) -> int:
 
 def predict_many(crane: "Crane", states: Sequence["State"], inputs: Sequence["Inputs"],
                  horizon: float, dt: float, sample_every: int, threads: int,
-                 per_future: Any = None, method: str = "rk4", tolerance: Any = None) -> np.ndarray:
+                 per_future: Any = None, method: str = "rosw", tolerance: Any = None) -> np.ndarray:
     """Runs crane_predict_many; returns the samples as a (F, N) structured array (SAMPLE_DTYPE).
     ``per_future``: a crane_params[F] (params_per_future), one crane per future; None: the crane's.
 

@@ -1,9 +1,9 @@
 """How a future is integrated (docs/model.md, "Integration"): the method and its tolerances.
 
-``method="rk4"`` (the default) is fixed-step RK4 with step ``dt`` (a fixed cost per call: what
-the embedded worst case is stated for). ``method="rosw"`` is the ROS34PW2 Rosenbrock-W method with
-error control: it takes the steps the accuracy needs and samples the future every ``dt`` by dense
-output, so ``dt`` is where the samples are, not how the core steps.
+``method="rosw"`` (the default) is the ROS34PW2 Rosenbrock-W method with error control: it takes
+the steps the accuracy needs and samples the future every ``dt`` by dense output, so ``dt`` is
+where the samples are, not how the core steps. ``method="rk4"`` is fixed-step RK4 with step
+``dt`` (a fixed cost per call: what the embedded worst case is stated for).
 """
 
 from __future__ import annotations

@@ -160,7 +160,7 @@ class _Samples:
 
 
 def _run(crane: Any, state: Any, inputs: Any, horizon: float, dt: float,
-         method: str = "rk4", tolerance: Any = None
+         method: str = "rosw", tolerance: Any = None
          ) -> Tuple[dict, List[Tuple[float, int, int]]]:
     """simulate() plus the list of impacts (time, joint, angle side), for diagnostics and tests."""
     horizon = float(horizon)
@@ -179,6 +179,9 @@ def _run(crane: Any, state: Any, inputs: Any, horizon: float, dt: float,
     samples = _Samples(pred, n, strokes0)
     samples.record(0, 0.0, x)
     if method == "rosw":
+        if tolerance is None or tolerance.tip is None or tolerance.pressure is None:
+            from ..solver import check
+            tolerance = check(method, tolerance)[1]
         rosw.integrate(pred, x, horizon, dt, n, tolerance.tip, tolerance.pressure, samples.record)
     else:
         integrate(pred, x, horizon, dt, n, samples.record)
@@ -195,7 +198,7 @@ def _check_attempts(horizon: float) -> None:
 
 
 def simulate(crane: Any, state: Any, inputs: Any, horizon: float, dt: float,
-             method: str = "rk4", tolerance: Any = None) -> dict:
+             method: str = "rosw", tolerance: Any = None) -> dict:
     """Predict the crane's four joints over [0, horizon] with end stops, per docs/model.md
     ("Four joints"; a left-out slew or extension drive is held): with RK4 steps dt, or with
     method="rosw" by ROS34PW2 to the tolerance (a cranepredict.Tolerance with its numbers), sampled
