@@ -18,17 +18,18 @@ def _c_state(state):
     return s
 
 
-def _c_inputs(inputs):
+def _c_inputs(inputs, method="rosw"):
     inp, keep = ffi.new("crane_inputs *"), []
     _core._inputs(inp, inputs, keep)
+    _core.solver(inp, method, None)
     return inp, keep
 
 
-def _chain(sc, n, dt, period=PERIOD):
+def _chain(sc, n, dt, period=PERIOD, method="rosw"):
     """n chained crane_step calls from the scenario's initial state: the samples at the periods'
     ends and the last state (C structs all the way: no Python conversion in between)."""
     s = _c_state(sc.initial)
-    inp, _keep = _c_inputs(sc.inputs)
+    inp, _keep = _c_inputs(sc.inputs, method)
     out = ffi.new("crane_sample[2]")
     ends = np.empty(n, dtype=_core.SAMPLE_DTYPE)
     view = ffi.cast("crane_sample *", ffi.from_buffer(ends))
@@ -45,13 +46,13 @@ def _chain(sc, n, dt, period=PERIOD):
                                   "extend-while-slewing"])
 @pytest.mark.parametrize("dt", [0.01, 0.005, 0.001])
 def test_chained_periods_equal_one_prediction(name, dt):
-    """200 chained 10-ms steps = one 2-s prediction: same step grid, so they differ only by the
-    rounding of the stroke -> angle conversion at each period's start (docs/model.md)."""
+    """With RK4, 200 chained 10-ms steps = one 2-s prediction: same step grid, so they differ only
+    by the rounding of the stroke -> angle conversion at each period's start (docs/model.md)."""
     sc = cp.scenarios.get(name)
-    whole = _core.predict(sc.crane, sc.initial, sc.inputs, 2.0, dt)
+    whole = _core.predict(sc.crane, sc.initial, sc.inputs, 2.0, dt, "rk4")
     every = round(PERIOD / dt)
     ref = whole[every::every]
-    ends, _ = _chain(sc, 200, dt)
+    ends, _ = _chain(sc, 200, dt, method="rk4")
     np.testing.assert_allclose(ends["t"], PERIOD)
     np.testing.assert_allclose(ends["tip"], ref["tip"], rtol=0, atol=1e-12)
     np.testing.assert_allclose(ends["stroke"], ref["stroke"], rtol=0, atol=1e-12)
@@ -64,14 +65,34 @@ def test_chained_periods_equal_one_prediction(name, dt):
         assert ends["stop"].any(), "the scenario must reach a stop"
 
 
+@pytest.mark.filterwarnings("ignore:Inputs.lift. holding the load")
+@pytest.mark.parametrize("name", ["paper-fig4", "end-stop-tilt", "lever-open", "valve-end-stop",
+                                  "extend-while-slewing"])
+def test_chained_periods_with_the_error_controlled_method(name):
+    """With the default method each period is integrated to the tolerance from its own start (the
+    steps depend on where the periods begin), so 200 chained 10-ms periods agree with the one 2-s
+    prediction to the method's accuracy, not to rounding: both within 1 mm of tip and 0.5 bar of
+    the converged RK4 run (dt 2e-5 s), and on the same stops."""
+    sc = cp.scenarios.get(name)
+    ref = _core.predict(sc.crane, sc.initial, sc.inputs, 2.0, 2e-5, "rk4")[500::500]
+    whole = _core.predict(sc.crane, sc.initial, sc.inputs, 2.0, PERIOD)[1:]
+    ends, _ = _chain(sc, 200, PERIOD)
+    for got in (ends, whole):
+        assert np.abs(got["tip"] - ref["tip"]).max() <= 1e-3
+        assert np.abs(got["p_a"] - ref["p_a"]).max() <= 0.5e5
+        assert np.abs(got["p_b"] - ref["p_b"]).max() <= 0.5e5
+    assert np.abs(ends["tip"] - whole["tip"]).max() > 1e-12   # not rounding: other steps
+    assert (ends["stop"] != whole["stop"]).sum() <= 2   # a stop reached one period apart at most
+
+
 def test_step_not_dividing_the_period():
     """dt = 4 ms in 10-ms periods (steps of 4, 4, 2 ms): another step grid than one prediction's
     at 4 ms, so the two differ by more than rounding, each within the 4-ms truncation error of a
     fine reference (the paper's pressure drive into the lift's stop: valves substep finer)."""
     sc = cp.scenarios.get("paper-fig4")
-    fine = _core.predict(sc.crane, sc.initial, sc.inputs, 2.0, 1e-4)[200::200]
-    ends, _ = _chain(sc, 200, 0.004)
-    whole = _core.predict(sc.crane, sc.initial, sc.inputs, 2.0, 0.004)[5::5]   # every 20 ms
+    fine = _core.predict(sc.crane, sc.initial, sc.inputs, 2.0, 1e-4, "rk4")[200::200]
+    ends, _ = _chain(sc, 200, 0.004, method="rk4")
+    whole = _core.predict(sc.crane, sc.initial, sc.inputs, 2.0, 0.004, "rk4")[5::5]   # every 20 ms
     err_chain = np.abs(ends["tip"][1::2] - fine["tip"]).max()
     err_whole = np.abs(whole["tip"] - fine["tip"]).max()
     assert err_whole < 1e-5, err_whole
@@ -109,9 +130,9 @@ def test_next_state_is_trajectory_state(name):
 def test_stroke_rate_is_a_finite_difference():
     """The stroke rate of the state out agrees with the strokes' motion (independent of ds/dtheta)."""
     sc = cp.scenarios.get("lever-open")
-    ends, s = _chain(sc, 51, 0.001)
+    ends, s = _chain(sc, 51, 0.001, method="rk4")
     h = 2e-5
-    fine = _core.predict(sc.crane, sc.initial, sc.inputs, 0.51 + h, 1e-5)
+    fine = _core.predict(sc.crane, sc.initial, sc.inputs, 0.51 + h, 1e-5, "rk4")
     k = int(round(0.51 / 1e-5))
     fd = (fine["stroke"][k + 2] - fine["stroke"][k]) / (2e-5)
     assert s.stroke_rate[0] == pytest.approx(fd[0], rel=1e-4)

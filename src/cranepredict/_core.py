@@ -345,10 +345,13 @@ def _inputs(dst: Any, inputs: "Inputs", keep: list) -> None:
 
 
 def solver(dst: Any, method: str, tolerance: Any) -> None:
-    """crane_inputs.solver from a checked method and Tolerance (solver.check)."""
+    """crane_inputs.solver from a checked method and Tolerance (solver.check); a tolerance of
+    None (or None fields) leaves the core's default (0)."""
     s = dst.solver
     s.method = lib.CRANE_METHOD_RK4 if method == "rk4" else lib.CRANE_METHOD_ROSW
-    s.tip_tolerance, s.pressure_tolerance = tolerance.tip, tolerance.pressure
+    if tolerance is not None:
+        s.tip_tolerance = tolerance.tip or 0.0
+        s.pressure_tolerance = tolerance.pressure or 0.0
 
 
 SAMPLE_SIZE = ffi.sizeof("crane_sample")
@@ -366,8 +369,7 @@ def predict_buffer(crane: "Crane", state: "State", inputs: "Inputs", horizon: fl
     inp = ffi.new("crane_inputs *")
     keep: list = []
     _inputs(inp, inputs, keep)
-    if tolerance is not None:
-        solver(inp, method, tolerance)
+    solver(inp, method, tolerance)
     out = np.empty(n * SAMPLE_SIZE, dtype=np.uint8)
     written = ffi.new("size_t *")
     status = lib.crane_predict_model(m, s, inp, horizon, dt, ffi.from_buffer("crane_sample[]", out),
@@ -475,8 +477,7 @@ def predict_many(crane: "Crane", states: Sequence["State"], inputs: Sequence["In
     for k in range(f):
         _state(st[k], states[k])
         _inputs(inp[k], inputs[k], keep)
-        if tolerance is not None:
-            solver(inp[k], method, tolerance)
+        solver(inp[k], method, tolerance)
     n = sample_count_every(horizon, dt, sample_every)
     out = np.empty((f, n), dtype=SAMPLE_DTYPE)
     if f == 0:
