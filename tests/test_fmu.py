@@ -156,7 +156,7 @@ def test_lever_open_equals_predict(fmus, fmi):
                                         tilt_lever=0.0)
     got, stops = u.run([0.01] * 200)
     u.close()
-    want, want_stops = _predicted(cp.predict(sc.crane, sc.initial, sc.inputs, 2.0, dt=0.005), 2)
+    want, want_stops = _predicted(cp.predict(sc.crane, sc.initial, sc.inputs, 2.0, dt=0.005, method="rk4"), 2)
     _assert_outputs(got, stops, want, want_stops)
 
 
@@ -168,7 +168,7 @@ def test_paper_pressure_scenario_equals_predict(fmus, fmi):
                                          lift_p_a_in=175e5, lift_p_b_in=0.0)
     got, stops = u.run([0.01] * 200)
     u.close()
-    want, want_stops = _predicted(cp.predict(sc.crane, sc.initial, sc.inputs, 2.0, dt=0.005), 2)
+    want, want_stops = _predicted(cp.predict(sc.crane, sc.initial, sc.inputs, 2.0, dt=0.005, method="rk4"), 2)
     _assert_outputs(got, stops, want, want_stops)
     assert stops[-1, 0] == 1, "the lift reaches its upper stop"
 
@@ -222,7 +222,7 @@ def test_all_four_levers_equal_predict(fmus, fmi):
                                         extension_lever=0.0)
     got, stops = u.run([0.01] * 100)
     u.close()
-    want, want_stops = _predicted(cp.predict(crane, rest, inputs, 1.0, dt=0.005), 2)
+    want, want_stops = _predicted(cp.predict(crane, rest, inputs, 1.0, dt=0.005, method="rk4"), 2)
     _assert_outputs(got, stops, want, want_stops)
 
 
@@ -265,11 +265,11 @@ def test_load_mass_is_tunable_while_stepping(fmus, fmi):
     u.set(load_mass=450.0)
     got, stops = u.run([0.01] * 100)
     u.close()
-    first = cp.predict(sc.crane, sc.initial, sc.inputs, 0.5, dt=0.005)
+    first = cp.predict(sc.crane, sc.initial, sc.inputs, 0.5, dt=0.005, method="rk4")
     heavy = dataclasses.replace(sc.crane, load_mass=450.0)
-    want, want_stops = _predicted(cp.predict(heavy, first.final_state, sc.inputs, 1.0, dt=0.005), 2)
+    want, want_stops = _predicted(cp.predict(heavy, first.final_state, sc.inputs, 1.0, dt=0.005, method="rk4"), 2)
     _assert_outputs(got, stops, want, want_stops)
-    light, _ = _predicted(cp.predict(sc.crane, sc.initial, sc.inputs, 1.5, dt=0.005), 2)
+    light, _ = _predicted(cp.predict(sc.crane, sc.initial, sc.inputs, 1.5, dt=0.005, method="rk4"), 2)
     assert np.abs(got[-1, 2] - light[-1, 2]) > 1e-3   # the load made a difference
 
 
@@ -308,7 +308,7 @@ def test_a_step_that_is_not_a_multiple_of_the_internal_one(fmus, fmi):
     u = Unit(fmus["levers2", fmi]).init(lift_lever=1.0)
     got, stops = u.run([h] * 400)
     u.close()
-    want, want_stops = _predicted(cp.predict(sc.crane, sc.initial, sc.inputs, 400 * h, dt=h), 1)
+    want, want_stops = _predicted(cp.predict(sc.crane, sc.initial, sc.inputs, 400 * h, dt=h, method="rk4"), 1)
     _assert_outputs(got, stops, want, want_stops)
 
 
@@ -325,13 +325,13 @@ def test_random_communication_steps(fmus, fmi):
     got, _ = u.run(steps)
     u.close()
     # the scale: a 5-ms prediction's largest tip error against the 0.1-ms one over the 2 s
-    fine = cp.predict(sc.crane, sc.initial, sc.inputs, 2.0, dt=1e-4)
-    coarse = cp.predict(sc.crane, sc.initial, sc.inputs, 2.0, dt=0.005)
+    fine = cp.predict(sc.crane, sc.initial, sc.inputs, 2.0, dt=1e-4, method="rk4")
+    coarse = cp.predict(sc.crane, sc.initial, sc.inputs, 2.0, dt=0.005, method="rk4")
     scale = np.abs(coarse.tip - fine.tip[::50]).max()
     assert 1e-9 < scale < 1e-6, scale
     t = np.concatenate([[0.0], np.cumsum(steps)])
     for k in range(15, len(t), 15):
-        ref = cp.predict(sc.crane, sc.initial, sc.inputs, float(t[k]), dt=1e-4)
+        ref = cp.predict(sc.crane, sc.initial, sc.inputs, float(t[k]), dt=1e-4, method="rk4")
         np.testing.assert_allclose(got[k, :3], ref.tip[-1], rtol=0, atol=scale)
 
 
@@ -356,8 +356,8 @@ def test_guard_outputs_equal_the_guard_on_a_prediction(fmus, fmi):
             vr = [u.vr["guard_signal"]]
             signal = (u.fmu.getInt32(vr) if fmi == 3 else u.fmu.getInteger(vr))[0]
             state = sc.initial if k == 0 else \
-                cp.predict(sc.crane, sc.initial, sc.inputs, 0.01 * k, dt=0.005).final_state
-            future = cp.predict_many(sc.crane, [state], [sc.inputs], 2.0, dt=0.005,
+                cp.predict(sc.crane, sc.initial, sc.inputs, 0.01 * k, dt=0.005, method="rk4").final_state
+            future = cp.predict_many(sc.crane, [state], [sc.inputs], 2.0, dt=0.005, method="rk4",
                                      sample_every=2)[0]
             res, clearance = g._judge(sc.crane, BEAM, g._samples(future), shape, values)
             assert res.contact and res.signal == 1   # WARN by the freezing stop
