@@ -34,14 +34,15 @@ def _namespaces(lift=0.25, tilt=0.4, slew=0.0, extension=0.5, rates=(0, 0, 0, 0)
     return state, inputs
 
 
-def core_run(crane, state, inputs, horizon, dt):
-    """(status, samples) of crane_predict for a namespace state and inputs."""
+def core_run(crane, state, inputs, horizon, dt, method="rosw"):
+    """(status, samples) of crane_predict for a namespace state and inputs (with the method)."""
     prm = _core.params(crane)
     s = ffi.new("crane_state *")
     _core._state(s, state)
     inp = ffi.new("crane_inputs *")
     keep: list = []
     _core._inputs(inp, inputs, keep)
+    _core.solver(inp, method, None)
     n = _core.sample_count(horizon, dt)
     out = np.empty(n, dtype=_core.SAMPLE_DTYPE)
     written = ffi.new("size_t *")
@@ -212,7 +213,7 @@ def test_core_four_joints_conserve_energy_without_friction_and_gravity(crane):
 
     c = _frictionless4(crane, gravity=0.0)
     state, inputs = _namespaces(rates=(0.05, -0.08, 0.4, 0.05))
-    st, out = core_run(c, state, inputs, 1.0, 1e-3)
+    st, out = core_run(c, state, inputs, 1.0, 1e-3, "rk4")
     assert st == lib.CRANE_OK and not out["stop"].any()
     q = np.column_stack([out["theta"], out["slew"], out["extension"]])
     qd = np.column_stack([out["omega"], out["slew_rate"], out["extension_rate"]])
@@ -333,7 +334,7 @@ def test_core_counts_the_extension_substeps_against_max_steps(crane):
     of up to ~50 substeps each is over 2^20; the same with the extension held is not)."""
     state, inputs = _namespaces(drives={"lift": HOLD, "tilt": HOLD, "slew": HOLD,
                                         "extension": cp.Pressure(10e5, 0.0)})
-    assert core_run(crane, state, inputs, 60.0, 2e-3)[0] == lib.CRANE_E_STEPS
+    assert core_run(crane, state, inputs, 60.0, 2e-3, "rk4")[0] == lib.CRANE_E_STEPS
     state, inputs = _namespaces(drives={"lift": HOLD, "tilt": HOLD, "slew": cp.Pressure(10e5, 0.0),
                                         "extension": HOLD})
-    assert core_run(crane, state, inputs, 60.0, 2e-3)[0] == lib.CRANE_OK
+    assert core_run(crane, state, inputs, 60.0, 2e-3, "rk4")[0] == lib.CRANE_OK

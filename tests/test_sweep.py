@@ -124,15 +124,18 @@ def test_each_sample_is_the_guard_of_a_crane_with_its_values():
 
 def test_recommended_margin_meets_the_target():
     """Run again with the guard margin the summary recommends: the contacts missed (now by the
-    decisions' own simulation) are at most the target; a centimetre less misses more."""
+    decisions' own simulation) are at most the target; two resolution steps less miss more (the
+    recommendation is the bisection's bound rounded up to MARGIN_RESOLUTION, so one step less can
+    still meet the target: 1 cm less did with ROS34PW2's trajectories, 1.5 cm less did not)."""
     study = small(20, 10, target=0.1)
     first = cp.sweep(study, scheduler="in-process").summary
     assert first.miss_rate > study.target and math.isfinite(first.margin_for_target)
     at = cp.sweep(dataclasses.replace(study, margin=first.margin_for_target),
                   scheduler="in-process").summary
     assert at.miss_rate <= study.target
-    below = cp.sweep(dataclasses.replace(study, margin=first.margin_for_target - 0.01),
-                     scheduler="in-process").summary
+    below = cp.sweep(dataclasses.replace(
+        study, margin=first.margin_for_target - 2 * uncertainty.MARGIN_RESOLUTION),
+        scheduler="in-process").summary
     assert below.miss_rate > study.target
 
 

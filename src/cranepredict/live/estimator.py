@@ -272,8 +272,10 @@ class EKF(Estimator):
             xi[i] += steps[i]
             initials.append(self._state(xi, inputs, self.spools))
         dt = min(api.DEFAULT_DT if self.dt is None else self.dt, period)
+        # fixed RK4 steps, as the C filter's (an adaptive step's choice would put its tolerance's
+        # noise into the finite differences)
         batch = api.predict_many(self.crane, initials, [inputs] * (n + 1), period, dt=dt,
-                                 sample_every=max(1, int(math.ceil(period / dt))))
+                                 sample_every=max(1, int(math.ceil(period / dt))), method="rk4")
         y = self._finals(batch)
         F = ((y[1:] - y[0]) / steps[:, None]).T
         for j in range(4):
