@@ -20,7 +20,7 @@ the default step").
 
     python tools/dt_study.py [--random 30] [--random4 10] [--seed 5]
 
---method rosw: the error-controlled method (ROS34PW2) at several tip tolerances (the
+--method rosw: the default method (ROS34PW2, error-controlled) at several tip tolerances (the
 pressure tolerance scaled alike: the default's ratio, 1e4 Pa per 5e-5 m), on every named scenario
 over its own horizon: the worst tip distance and the worst chamber pressure difference from RK4 at
 dt = 2e-5 s (both on the 5-ms sample grid), and the wall time per call (the best of 3) against RK4 at
@@ -95,7 +95,7 @@ def _best_time(f, repeat=3):
 
 
 def rosw_study() -> int:
-    """The error-controlled method's errors and cost over its tolerance, per named scenario."""
+    """The default method's errors and cost over its tolerance, per named scenario."""
     warnings.simplefilter("ignore", UserWarning)     # the supply-short warnings of some scenarios
     default = cp.default_tolerance()
     per_tip = default.pressure / default.tip
