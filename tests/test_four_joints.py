@@ -289,7 +289,7 @@ def _frictionless4(crane, gravity=None):
 
 
 def _run4(crane, horizon, dt, *, lift=0.25, tilt=0.4, slew=0.0, extension=0.5, rates=(0, 0, 0, 0),
-          drives=None):
+          drives=None, method="rosw"):
     """The twin's four-joint prediction (the API does not carry the slew and extension drives
     yet): state and inputs as plain namespaces."""
     from types import SimpleNamespace
@@ -303,7 +303,7 @@ def _run4(crane, horizon, dt, *, lift=0.25, tilt=0.4, slew=0.0, extension=0.5, r
                             slew_rate=rates[2], extension_rate=rates[3])
     inputs = SimpleNamespace(lift=d.get("lift", zero), tilt=d.get("tilt", zero),
                              slew=d.get("slew", zero), extension=d.get("extension", zero))
-    return twin._run(crane, state, inputs, horizon, dt)
+    return twin._run(crane, state, inputs, horizon, dt, method)
 
 
 def _q_qd(crane, arrays):
@@ -316,7 +316,7 @@ def test_twin_four_joints_conserve_energy_without_friction_and_gravity(crane):
     """All four joints move from initial rates (pressures 0, no friction, no gravity): the
     kinetic energy, evaluated by the Lagrange oracle along the twin's trajectory, is conserved."""
     c = _frictionless4(crane, gravity=0.0)
-    arrays, events = _run4(c, 1.0, 1e-3, rates=(0.05, -0.08, 0.4, 0.05))
+    arrays, events = _run4(c, 1.0, 1e-3, rates=(0.05, -0.08, 0.4, 0.05), method="rk4")
     assert not events, "the energy test must not touch an end stop"
     q, qd = _q_qd(c, arrays)
     assert np.ptp(q[:, 2]) > 0.2 and np.ptp(q[:, 3]) > 0.03   # the slew and the extension move
@@ -330,7 +330,8 @@ def test_twin_four_joints_conserve_energy_without_friction_and_gravity(crane):
 def test_twin_four_joints_conserve_energy_with_gravity(crane):
     """With gravity, T + V (the oracle's) is conserved to the integrator's error."""
     c = _frictionless4(crane)
-    arrays, events = _run4(c, 0.5, 1e-3, lift=0.40, tilt=0.30, rates=(0.02, 0.0, 0.5, 0.0))
+    arrays, events = _run4(c, 0.5, 1e-3, lift=0.40, tilt=0.30, rates=(0.02, 0.0, 0.5, 0.0),
+                           method="rk4")
     assert not events
     q, qd = _q_qd(c, arrays)
     lag = Lagrange4(c)
@@ -387,7 +388,8 @@ def test_twin_four_joint_energy_drift_shrinks_as_dt_to_the_fourth(crane):
     lag = Lagrange4(c)
     drifts = []
     for dt in (4e-3, 2e-3):
-        arrays, events = _run4(c, 0.5, dt, lift=0.40, tilt=0.30, rates=(0.02, 0.0, 0.5, 0.0))
+        arrays, events = _run4(c, 0.5, dt, lift=0.40, tilt=0.30, rates=(0.02, 0.0, 0.5, 0.0),
+                               method="rk4")
         assert not events
         q, qd = _q_qd(c, arrays)
         step = int(round(0.02 / dt))
