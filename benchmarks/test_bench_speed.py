@@ -411,7 +411,7 @@ def test_predict_rosw(benchmark, ratio, name):
     args = (sc.crane, sc.initial, sc.inputs, sc.horizon)
     tr = ratio(lambda: cp.predict(*args, method="rosw"), sc.horizon, scenario=name,
                backend="c", method="rosw", dt=cp.DEFAULT_DT)
-    ref = cp.predict(*args, dt=2e-5, sample_every=250)
+    ref = cp.predict(*args, dt=2e-5, sample_every=250, method="rk4")
     tip = float(np.max(np.linalg.norm(tr.tip - ref.tip, axis=1)))
     dp = float(max(np.abs(tr.p_a - ref.p_a).max(), np.abs(tr.p_b - ref.p_b).max()))
     info = benchmark.extra_info
