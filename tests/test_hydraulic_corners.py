@@ -62,7 +62,15 @@ def test_corner_is_right_or_refused(corner):
         return
     assert np.all(np.abs(traj.spool) <= 1.0)
     assert np.all(np.abs(traj.p_a) <= PRESSURE_MAX) and np.all(np.abs(traj.p_b) <= PRESSURE_MAX)
-    fine = cp.predict(crane, state, inputs, horizon, dt=cp.DEFAULT_DT / 20)
+    try:
+        fine = cp.predict(crane, state, inputs, horizon, dt=cp.DEFAULT_DT / 20, method="rk4")
+    except ValueError as e:
+        # RK4's substeps for this corner are over MAX_STEPS: the converged run is the default
+        # method at a tolerance 10 times tighter (it converges to RK4's solution:
+        # tests/test_rosw.py)
+        assert "MAX_STEPS" in str(e), str(e)
+        fine = cp.predict(crane, state, inputs, horizon, dt=cp.DEFAULT_DT / 20,
+                          tolerance=cp.Tolerance(tip=5e-6, pressure=1e3))
     np.testing.assert_allclose(traj.tip, fine.tip[::20], rtol=0, atol=1e-3)
     np.testing.assert_allclose(traj.p_a, fine.p_a[::20], rtol=0, atol=0.5e5)
 

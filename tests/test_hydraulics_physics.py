@@ -248,7 +248,8 @@ def test_dangerous_corners_are_stable_and_accurate_at_the_default_step(crane, ba
     the pressures stay between the cavitation floor and the relief setting, give or take those
     valves' override (laminar, nominal_flow/G = 6.7 bar at the nominal flow on the PATU)."""
     for name, c, initial, inputs in _corners(crane):
-        fine = cp.predict(c, initial, inputs, 0.5, dt=cp.DEFAULT_DT / 20, backend=backend)
+        fine = cp.predict(c, initial, inputs, 0.5, dt=cp.DEFAULT_DT / 20, backend=backend,
+                          method="rk4")
         tr = cp.predict(c, initial, inputs, 0.5, backend=backend)
         tip = float(np.max(np.linalg.norm(tr.tip - fine.tip[::20], axis=1)))
         dp = float(max(np.max(np.abs(tr.p_a - fine.p_a[::20])), np.max(np.abs(tr.p_b - fine.p_b[::20]))))
