@@ -550,6 +550,8 @@ static int release_set(ctx_t *c, crane_real t, const xstate *x)
             held |= 1u << j;
         } else if (c->mode[j] >= CRANE__STOP_LO) {
             stopped |= 1u << j;
+        } else {
+            /* free: neither held nor stopped */
         }
     }
     if (stopped == 0u) {
@@ -635,14 +637,15 @@ static crane_real release_in_piece(ctx_t *c, crane_real t, xstate *x, crane_real
     return hi;
 }
 
-/* One step of size h from t, cut at end-stop events: impacts and releases. Each event piece
+/* One step of size h from t_start, cut at end-stop events: impacts and releases. Each event piece
  * normally stops or releases a joint, so two or three pieces are the rule; if the shorter RK4 step
  * lands a rounding error inside the limit the joint is not stopped yet and the next piece finds it
  * again a hair later (as the specification reads). MAX_PIECES only bounds that in pathological
  * cases: the last piece takes the whole rest, puts any joint that overshot on its limit and does
  * no release search. */
-static void step(ctx_t *c, crane_real t, xstate *x, crane_real h, crane_real t_end)
+static void step(ctx_t *c, crane_real t_start, xstate *x, crane_real h, crane_real t_end)
 {
+    crane_real t = t_start; /* the current piece's start */
     crane_real rem = h;
     int piece;
 
@@ -662,6 +665,8 @@ static void step(ctx_t *c, crane_real t, xstate *x, crane_real h, crane_real t_e
                 upper |= 1u << i;
             } else if (!(x1.v[Q + i] < lo_q(c, i))) {
                 continue;
+            } else {
+                /* below its lower limit */
             }
             out |= 1u << i;
         }
@@ -715,6 +720,8 @@ static void step(ctx_t *c, crane_real t, xstate *x, crane_real h, crane_real t_e
                 stop_joint(c, x, i, 0);
             } else if (x->v[Q + i] >= hi_q(c, i)) {
                 stop_joint(c, x, i, 1);
+            } else {
+                /* inside its range: stays free */
             }
         }
     }
@@ -790,6 +797,8 @@ static void put_sample(ctx_t *c, crane_real t, const xstate *x, crane_sample *o)
             coord = lo_q(c, i);
         } else if (c->mode[i] == CRANE__STOP_HI) {
             coord = hi_q(c, i);
+        } else {
+            /* free or held: x's coordinate (a held joint reports its initial one below) */
         }
         if (i == CRANE_SLEW) {
             o->slew = c->mode[i] == CRANE__HELD ? c->s0->slew : coord;
@@ -812,6 +821,8 @@ static void put_sample(ctx_t *c, crane_real t, const xstate *x, crane_sample *o)
                     s = crane__stroke_min(m, i);
                 } else if (s > crane__stroke_max(m, i)) {
                     s = crane__stroke_max(m, i);
+                } else {
+                    /* within its range */
                 }
                 break;
             }
@@ -1396,6 +1407,8 @@ static CRANE__NOINLINE crane_status integrate_rosw(ctx_t *c, xstate *x, crane_re
             hs = hi;
             (void)ros_step(c, t, x, &f0, &J, hs, &x1);
             changed = 1;
+        } else {
+            /* no event inside the step: it is taken whole */
         }
         spools_in_range(c, &x1);
         rates(c, t + hs, &x1, &f1);
@@ -1427,6 +1440,8 @@ static CRANE__NOINLINE crane_status integrate_rosw(ctx_t *c, xstate *x, crane_re
             } else if (q > hi_q(c, i) || (q == hi_q(c, i) && w >= 0)) {
                 stop_joint(c, &x1, i, 1);
                 changed = 1;
+            } else {
+                /* inside its range, or at a limit moving into it: stays free */
             }
         }
         if (changed != 0) {
