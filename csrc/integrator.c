@@ -83,6 +83,9 @@ static int lo_flag(const ctx_t *c, int j) { return ((c->lo_is_max >> j) & 1) != 
 /* State entries in use: the pressures and spools only with valves. */
 static int n_used(const ctx_t *c) { return c->lim.valves != 0u ? N_ALL : N_MECH; }
 
+/* The joints that can move: the planar kernel's two booms (lift, tilt), else all four. */
+static int n_moving(const ctx_t *c) { return c->planar != 0u ? 2 : 4; }
+
 /* dst = src over the state entries in use; the others are never read (a step's end state leaves
  * them unset). A loop over the entries rather than a copy of the whole struct: without valves
  * that is 8 of its 20 entries, and the copies are made a few times a step. gcc would turn the
@@ -464,7 +467,7 @@ static void rk4(ctx_t *c, crane_real t, const xstate *x, crane_real h, xstate *y
     const unsigned lk = lock_mask(c);
     /* the joints that can move: the planar kernel's two booms (the slew and the extension are
      * held, their entries stay those of x), else all four */
-    const int nq = c->planar != 0u ? 2 : 4;
+    const int nq = n_moving(c);
     xstate xs;
     int s, i;
 
@@ -871,7 +874,7 @@ static void put_sample(ctx_t *c, crane_real t, const xstate *x, crane_sample *o)
 static int finite_state(const ctx_t *c, const xstate *x)
 {
     /* the joints that can move (held ones keep their validated initial state) */
-    const int nq = c->planar != 0u ? 2 : 4;
+    const int nq = n_moving(c);
     int i;
     for (i = 0; i < nq; ++i) {
         if (crane__finite(x->v[Q + i]) == 0 || crane__finite(x->v[W + i]) == 0) {
@@ -952,7 +955,7 @@ static int mp_diag(int j) { return j == CRANE_LIFT ? 0 : j == CRANE_TILT ? 3 : 5
 static void rates(ctx_t *c, crane_real t, const xstate *x, xstate *f)
 {
     const unsigned lk = lock_mask(c);
-    const int nq = c->planar != 0u ? 2 : 4;
+    const int nq = n_moving(c);
     int i;
 
     if (f != x) {
@@ -996,7 +999,7 @@ static void limits_open(ctx_t *c, const xstate *x, const xstate *f)
 static CRANE__NOINLINE void w_matrix(ctx_t *c, crane_real t, const xstate *x, wjac *J)
 {
     const crane_model *m = c->lim.m;
-    const int nq = c->planar != 0u ? 2 : 4;
+    const int nq = n_moving(c);
     int j, k;
 
     (void)configure(c, x, 1);
