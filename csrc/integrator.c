@@ -78,10 +78,13 @@ static int locked(const ctx_t *c, int j) { return c->mode[j] != CRANE__FREE; }
 static int valve(const ctx_t *c, int j) { return (int)((c->lim.valves >> j) & 1u); }
 
 /* The stop flag (actuator terms: -1 stroke_min, +1 stroke_max) at the lower limit of q. */
-static int lo_flag(const ctx_t *c, int j) { return (c->lo_is_max >> j) & 1 ? 1 : -1; }
+static int lo_flag(const ctx_t *c, int j) { return ((c->lo_is_max >> j) & 1) != 0 ? 1 : -1; }
 
 /* State entries in use: the pressures and spools only with valves. */
-static int n_used(const ctx_t *c) { return c->lim.valves ? N_ALL : N_MECH; }
+static int n_used(const ctx_t *c) { return c->lim.valves != 0u ? N_ALL : N_MECH; }
+
+/* The joints that can move: the planar kernel's two booms (lift, tilt), else all four. */
+static int n_moving(const ctx_t *c) { return c->planar != 0u ? 2 : 4; }
 
 /* dst = src over the state entries in use; the others are never read (a step's end state leaves
  * them unset). A loop over the entries rather than a copy of the whole struct: without valves
@@ -127,9 +130,10 @@ static CRANE__ALWAYS_INLINE const crane__conf *configure(ctx_t *c, const xstate 
     dyn *const d = &c->d;
     crane__conf *const cf = &d->cf;
 
-    if (!(c->cache & CACHE_TRIG) || x->v[Q] != d->key_th[0] || x->v[Q + 1] != d->key_th[1]) {
+    if ((c->cache & CACHE_TRIG) == 0 || x->v[Q] != d->key_th[0] || x->v[Q + 1] != d->key_th[1]) {
         /* the four-bar stays valid while the tilt angle does */
-        const unsigned keep = (c->cache & CACHE_TRIG) && x->v[Q + 1] == d->key_th[1] ? CACHE_TK : 0;
+        const unsigned keep =
+            (c->cache & CACHE_TRIG) != 0 && x->v[Q + 1] == d->key_th[1] ? CACHE_TK : 0;
         /* one sin/cos per joint angle; the absolute outer boom angle by the angle-sum formulas */
         crane__sincos(x->v[Q], &cf->s0, &cf->c0);
         crane__sincos(x->v[Q + 1], &cf->s1, &cf->c1);
@@ -140,7 +144,7 @@ static CRANE__ALWAYS_INLINE const crane__conf *configure(ctx_t *c, const xstate 
         c->cache = (unsigned char)((c->cache & keep) | CACHE_TRIG);
     }
     cf->e = x->v[Q + 3];
-    if (need_tk && !(c->cache & CACHE_TK)) {
+    if (need_tk != 0 && (c->cache & CACHE_TK) == 0) {
         crane__tilt_kinematics(c->lim.m, cf->c1, cf->s1, &cf->tk);
         c->cache |= CACHE_TK;
     }
@@ -166,7 +170,7 @@ static crane_real ratio(ctx_t *c, int j, crane_real q, crane_real *stroke)
         }
         s = ds * (q - lo_q(c, j));
     }
-    if (stroke) {
+    if (stroke != NULL) {
         *stroke = s;
     }
     return ds;
@@ -209,7 +213,7 @@ static CRANE__ALWAYS_INLINE void valve_rates(ctx_t *c, crane_real t, xstate *x, 
 
     crane__chamber_rates(c->lim.m, j, lever(c, j, t), s, v, &x->v[H + 3 * j], x->v[H + 3 * j + 2], r);
 #if CRANE_ROSW
-    if (c->rosw) {
+    if (c->rosw != 0u) {
         crane__limit_rates(c->lim.m, j, s, &x->v[H + 3 * j], (c->open >> (2 * j)) & 3u, r);
     }
 #endif
@@ -223,7 +227,7 @@ static CRANE__ALWAYS_INLINE void valve_rates(ctx_t *c, crane_real t, xstate *x, 
  * M1e, Mee). */
 static CRANE__ALWAYS_INLINE void mass(const ctx_t *c, crane_real Mp[6])
 {
-    if (c->planar) {
+    if (c->planar != 0u) {
         crane__mass_planar(c->lim.m, &c->d.cf, Mp);
     } else {
         crane__mass_spatial(c->lim.m, &c->b, &c->d.cf, Mp);
@@ -246,16 +250,16 @@ static CRANE__ALWAYS_INLINE void forces(ctx_t *c, crane_real t, const xstate *x,
     if (lk != 15u) {
         /* the planar kernel needs the four-bar for the side links and a free tilt's ds/dtheta */
         const crane__conf *cf =
-            configure(c, x, !c->planar || m->links || !in_set(lk, CRANE_TILT));
+            configure(c, x, c->planar == 0u || m->links != 0 || in_set(lk, CRANE_TILT) == 0);
         /* a locked slew's inertia and force are never read */
         d->jz = 1;
-        if (c->planar) {
+        if (c->planar != 0u) {
             crane__id_planar(m, cf, &x->v[W], zero, m->params->gravity, d->b);
             d->b[CRANE_SLEW] = d->b[CRANE_EXTENSION] = 0;
         } else {
             /* the bias h = ID(q, qd, 0) goes into b, negated there (no array of its own) */
             crane__id_spatial(m, &c->b, cf, &x->v[W], zero, m->params->gravity, d->b);
-            if (!in_set(lk, CRANE_SLEW)) {
+            if (in_set(lk, CRANE_SLEW) == 0) {
                 crane_real jdot;
                 crane__slew_inertia(m, &c->b, cf, &x->v[W], &d->jz, &jdot, d->b);
                 d->b[CRANE_SLEW] = crane__slew_torque(d->jz, jdot, x->v[W + CRANE_SLEW], 0);
@@ -266,17 +270,17 @@ static CRANE__ALWAYS_INLINE void forces(ctx_t *c, crane_real t, const xstate *x,
         }
     }
     /* the actuators of the joints that can move: the planar kernel's slew and extension are held */
-    for (j = 0; j < (c->planar ? 2 : 4); ++j) {
+    for (j = 0; j < (c->planar != 0u ? 2 : 4); ++j) {
         crane_real stroke = 0, v = 0;
-        if (in_set(lk, j)) {
-            if (valve(c, j)) {
+        if (in_set(lk, j) != 0) {
+            if (valve(c, j) != 0) {
                 stroke = locked_stroke(c, j);
             }
         } else {
             const crane_real ds = ratio(c, j, x->v[Q + j], &stroke);
             crane_real p_a, p_b;
             v = ds * x->v[W + j];
-            if (valve(c, j)) {
+            if (valve(c, j) != 0) {
                 p_a = x->v[H + 3 * j];
                 p_b = x->v[H + 3 * j + 1];
             } else {
@@ -285,7 +289,7 @@ static CRANE__ALWAYS_INLINE void forces(ctx_t *c, crane_real t, const xstate *x,
             d->b[j] += crane__actuator_force(m, j, p_a, p_b, v) * ds;
         }
 #if CRANE_HYDRAULICS
-        if (rates && valve(c, j)) {
+        if (rates != NULL && valve(c, j) != 0) {
             valve_rates(c, t, rates, j, stroke, v);
         }
 #else
@@ -321,18 +325,18 @@ static CRANE__NOINLINE void solve_planar(const ctx_t *c, const crane_real *Mp,
      * it with the double build's (a false "ctuArrayIndex"; every caller passes crane_real[4]) */
     /* cppcheck-suppress ctuArrayIndex */
     a[CRANE_SLEW] = a[CRANE_EXTENSION] = 0;
-    if (in_set(lk, CRANE_LIFT) && in_set(lk, CRANE_TILT)) {
+    if (in_set(lk, CRANE_LIFT) != 0 && in_set(lk, CRANE_TILT) != 0) {
         a[CRANE_LIFT] = a[CRANE_TILT] = 0;
         return;
     }
-    if (!Mp) {
+    if (Mp == NULL) {
         mass(c, A);
         M = A;
     }
-    if (in_set(lk, CRANE_LIFT)) {
+    if (in_set(lk, CRANE_LIFT) != 0) {
         a[CRANE_LIFT] = 0;
         a[CRANE_TILT] = b[CRANE_TILT] / M[3];
-    } else if (in_set(lk, CRANE_TILT)) {
+    } else if (in_set(lk, CRANE_TILT) != 0) {
         a[CRANE_LIFT] = b[CRANE_LIFT] / M[0];
         a[CRANE_TILT] = 0;
     } else {
@@ -360,10 +364,10 @@ static CRANE__NOINLINE void solve_spatial(const ctx_t *c, const crane_real *Mp,
     /* cppcheck 2.10's whole-program check sizes a with the float build's crane_real and indexes
      * it with the double build's (a false "ctuArrayIndex"; every caller passes crane_real[4]) */
     /* cppcheck-suppress ctuArrayIndex */
-    a[CRANE_SLEW] = in_set(lk, CRANE_SLEW) ? 0 : b[CRANE_SLEW] / c->d.jz;
+    a[CRANE_SLEW] = in_set(lk, CRANE_SLEW) != 0 ? 0 : b[CRANE_SLEW] / c->d.jz;
     for (k = 0; k < 3; ++k) {
         a[PLANE[k]] = 0;
-        if (!in_set(lk, PLANE[k])) {
+        if (in_set(lk, PLANE[k]) == 0) {
             f |= (unsigned)k << (2 * n);
             ++n;
         }
@@ -371,7 +375,7 @@ static CRANE__NOINLINE void solve_spatial(const ctx_t *c, const crane_real *Mp,
     if (n == 0) {
         return;
     }
-    if (!Mp) {
+    if (Mp == NULL) {
         crane__mass_spatial(c->lim.m, &c->b, &c->d.cf, &A[6]);
         M = &A[6];
     }
@@ -403,7 +407,7 @@ static CRANE__NOINLINE void solve_spatial(const ctx_t *c, const crane_real *Mp,
 static CRANE__ALWAYS_INLINE void solve(const ctx_t *c, const crane_real *Mp, const crane_real b[4],
                                        unsigned lk, crane_real a[4])
 {
-    if (c->planar) {
+    if (c->planar != 0u) {
         solve_planar(c, Mp, b, lk, a);
     } else {
         solve_spatial(c, Mp, b, lk, a);
@@ -416,7 +420,7 @@ static unsigned lock_mask(const ctx_t *c)
     unsigned lk = 0;
     int j;
     for (j = 0; j < 4; ++j) {
-        if (locked(c, j)) {
+        if (locked(c, j) != 0) {
             lk |= 1u << j;
         }
     }
@@ -463,7 +467,7 @@ static void rk4(ctx_t *c, crane_real t, const xstate *x, crane_real h, xstate *y
     const unsigned lk = lock_mask(c);
     /* the joints that can move: the planar kernel's two booms (the slew and the extension are
      * held, their entries stay those of x), else all four */
-    const int nq = c->planar ? 2 : 4;
+    const int nq = n_moving(c);
     xstate xs;
     int s, i;
 
@@ -476,7 +480,7 @@ static void rk4(ctx_t *c, crane_real t, const xstate *x, crane_real h, xstate *y
         solve(c, NULL, c->d.b, lk, &xs.v[W]);
         stage(x, &xs, y, W, W + nq, 0, s, cs, h6);
 #if CRANE_HYDRAULICS
-        if (c->lim.valves) {
+        if (c->lim.valves != 0u) {
             /* the entries of joints that are not valve-driven are 0, and so read as rates */
             stage(x, &xs, y, H, N_ALL, 0, s, cs, h6);
             /* the relief and anti-cavitation valves, implicitly: over the stage's step on the
@@ -500,9 +504,9 @@ static void impact(ctx_t *c, xstate *x, int i)
     if (i != CRANE_SLEW) {
         const unsigned lk = (lock_mask(c) & ~(1u << i)) | (1u << CRANE_SLEW);
         (void)configure(c, x, 1);
-        if (c->planar) {
+        if (c->planar != 0u) {
             const int j = 1 - i;
-            if (!in_set(lk, j)) {
+            if (in_set(lk, j) == 0) {
                 crane_real Mp[6];
                 mass(c, Mp);
                 x->v[W + j] += Mp[1] / Mp[j == 0 ? 0 : 3] * x->v[W + i];
@@ -513,7 +517,7 @@ static void impact(ctx_t *c, xstate *x, int i)
             e[i] = 1;
             solve(c, NULL, e, lk, col);
             for (j = 0; j < 4; ++j) {
-                if (j != i && !in_set(lk, j)) {
+                if (j != i && in_set(lk, j) == 0) {
                     x->v[W + j] -= col[j] * (x->v[W + i] / col[i]);
                 }
             }
@@ -525,9 +529,9 @@ static void impact(ctx_t *c, xstate *x, int i)
 /* Puts joint i on its stop: q exactly at the limit, plastic impact, STOPPED. */
 static void stop_joint(ctx_t *c, xstate *x, int i, int upper)
 {
-    x->v[Q + i] = upper ? hi_q(c, i) : lo_q(c, i);
+    x->v[Q + i] = upper != 0 ? hi_q(c, i) : lo_q(c, i);
     impact(c, x, i);
-    c->mode[i] = (signed char)(upper ? CRANE__STOP_HI : CRANE__STOP_LO);
+    c->mode[i] = (signed char)(upper != 0 ? CRANE__STOP_HI : CRANE__STOP_LO);
 }
 
 /* Which stopped joints leave their stops (docs/model.md, "End stops"): the solution of the
@@ -549,20 +553,22 @@ static int release_set(ctx_t *c, crane_real t, const xstate *x)
             held |= 1u << j;
         } else if (c->mode[j] >= CRANE__STOP_LO) {
             stopped |= 1u << j;
+        } else {
+            /* free: neither held nor stopped */
         }
     }
-    if (!stopped) {
+    if (stopped == 0u) {
         return 0;
     }
     /* the stopped joints' actuator forces decide their release: only held joints are locked */
     forces(c, t, x, held, NULL);
     mass(c, Mp);
     /* the candidates are subsets of the stopped joints: below 4 with the planar kernel */
-    for (cand = 0; cand < (c->planar ? 4u : 16u); ++cand) {
+    for (cand = 0; cand < (c->planar != 0u ? 4u : 16u); ++cand) {
         int ok = 1;
         crane_real a[4], r[4];
         /* only stopped joints can be released */
-        if (cand & ~stopped) {
+        if ((cand & ~stopped) != 0u) {
             continue;
         }
         solve(c, Mp, d->b, held | (stopped & ~cand), a);
@@ -574,16 +580,16 @@ static int release_set(ctx_t *c, crane_real t, const xstate *x)
         r[CRANE_SLEW] = d->jz * a[CRANE_SLEW];
         for (j = 0; j < 4; ++j) {
             const crane_real inward = c->mode[j] == CRANE__STOP_LO ? 1 : -1;
-            if (!in_set(stopped, j)) {
+            if (in_set(stopped, j) == 0) {
                 continue;
             }
-            if (in_set(cand, j)) {
-                ok = ok && inward * a[j] > 0;
+            if (in_set(cand, j) != 0) {
+                ok = ok != 0 && inward * a[j] > 0;
             } else {
-                ok = ok && inward * (r[j] - d->b[j]) >= 0;
+                ok = ok != 0 && inward * (r[j] - d->b[j]) >= 0;
             }
         }
-        if (ok) {
+        if (ok != 0) {
             return (int)cand;
         }
     }
@@ -598,7 +604,7 @@ static void release(ctx_t *c, crane_real t, const xstate *x)
     int j;
 
     for (j = 0; j < 4; ++j) {
-        if ((cand >> j) & 1) {
+        if (((cand >> j) & 1) != 0) {
             c->mode[j] = CRANE__FREE;
         }
     }
@@ -622,7 +628,7 @@ static crane_real release_in_piece(ctx_t *c, crane_real t, xstate *x, crane_real
     for (k = 0; k < CRANE__RELEASE_BISECTIONS; ++k) {
         const crane_real mid = (lo + hi) / 2;
         rk4(c, t, x, mid, y);
-        if (release_set(c, t + mid, y)) {
+        if (release_set(c, t + mid, y) != 0) {
             hi = mid;
         } else {
             lo = mid;
@@ -634,14 +640,15 @@ static crane_real release_in_piece(ctx_t *c, crane_real t, xstate *x, crane_real
     return hi;
 }
 
-/* One step of size h from t, cut at end-stop events: impacts and releases. Each event piece
+/* One step of size h from t_start, cut at end-stop events: impacts and releases. Each event piece
  * normally stops or releases a joint, so two or three pieces are the rule; if the shorter RK4 step
  * lands a rounding error inside the limit the joint is not stopped yet and the next piece finds it
  * again a hair later (as the specification reads). MAX_PIECES only bounds that in pathological
  * cases: the last piece takes the whole rest, puts any joint that overshot on its limit and does
  * no release search. */
-static void step(ctx_t *c, crane_real t, xstate *x, crane_real h, crane_real t_end)
+static void step(ctx_t *c, crane_real t_start, xstate *x, crane_real h, crane_real t_end)
 {
+    crane_real t = t_start; /* the current piece's start */
     crane_real rem = h;
     int piece;
 
@@ -661,15 +668,17 @@ static void step(ctx_t *c, crane_real t, xstate *x, crane_real h, crane_real t_e
                 upper |= 1u << i;
             } else if (!(x1.v[Q + i] < lo_q(c, i))) {
                 continue;
+            } else {
+                /* below its lower limit */
             }
             out |= 1u << i;
         }
-        if (!out) {
+        if (out == 0u) {
             /* A piece without an impact, which ends at the step's end (its time is taken as t_end,
              * the next step's start time, so that this check and the release at the next step's
              * start are one evaluation): a STOPPED joint may have come free inside it. */
-            if (piece < CRANE__MAX_PIECES - 1 && any_stopped(c)) {
-                if (release_set(c, t_end, &x1)) {
+            if (piece < CRANE__MAX_PIECES - 1 && any_stopped(c) != 0) {
+                if (release_set(c, t_end, &x1) != 0) {
                     /* x1 is free again: the search's scratch (the stack) */
                     const crane_real hi = release_in_piece(c, t, x, rem, &x1);
                     t += hi;
@@ -684,18 +693,18 @@ static void step(ctx_t *c, crane_real t, xstate *x, crane_real h, crane_real t_e
         if (piece == CRANE__MAX_PIECES - 1) {
             copy_state(c, x, &x1);
             for (i = 0; i < 4; ++i) {
-                if ((out >> i) & 1) {
+                if (((out >> i) & 1u) != 0u) {
                     stop_joint(c, x, i, (upper >> i) & 1);
                 }
             }
             return;
         }
         for (i = 0; i < 4; ++i) {
-            if ((out >> i) & 1) {
+            if (((out >> i) & 1u) != 0u) {
                 const int up = (upper >> i) & 1;
                 const crane_real tau = crane__crossing_time(x->v[Q + i], x->v[W + i], x1.v[Q + i],
                                                             x1.v[W + i], rem,
-                                                            up ? hi_q(c, i) : lo_q(c, i), up);
+                                                            up != 0 ? hi_q(c, i) : lo_q(c, i), up);
                 if (tau < tmin) {
                     tmin = tau;
                 }
@@ -714,6 +723,8 @@ static void step(ctx_t *c, crane_real t, xstate *x, crane_real h, crane_real t_e
                 stop_joint(c, x, i, 0);
             } else if (x->v[Q + i] >= hi_q(c, i)) {
                 stop_joint(c, x, i, 1);
+            } else {
+                /* inside its range: stays free */
             }
         }
     }
@@ -729,14 +740,14 @@ static CRANE__NOINLINE long substeps(ctx_t *c, const xstate *x, crane_real h)
     const int ext = c->mode[CRANE_EXTENSION] != CRANE__HELD;
     long n = 1;
 
-    (void)configure(c, x, ext || valve(c, CRANE_TILT));
+    (void)configure(c, x, ext != 0 || valve(c, CRANE_TILT) != 0);
 #if CRANE_HYDRAULICS
-    if (c->lim.valves) {
+    if (c->lim.valves != 0u) {
         const int driven[4] = {valve(c, 0), valve(c, 1), valve(c, 2), valve(c, 3)};
         crane_real stroke[4] = {0, 0, 0, 0};
         int j;
         for (j = 0; j < 4; ++j) {
-            if (driven[j]) {
+            if (driven[j] != 0) {
                 if (c->mode[j] != CRANE__FREE) {
                     stroke[j] = locked_stroke(c, j);
                 } else {
@@ -747,7 +758,7 @@ static CRANE__NOINLINE long substeps(ctx_t *c, const xstate *x, crane_real h)
         n = crane__substeps(c->lim.m, stroke, driven, h, c->lim.coef);
     }
 #endif
-    if (ext) {
+    if (ext != 0) {
         crane_real e[4] = {0, 0, 0, 0}, col[4], ne, minv;
         unsigned lk = 1u << CRANE_SLEW;
         int j;
@@ -789,6 +800,8 @@ static void put_sample(ctx_t *c, crane_real t, const xstate *x, crane_sample *o)
             coord = lo_q(c, i);
         } else if (c->mode[i] == CRANE__STOP_HI) {
             coord = hi_q(c, i);
+        } else {
+            /* free or held: x's coordinate (a held joint reports its initial one below) */
         }
         if (i == CRANE_SLEW) {
             o->slew = c->mode[i] == CRANE__HELD ? c->s0->slew : coord;
@@ -811,6 +824,8 @@ static void put_sample(ctx_t *c, crane_real t, const xstate *x, crane_sample *o)
                     s = crane__stroke_min(m, i);
                 } else if (s > crane__stroke_max(m, i)) {
                     s = crane__stroke_max(m, i);
+                } else {
+                    /* within its range */
                 }
                 break;
             }
@@ -820,7 +835,7 @@ static void put_sample(ctx_t *c, crane_real t, const xstate *x, crane_sample *o)
         }
         o->flow_a[i] = o->flow_b[i] = o->spool[i] = 0;
 #if CRANE_HYDRAULICS
-        if (valve(c, i)) {
+        if (valve(c, i) != 0) {
             const crane_hydraulics *h = crane__circuit(m, i);
             const crane_real y = h->spool_time_constant > 0 ? x->v[H + 3 * i + 2] : lever(c, i, t);
             o->p_a[i] = x->v[H + 3 * i];
@@ -859,17 +874,17 @@ static void put_sample(ctx_t *c, crane_real t, const xstate *x, crane_sample *o)
 static int finite_state(const ctx_t *c, const xstate *x)
 {
     /* the joints that can move (held ones keep their validated initial state) */
-    const int nq = c->planar ? 2 : 4;
+    const int nq = n_moving(c);
     int i;
     for (i = 0; i < nq; ++i) {
-        if (!crane__finite(x->v[Q + i]) || !crane__finite(x->v[W + i])) {
+        if (crane__finite(x->v[Q + i]) == 0 || crane__finite(x->v[W + i]) == 0) {
             return 0;
         }
     }
     for (i = H; i < n_used(c); ++i) {
         /* the pressures, then the spool, of each valve-driven joint from H on (x_slot) */
         const crane_real lim = (i - H) % 3 == 2 ? 1 : (crane_real)CRANE_PRESSURE_MAX;
-        if (!crane__in_range(x->v[i], -lim, lim)) {
+        if (crane__in_range(x->v[i], -lim, lim) == 0) {
             return 0;
         }
     }
@@ -940,7 +955,7 @@ static int mp_diag(int j) { return j == CRANE_LIFT ? 0 : j == CRANE_TILT ? 3 : 5
 static void rates(ctx_t *c, crane_real t, const xstate *x, xstate *f)
 {
     const unsigned lk = lock_mask(c);
-    const int nq = c->planar ? 2 : 4;
+    const int nq = n_moving(c);
     int i;
 
     if (f != x) {
@@ -963,12 +978,12 @@ static void limits_open(ctx_t *c, const xstate *x, const xstate *f)
     c->open = 0;
 #if CRANE_HYDRAULICS
     for (k = 0; k < 8; ++k) {
-        if (valve(c, k >> 1)) {
+        if (valve(c, k >> 1) != 0) {
             const int i = H + 3 * (k >> 1) + (k & 1);
             crane_real set;
             const int side = crane__limit_side(c->lim.m, k >> 1, x->v[i], &set);
             const int cav = set == crane__circuit(c->lim.m, k >> 1)->cavitation_pressure;
-            if (side != 0 || (x->v[i] == set && (cav ? f->v[i] < 0 : f->v[i] > 0))) {
+            if (side != 0 || (x->v[i] == set && (cav != 0 ? f->v[i] < 0 : f->v[i] > 0))) {
                 c->open = (unsigned char)(c->open | (1u << k));
             }
         }
@@ -984,7 +999,7 @@ static void limits_open(ctx_t *c, const xstate *x, const xstate *f)
 static CRANE__NOINLINE void w_matrix(ctx_t *c, crane_real t, const xstate *x, wjac *J)
 {
     const crane_model *m = c->lim.m;
-    const int nq = c->planar ? 2 : 4;
+    const int nq = n_moving(c);
     int j, k;
 
     (void)configure(c, x, 1);
@@ -1003,7 +1018,7 @@ static CRANE__NOINLINE void w_matrix(ctx_t *c, crane_real t, const xstate *x, wj
         if (j >= nq) {
             continue;
         }
-        if (!locked(c, j)) {
+        if (locked(c, j) == 0) {
             const crane_real ds = ratio(c, j, x->v[Q + j], &stroke);
             const crane_real slope =
                 crane__friction_slope(crane__actuator_friction(m, j), ds * x->v[W + j]);
@@ -1011,13 +1026,13 @@ static CRANE__NOINLINE void w_matrix(ctx_t *c, crane_real t, const xstate *x, wj
             /* a falling friction (Stribeck) is left out: it would make the system singular
              * for long steps, and the W-method keeps its order without it */
             J->fr[j] = slope > 0 ? ds * ds * slope : 0;
-        } else if (valve(c, j)) {
+        } else if (valve(c, j) != 0) {
             stroke = locked_stroke(c, j);
         } else {
             continue;
         }
 #if CRANE_HYDRAULICS
-        if (valve(c, j)) {
+        if (valve(c, j) != 0) {
             const crane_hydraulics *h = crane__circuit(m, j);
             const crane_real tau = h->spool_time_constant;
             crane_real a_a, a_b;
@@ -1058,7 +1073,7 @@ static CRANE__NOINLINE void wsolve(ctx_t *c, const wjac *J, crane_real gh, xstat
         crane_real diag = gh * J->fr[j];
         w[j][0] = 0;
         w[j][1] = 0;
-        if (valve(c, j)) {
+        if (valve(c, j) != 0) {
             const crane_real *P = J->ch[j];
             crane_real *u = &r->v[H + 3 * j];
             const crane_real b11 = 1 - gh * P[0], b12 = -gh * P[1], b21 = -gh * P[2];
@@ -1084,7 +1099,7 @@ static CRANE__NOINLINE void wsolve(ctx_t *c, const wjac *J, crane_real gh, xstat
     for (j = 0; j < 4; ++j) {
         r->v[W + j] = a[j];
         r->v[Q + j] += gh * a[j];
-        if (valve(c, j)) {
+        if (valve(c, j) != 0) {
             r->v[H + 3 * j] += w[j][0] * a[j];
             r->v[H + 3 * j + 1] += w[j][1] * a[j];
         }
@@ -1109,7 +1124,7 @@ static void step_start(ctx_t *c, crane_real t, const xstate *x, xstate *f, int v
 {
     const unsigned char open = c->open;
 
-    if (!valid) {
+    if (valid == 0) {
         rates(c, t, x, f);
     }
     limits_open(c, x, f);
@@ -1180,7 +1195,7 @@ static void spools_in_range(const ctx_t *c, xstate *x)
     int j;
 
     for (j = 0; j < 4; ++j) {
-        if (valve(c, j)) {
+        if (valve(c, j) != 0) {
             crane_real *y = &x->v[H + 3 * j + 2];
             if (*y > 1) {
                 *y = 1;
@@ -1212,7 +1227,7 @@ static CRANE__NOINLINE void dense_sample(ctx_t *c, crane_real t, const xstate *x
     /* a held or stopped joint stays exactly where it is (the interpolant's rounding would move
      * it off its stop by an ulp), and a spool in [-1, 1] (the cubic can pass a clamped end) */
     for (i = 0; i < 4; ++i) {
-        if (locked(c, i)) {
+        if (locked(c, i) != 0) {
             xs.v[Q + i] = x0->v[Q + i];
             xs.v[W + i] = x0->v[W + i];
         }
@@ -1252,7 +1267,7 @@ static int first_crossing(const ctx_t *c, const xstate *x, const xstate *x1, cra
             continue;
         }
         ti = crane__crossing_time(x->v[Q + i], x->v[W + i], x1->v[Q + i], x1->v[W + i], h,
-                                  up ? hi_q(c, i) : lo_q(c, i), up);
+                                  up != 0 ? hi_q(c, i) : lo_q(c, i), up);
         if (first < 0 || ti < *tau) {
             first = i;
             *tau = ti;
@@ -1273,7 +1288,7 @@ static int chamber_crossing(const ctx_t *c, const xstate *x, const xstate *x1, c
 
 #if CRANE_HYDRAULICS
     for (k = 0; k < 8; ++k) {
-        if (valve(c, k >> 1)) {
+        if (valve(c, k >> 1) != 0) {
             const int i = H + 3 * (k >> 1) + (k & 1);
             const int open = (c->open >> k) & 1;
             crane_real set, tk;
@@ -1376,14 +1391,14 @@ static CRANE__NOINLINE crane_status integrate_rosw(ctx_t *c, xstate *x, crane_re
                 changed = 1;
             }
 #endif
-        } else if (any_stopped(c) && release_set(c, t + hs, &x1)) {
+        } else if (any_stopped(c) != 0 && release_set(c, t + hs, &x1) != 0) {
             /* a stopped joint comes free inside the step: bisect for the time (f1 is scratch) */
             crane_real lo = 0, hi = hs;
             int k;
             for (k = 0; k < CRANE__RELEASE_BISECTIONS; ++k) {
                 const crane_real mid = (lo + hi) / 2;
                 (void)ros_step(c, t, x, &f0, &J, mid, &f1);
-                if (release_set(c, t + mid, &f1)) {
+                if (release_set(c, t + mid, &f1) != 0) {
                     hi = mid;
                 } else {
                     lo = mid;
@@ -1395,10 +1410,12 @@ static CRANE__NOINLINE crane_status integrate_rosw(ctx_t *c, xstate *x, crane_re
             hs = hi;
             (void)ros_step(c, t, x, &f0, &J, hs, &x1);
             changed = 1;
+        } else {
+            /* no event inside the step: it is taken whole */
         }
         spools_in_range(c, &x1);
         rates(c, t + hs, &x1, &f1);
-        if (!finite_state(c, &x1)) {
+        if (finite_state(c, &x1) == 0) {
             *n_written = next;
             return CRANE_E_DIVERGED;
         }
@@ -1407,7 +1424,7 @@ static CRANE__NOINLINE crane_status integrate_rosw(ctx_t *c, xstate *x, crane_re
             dense_sample(c, t, x, &f0, &x1, &f1, hs, (crane_real)kept * dt, &out[next++]);
             kept += sample_every;
         }
-        t = last ? horizon : t + hs;
+        t = last != 0 ? horizon : t + hs;
         if (first >= 0) {
             stop_joint(c, &x1, first, upper);
             changed = 1;
@@ -1426,9 +1443,11 @@ static CRANE__NOINLINE crane_status integrate_rosw(ctx_t *c, xstate *x, crane_re
             } else if (q > hi_q(c, i) || (q == hi_q(c, i) && w >= 0)) {
                 stop_joint(c, &x1, i, 1);
                 changed = 1;
+            } else {
+                /* inside its range, or at a limit moving into it: stays free */
             }
         }
-        if (changed) {
+        if (changed != 0) {
             release(c, t, &x1);
             /* a new start after an event: the step is found again from the first one's size */
             if (h > ROS_FIRST_STEP) {
@@ -1492,7 +1511,7 @@ crane_status crane__integrate(const crane_model *m, const crane_state *s0, const
     for (i = 0; i < 4; ++i) {
         c.cursor[i] = 0;
         c.mode[i] = (signed char)(in->drive[i].mode == CRANE_DRIVE_HOLD ? CRANE__HELD : CRANE__FREE);
-        if (CRANE_HYDRAULICS && in->drive[i].mode == CRANE_DRIVE_VALVE) {
+        if (CRANE_HYDRAULICS != 0 && in->drive[i].mode == CRANE_DRIVE_VALVE) {
             c.lim.valves |= 1u << i;
             x.v[H + 3 * i] = s0->p_a[i];
             x.v[H + 3 * i + 1] = s0->p_b[i];
@@ -1549,12 +1568,12 @@ crane_status crane__integrate(const crane_model *m, const crane_state *s0, const
     /* A state that stops being finite (only with absurd parameters, e.g. gravity 1e135) ends
      * the prediction with CRANE_E_DIVERGED and the samples written before it, all finite. */
     *n_written = 0;
-    if (!finite_state(&c, &x)) {
+    if (finite_state(&c, &x) == 0) {
         return CRANE_E_DIVERGED;
     }
     put_sample(&c, 0, &x, &out[0]);
 #if CRANE_ROSW
-    if (c.rosw) {
+    if (c.rosw != 0u) {
         return integrate_rosw(&c, &x, horizon, dt, n_steps, sample_every, out, n_written);
     }
 #endif
@@ -1562,7 +1581,7 @@ crane_status crane__integrate(const crane_model *m, const crane_state *s0, const
      * keyed by the angles themselves, so it stays valid whatever happens in between. */
     for (k = 0, next = 1; k < n_steps; ++k) {
         const int last = k == n_steps - 1;
-        const crane_real t_end = last ? horizon : (crane_real)(k + 1) * dt;
+        const crane_real t_end = last != 0 ? horizon : (crane_real)(k + 1) * dt;
         crane_real t = (crane_real)k * dt;
         int more;
 
@@ -1577,30 +1596,30 @@ crane_status crane__integrate(const crane_model *m, const crane_state *s0, const
             /* docs/model.md "Hydraulics", "Four joints": with valve-driven actuators or a moving
              * extension, n equal substeps, each a full step of the scheme (one call site of step,
              * so that it stays inlined: the stack). */
-            if ((c.lim.valves || c.mode[CRANE_EXTENSION] != CRANE__HELD) && h > 0) {
+            if ((c.lim.valves != 0u || c.mode[CRANE_EXTENSION] != CRANE__HELD) && h > 0) {
                 n_sub = substeps(&c, &x, h);
                 sub = h / (crane_real)n_sub;
             }
             for (j = 0; j < n_sub; ++j) {
                 const int final = j == n_sub - 1;
                 const crane_real t_sub = j == 0 ? t : t + (crane_real)j * sub;
-                if (!c.release_clear) {
+                if (c.release_clear == 0u) {
                     release(&c, t_sub, &x);
                 }
                 if (h > 0) {
-                    step(&c, t_sub, &x, final ? (j == 0 ? h : t_q - t_sub) : sub,
-                         final ? t_q : t_sub + sub);
+                    step(&c, t_sub, &x, final != 0 ? (j == 0 ? h : t_q - t_sub) : sub,
+                         final != 0 ? t_q : t_sub + sub);
                 }
             }
             more = t_q < t_end; /* an int controls the loop (MISRA 14.1) */
             t = t_q;
-        } while (more);
-        if (!finite_state(&c, &x)) {
+        } while (more != 0);
+        if (finite_state(&c, &x) == 0) {
             *n_written = next;
             return CRANE_E_DIVERGED;
         }
-        if (last || (k + 1) % sample_every == 0) {
-            put_sample(&c, last ? horizon : (crane_real)(k + 1) * dt, &x, &out[next++]);
+        if (last != 0 || (k + 1) % sample_every == 0) {
+            put_sample(&c, last != 0 ? horizon : (crane_real)(k + 1) * dt, &x, &out[next++]);
         }
     }
     *n_written = next;
