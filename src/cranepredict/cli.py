@@ -290,7 +290,9 @@ def main(argv: Optional[List[str]] = None) -> int:
     sub = parser.add_subparsers(dest="command", metavar="COMMAND")
     demo = sub.add_parser("demo", help="run the paper's scenario (or another) and report speed")
     demo.add_argument("--scenario", default="paper-fig4", help="scenario name (default: paper-fig4)")
-    demo.add_argument("--dt", type=float, default=None, help="RK4 step, s (default: the package default)")
+    demo.add_argument("--dt", type=float, default=None,
+                      help="sample interval, s (the default method steps as its accuracy needs; "
+                           "default: the package default)")
     demo.add_argument("--repeat", type=int, default=None,
                       help="timed repetitions (default: 201 on the C core, 3 on the twin)")
     demo.add_argument("--backend", choices=("c", "python"), default=None,
