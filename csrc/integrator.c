@@ -1188,6 +1188,19 @@ static CRANE__NOINLINE crane_real ros_step(ctx_t *c, crane_real t, const xstate 
     return err;
 }
 
+/* Every rate in use is finite. */
+static int finite_rates(const ctx_t *c, const xstate *f)
+{
+    int i, ok = 1;
+
+    for (i = 0; i < n_used(c); ++i) {
+        if (crane__finite(f->v[i]) == 0) {
+            ok = 0;
+        }
+    }
+    return ok;
+}
+
 /* The spools of a step's end back into [-1, 1]: the spool's lag cannot take it beyond the lever,
  * but the step's rounding and its error (within the tolerance) can, by a hair. */
 static void spools_in_range(const ctx_t *c, xstate *x)
@@ -1415,7 +1428,8 @@ static CRANE__NOINLINE crane_status integrate_rosw(ctx_t *c, xstate *x, crane_re
         }
         spools_in_range(c, &x1);
         rates(c, t + hs, &x1, &f1);
-        if (finite_state(c, &x1) == 0) {
+        /* the samples are interpolated with f1 too: it must be finite as well */
+        if (finite_state(c, &x1) == 0 || finite_rates(c, &f1) == 0) {
             *n_written = next;
             return CRANE_E_DIVERGED;
         }

@@ -296,7 +296,7 @@ def integrate(pred: _Prediction, x: State, horizon: float, dt: float, n: int, ti
             x1 = x1[:SPOOL] + tuple(min(max(y, -1.0), 1.0) if pred.valve[j] else y
                                     for j, y in zip(JOINTS, x1[SPOOL:]))
         f1 = ros.rates(t + hs, x1)
-        if not _physical(x1):
+        if not _physical(x1) or not all(math.isfinite(v) for v in f1):
             raise ValueError(f"the prediction diverged at t = {t:g} s (the state is no longer "
                              "finite, or a spool or chamber pressure left its range): check the "
                              "crane's parameters for absurd values")
