@@ -18,6 +18,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
+from functools import lru_cache
 from typing import Any, Dict, List, Optional, Tuple
 
 import numpy as np
@@ -42,9 +43,11 @@ class InnovationFault(Exception):
     """The estimator's innovation test failed: the model no longer explains the sensors."""
 
 
+@lru_cache(maxsize=1024)
 def chi2_quantile(p: float, k: int) -> float:
     """The p-quantile of the chi-square distribution with k degrees of freedom (Wilson-Hilferty,
-    within 1 % for k >= 3 at p <= 0.9999)."""
+    within 1 % for k >= 3 at p <= 0.9999). Cached: the innovation test asks the same few every
+    cycle, and the bisection costs more than the rest of a C filter's update."""
     # the standard normal quantile by bisection on erf
     lo, hi = -10.0, 10.0
     for _ in range(80):
