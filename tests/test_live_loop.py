@@ -176,6 +176,44 @@ def test_the_interlock_obeyed_prevents_the_collision_that_ignoring_it_lets_happe
     assert obeyed.counts["STOP"] > 0
 
 
+def test_each_cycle_starts_the_stop_search_at_the_last_verdict_with_the_same_verdicts(
+        crane, monkeypatch):
+    """The loop hands the guard its last latest stop time (moved by the time since) as the
+    search's start: over the demo's WARN and STOP cycles every verdict, signal and latest stop
+    time, is the one the guard finds without it."""
+    from cranepredict.live import loop
+
+    start, script, name = demo_setup(crane)
+    world = cp.worlds.get(name)
+    runs, plain = {}, loop.guard
+    for hinted in (True, False):
+        seen = []
+
+        def guard(*a, **k):
+            seen.append(k.get("stop_hint"))
+            if not hinted:
+                k["stop_hint"] = None
+            return plain(*a, **k)
+
+        monkeypatch.setattr(loop, "guard", guard)
+        sim = SimCrane(Plant(perturbed_crane(crane), start), script, SensorModel(seed=1))
+        twin, asm, verdicts = cp.LiveTwin(crane, world), MeasurementAssembler(), []
+        frames = SensorFrames()
+        for _ in range(300):
+            values, request, scale = sim.measure()
+            m, faults = None, []
+            for msg in frames.messages(values, request, scale, timestamp=sim.plant.t):
+                m, faults = asm.feed(msg) or (m, faults)
+            v = twin.cycle(m, faults)
+            verdicts.append((v.signal, v.latest_stop))
+            sim.step(allowed=not v.stops)
+        runs[hinted] = verdicts, seen
+    assert runs[True][0] == runs[False][0]
+    signals = [s for s, _ in runs[True][0]]
+    assert "WARN" in signals and "STOP" in signals
+    assert sum(h is not None for h in runs[True][1]) > 20     # the hint was used
+
+
 def test_a_first_position_read_just_beyond_its_end_starts_at_the_end(crane):
     """Noise at an end stop: the telescope retracted reads -0.7 mm; the estimate starts at 0."""
     ekf = EKF(crane)

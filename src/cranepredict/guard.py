@@ -330,7 +330,7 @@ def guard(crane: Crane, world: World, state: State, inputs: Inputs, horizon: flo
           time_tolerance: float = DEFAULT_TIME_TOLERANCE,
           clearance_tolerance: float = DEFAULT_CLEARANCE_TOLERANCE,
           sample_every: Optional[int] = None, stop_horizon: float = DEFAULT_STOP_HORIZON,
-          shape: Optional[Shape] = None) -> Verdict:
+          shape: Optional[Shape] = None, stop_hint: Optional[float] = None) -> Verdict:
     """Predicts the future under ``inputs`` and judges it against the world's obstacles.
 
     Returns a :class:`Verdict`: the minimum clearance of each part over the samples (m; at most
@@ -348,6 +348,11 @@ def guard(crane: Crane, world: World, state: State, inputs: Inputs, horizon: flo
     integrates at ``dt``; the guard judges every ``sample_every``-th step (default: about every
     GUARD_SPACING = 10 ms), the per-part minima are over those samples, and contacts are found
     between them too (docs/guard.md, "Nothing is missed"). ``Verdict.trajectory`` holds those samples.
+    ``stop_hint`` (s from the prediction's start, finite), a latest stop time expected from
+    a previous verdict (a control loop's last cycle, moved by the time since), is where the search
+    for the latest stop time begins, outwards in doubling steps, then by bisection: the same
+    answer as without it (stopping later is taken never to be safer, as the bisection does) from
+    about 2 stop predictions instead of about 9 when the hint is right.
     """
     shape = _shape(crane, shape)
     if not isinstance(world, World):
@@ -367,6 +372,8 @@ def guard(crane: Crane, world: World, state: State, inputs: Inputs, horizon: flo
         if not (math.isfinite(v) and (v >= low if closed else v > low)):
             raise ValueError(f"{name} must be {'>=' if closed else '>'} {low:g} and finite, got {v:g}")
         values[name] = v
+    if stop_hint is not None:
+        stop_hint = _number(stop_hint, "stop_hint")   # finite, or a ValueError naming it
     if values["stop_horizon"] > STOP_FOLLOW_MAX:
         raise ValueError(f"stop_horizon must be in (0, {STOP_FOLLOW_MAX:g}] s "
                          f"(cranepredict.guard.STOP_FOLLOW_MAX), got {values['stop_horizon']:g}")
@@ -387,7 +394,7 @@ def guard(crane: Crane, world: World, state: State, inputs: Inputs, horizon: flo
     if why is not None:
         return _with_stop(verdict, -math.inf, values, why)
     latest, why = _latest_stop(crane, world, traj, inputs, stop, shape, values, dt, sample_every,
-                               verdict.contact.t)
+                               verdict.contact.t, stop_hint)
     return _with_stop(verdict, latest, values, why)
 
 
@@ -554,13 +561,16 @@ def _stop_is_safe(crane: Crane, world: World, start: State, stop: Inputs, shape:
 
 def _latest_stop(crane: Crane, world: World, traj: Trajectory, inputs: Inputs, stop: Inputs,
                  shape: Shape, values: Dict[str, float], dt: float, sample_every: int,
-                 t_contact: float) -> Tuple[float, Optional[str]]:
+                 t_contact: float, hint: Optional[float] = None) -> Tuple[float, Optional[str]]:
     """The latest judged sample time t_s at which stopping (taking effect at the first sample at or
     after t_s + reaction) keeps the clearance above the margin, by bisection over the samples:
     stopping later is taken never to be safer. Each candidate predicts the stop from the state
     there (stop_state) until the crane is at rest and judges it; the command's own path is clear
     before its first contact. -inf if not even stopping at t = 0 is safe. A candidate whose stop
-    cannot be predicted counts as unsafe; the second value says why, if that decided anything."""
+    cannot be predicted counts as unsafe; the second value says why, if that decided anything.
+    With a hint (a time), the search starts at the last sample at or before it and gallops
+    outwards (steps 1, 2, 4, ...) until it has a safe sample below an unsafe one, then bisects:
+    the boundary the bisection alone would find when safety falls once with the stop time."""
     reaction = values["reaction"]
     t = traj.t
     notes: list = []
@@ -579,9 +589,25 @@ def _latest_stop(crane: Crane, world: World, traj: Trajectory, inputs: Inputs, s
         return ok
 
     lo, hi = -1, int(np.searchsorted(t, t_contact - reaction, side="right"))  # safe(lo), not hi
-    if hi <= 0 or not safe(0):
+    if hi <= 0:
         return -math.inf, (notes[-1] if notes else None)
-    lo = 0
+    k = 0 if hint is None else min(max(int(np.searchsorted(t, hint, side="right")) - 1, 0), hi - 1)
+    if k > 0 and safe(k):              # up from a safe hint: 1, 2, 4, ... samples later
+        lo, step = k, 1
+        while lo + step < hi and safe(lo + step):
+            lo, step = lo + step, 2 * step
+        hi = min(lo + step, hi)
+    elif k > 0:                        # down from an unsafe hint, to a safe sample or to 0
+        hi, step = k, 1
+        while hi - step > 0 and not safe(hi - step):
+            hi, step = hi - step, 2 * step
+        lo = max(hi - step, 0)
+        if lo == 0 and not safe(0):
+            return -math.inf, (notes[-1] if notes else None)
+    elif not safe(0):
+        return -math.inf, (notes[-1] if notes else None)
+    else:
+        lo = 0
     while hi - lo > 1:
         mid = (lo + hi) // 2
         if safe(mid):

@@ -128,6 +128,9 @@ class LiveTwin:
         self.settle = int(settle)
         self.settling = 0
         self.counts: Dict[str, int] = {s: 0 for s in LIVE_SIGNALS}
+        # the last verdict's latest stop as a time of the crane (s), where the next cycle's guard
+        # begins its search (guard's stop_hint); None: no stop analysis, or no stop was safe
+        self._stop_at: Optional[float] = None
 
     def _ranges(self, tol: float, limit: float) -> Dict[str, tuple]:
         c, g, sd = self.crane, self.crane.geometry, self.crane.slew_drive
@@ -212,10 +215,14 @@ class LiveTwin:
             return LiveVerdict(t=t, signal="FAULT", reason="estimator settling after a (re)start",
                                fault="settling", state=state, wall=time.perf_counter() - t0)
         try:
+            hint = None if self._stop_at is None else self._stop_at - t
+            self._stop_at = None
             v = guard(self.crane, self.world, state, measurement.predicted_inputs, self.horizon,
-                      dt=self.dt, reaction=self.reaction, cycle=self.cycle_time)
+                      dt=self.dt, reaction=self.reaction, cycle=self.cycle_time, stop_hint=hint)
         except (ValueError, TypeError) as e:
             return self.fault(t, "internal", f"guard: {e}", state=state)
+        if v.stop is not None and math.isfinite(v.stop.latest):
+            self._stop_at = t + v.stop.latest
         speed = 1.0
         if v.signal == "STOP":
             speed = 0.0
