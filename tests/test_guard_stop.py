@@ -99,8 +99,9 @@ def test_a_stop_hint_finds_the_same_latest_stop_with_fewer_stop_predictions(cran
     world = _world(0.3, {"name": "pole", "kind": "cylinder", "base": [p[0], p[1], -1.0],
                          "height": 9.0, "radius": 0.1})
     calls = []
-    follow = G._stop_is_safe
-    monkeypatch.setattr(G, "_stop_is_safe", lambda *a: calls.append(1) or follow(*a))
+    follow = G._stops_are_safe
+    monkeypatch.setattr(G, "_stops_are_safe", lambda c, w, starts, *a: calls.extend(starts)
+                        or follow(c, w, starts, *a))
     v = cp.guard(crane, world, state, inputs, 3.0, reaction=REACTION)
     plain = len(calls)
     assert v.signal == "WARN" and v.stop.latest > 0.5, v.reason
