@@ -96,11 +96,12 @@ def _random_valve_case(rng, crane, horizon=2.0):
 
 @pytest.mark.slow
 # RK4's arithmetic is the same in both implementations; the error-controlled method solves its
-# linear systems two ways (the chambers eliminated in closed form in C, a dense LU in the twin),
-# and with a relief or anti-cavitation valve open (G_lim/C ~ 1e8 /s in the matrix) their rounding
-# differs by up to 1e-9 of the pressure (measured 0.013 Pa, case 12: a chamber on the floor for a
-# second; 1.2e-4 Pa the next worst) and 2e-10 in a spool: the issue's 1e-3 Pa is not met there.
-@pytest.mark.parametrize("method, spool_tol, p_tol", [("rk4", 1e-12, 1e-3), ("rosw", 1e-9, 0.05)])
+# linear systems two ways (the chambers eliminated in closed form in C, a dense LU with partial
+# pivoting in the twin), and with a relief or anti-cavitation valve open (G_lim/C ~ 1e8 /s in the
+# matrix) their rounding differs by up to 2e-10 of the pressure (measured 1.6e-3 Pa; with
+# numpy's LAPACK solve in the twin it was 0.013 Pa) and 1e-9 in a spool: the 1e-3 Pa of the
+# rest is not met there.
+@pytest.mark.parametrize("method, spool_tol, p_tol", [("rk4", 1e-12, 1e-3), ("rosw", 1e-9, 5e-3)])
 def test_twenty_random_valve_driven_cases_agree(method, spool_tol, p_tol):
     """Tip to 1e-9 m and chamber pressures to 1e-3 Pa (the issue's targets; measured 7e-15 m
     and 3e-7 Pa. With the earlier tanh friction law, smoothing over 1 mm/s, a release from a stop

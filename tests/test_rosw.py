@@ -453,3 +453,35 @@ def test_the_range_ends_are_accepted():
                          (cp.Tolerance(tip=1.0, pressure=1e7), 0.5)):
         tr = cp.predict(sc.crane, sc.initial, sc.inputs, horizon, method="rosw", tolerance=tol)
         assert np.isfinite(tr.tip).all()
+
+
+# -- the twin's linear algebra ------------------------------------------------------------------
+
+def test_the_twins_elimination_solves_what_numpy_solves_and_pivots():
+    """The twin's Gaussian elimination (Python floats, the same bits on every machine) against
+    numpy's LAPACK on a system that needs row exchanges, and a zero leading pivot exactly."""
+    from cranepredict.twin._internal import _lu, _lu_solve, _solve
+    rng = np.random.default_rng(5)
+    a = rng.normal(size=(20, 20)) * np.logspace(-3, 7, 20)[:, None]   # the state's mixed scales
+    a[0, 0] = 0.0
+    b = rng.normal(size=20)
+    x = np.array(_lu_solve(_lu(a.tolist()), b.tolist()))
+    np.testing.assert_allclose(x, np.linalg.solve(a, b), rtol=1e-10, atol=0)
+    assert _solve([[0.0, 1.0], [1.0, 0.0]], [2.0, 3.0]) == [3.0, 2.0]
+    with pytest.raises(ZeroDivisionError):
+        _solve([[1.0, 2.0], [2.0, 4.0]], [1.0, 1.0])
+
+
+def test_the_twins_error_controlled_method_does_not_solve_with_lapack(monkeypatch):
+    """The golden vectors of the C tests are the twin's numbers to 1e-10: a LAPACK solve's last
+    bits follow the BLAS kernels of the machine's CPU, the twin's own elimination does not."""
+    def refuse(*args, **kwargs):
+        raise AssertionError("numpy.linalg called by the twin")
+    for name in ("solve", "inv", "lstsq"):
+        monkeypatch.setattr(np.linalg, name, refuse)
+    for name in ("valve-end-stop", "valve-all-four"):
+        sc = scenarios.get(name)
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore")
+            tr = cp.predict(sc.crane, sc.initial, sc.inputs, sc.horizon, backend="python")
+        assert np.isfinite(tr.tip).all()

@@ -86,22 +86,49 @@ def _norm(v: Vec) -> float:
 
 
 
-def _solve(a: List[List[float]], b: List[float]) -> List[float]:
-    """x with a x = b, Gaussian elimination with partial pivoting (n <= 4)."""
-    n = len(b)
-    m = [row[:] + [b[i]] for i, row in enumerate(a)]
+def _lu(a: Sequence[Sequence[float]]) -> Tuple[List[List[float]], List[int]]:
+    """The LU factors of a square matrix, Gaussian elimination with partial pivoting in Python's
+    floats (the same bits on every machine, which a BLAS does not promise): (rows, order), the
+    rows holding U on and above the diagonal and the multipliers below it, order the rows of a
+    they came from. A zero pivot (a singular matrix) raises ZeroDivisionError."""
+    n = len(a)
+    m = [[float(v) for v in row] for row in a]
+    order = list(range(n))
     for c in range(n):
         p = max(range(c, n), key=lambda r: abs(m[r][c]))
         m[c], m[p] = m[p], m[c]
+        order[c], order[p] = order[p], order[c]
         for r in range(c + 1, n):
             f = m[r][c] / m[c][c]
+            m[r][c] = f
             if f != 0.0:
-                for k in range(c, n + 1):
-                    m[r][k] -= f * m[c][k]
+                row, pivot = m[r], m[c]
+                for k in range(c + 1, n):
+                    row[k] -= f * pivot[k]
+    return m, order
+
+
+def _lu_solve(factors: Tuple[List[List[float]], List[int]], b: Sequence[float]) -> List[float]:
+    """x with a x = b, from a's factors (_lu)."""
+    m, order = factors
+    n = len(order)
+    y = [float(b[i]) for i in order]
+    for c in range(n):
+        yc = y[c]
+        for r in range(c + 1, n):
+            f = m[r][c]
+            if f != 0.0:
+                y[r] -= f * yc
     x = [0.0] * n
     for r in range(n - 1, -1, -1):
-        x[r] = (m[r][n] - sum(m[r][k] * x[k] for k in range(r + 1, n))) / m[r][r]
+        row = m[r]
+        x[r] = (y[r] - sum(row[k] * x[k] for k in range(r + 1, n))) / row[r]
     return x
+
+
+def _solve(a: Sequence[Sequence[float]], b: Sequence[float]) -> List[float]:
+    """x with a x = b (Gaussian elimination with partial pivoting)."""
+    return _lu_solve(_lu(a), b)
 
 
 def _inverse_column(a: List[List[float]], i: int) -> List[float]:

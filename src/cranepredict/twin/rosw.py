@@ -5,7 +5,9 @@ valves' openings located in the step.
 
 An independent implementation of the specification: the W-method's matrix is assembled here as
 the dense matrix of the state (the C core eliminates the chambers and solves the mass matrix
-instead), and the linear systems are solved by numpy."""
+instead), factored once a step by Gaussian elimination in Python's floats: the same bits on every
+machine, which numpy's LAPACK does not promise (its last bits follow the BLAS kernels of the CPU,
+and the C tests' golden vectors are the twin's numbers)."""
 
 from __future__ import annotations
 
@@ -14,7 +16,8 @@ from typing import Callable, List, Optional, Sequence, Tuple
 
 import numpy as np
 
-from ._internal import EXTENSION, HYD, JOINTS, LIFT, SLEW, SPOOL, TILT, State
+from ._internal import (EXTENSION, HYD, JOINTS, LIFT, SLEW, SPOOL, TILT, State, _inverse_column,
+                        _lu, _lu_solve)
 from .cylinder import friction_rate
 from .integrator import RELEASE_BISECTIONS, _physical, _Prediction
 
@@ -114,16 +117,16 @@ class _Rosw:
         J = np.zeros((n, n))
         locked = pred.locked()
         free = [j for j in JOINTS if not locked[j]]
-        if not free:
-            minv = np.zeros((0, 0))
-        else:
+        minv: List[List[float]] = []
+        if free:
             conf = pred._conf(x)
             if pred.held[SLEW] and pred.held[EXTENSION]:
-                full = np.array(model._mass_matrix(conf))
-                mass = full[np.ix_(free, free)]
+                full = model._mass_matrix(conf)
+                mass = [[full[r][k] for k in free] for r in free]
             else:
-                mass = np.array(model._mass_matrix4(conf, free))
-            minv = np.linalg.inv(mass)
+                mass = model._mass_matrix4(conf, free)
+            columns = [_inverse_column(mass, k) for k in range(len(free))]
+            minv = [[column[r] for column in columns] for r in range(len(free))]
         conf = pred._conf(x)
         for k, j in enumerate(free):
             ds = pred.ratio(conf, j)
@@ -131,12 +134,12 @@ class _Rosw:
             slope = friction_rate(model.friction[j], ds * x[4 + j])
             damping = ds * ds * slope if slope > 0.0 else 0.0
             for r, i in enumerate(free):
-                J[4 + i, 4 + j] = -minv[r, k] * damping
+                J[4 + i, 4 + j] = -minv[r][k] * damping
             if pred.valve[j]:
                 drive = pred.drives[j]
                 for r, i in enumerate(free):
-                    J[4 + i, HYD + 2 * j] = minv[r, k] * drive.area_a * ds  # type: ignore[union-attr]
-                    J[4 + i, HYD + 2 * j + 1] = -minv[r, k] * drive.area_b * ds  # type: ignore[union-attr]
+                    J[4 + i, HYD + 2 * j] = minv[r][k] * drive.area_a * ds  # type: ignore[union-attr]
+                    J[4 + i, HYD + 2 * j + 1] = -minv[r][k] * drive.area_b * ds  # type: ignore[union-attr]
                 c_a, c_b = drive.compliances(pred.stroke(j, x[j], conf))  # type: ignore[union-attr]
                 J[HYD + 2 * j, 4 + j] = -drive.area_a * ds / c_a  # type: ignore[union-attr]
                 J[HYD + 2 * j + 1, 4 + j] = drive.area_b * ds / c_b  # type: ignore[union-attr]
@@ -167,7 +170,7 @@ class _Rosw:
         (solved afresh); returns (x1, the error's largest ratio to its tolerance)."""
         gh = GAMMA * h
         xa = np.asarray(x, dtype=float)
-        lhs = np.eye(len(xa)) - gh * W
+        factors = _lu((np.eye(len(xa)) - gh * W).tolist())
         us: List[np.ndarray] = []
         for s in range(4):
             if s == 0:
@@ -178,7 +181,7 @@ class _Rosw:
             rhs = gh * f
             if s:
                 rhs = rhs + GAMMA * sum(C[s][k] * us[k] for k in range(s))
-            us.append(np.linalg.solve(lhs, rhs))
+            us.append(np.array(_lu_solve(factors, rhs.tolist())))
         x1 = xa + sum(M[s] * us[s] for s in range(4))
         e = sum(E[s] * us[s] for s in range(4))
         with np.errstate(invalid="ignore", divide="ignore"):
