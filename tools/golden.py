@@ -161,10 +161,56 @@ def scenarios_header() -> str:
         out.append(f"#define CRANE_SCENARIO_{x}_INPUTS {{.drive = {{ \\\n    "
                    + ", \\\n    ".join(_drive(d) for d in _drives(sc)) + "}}")
         out.append(f"#define CRANE_SCENARIO_{x}_HORIZON {_r(sc.horizon)}")
+    out.extend(_estimator_lines())
     out.append("\n/* Every scenario above: ENTRY(\"name\", X) */\n#define CRANE_SCENARIO_LIST(ENTRY) \\\n"
                + " \\\n".join(f"    ENTRY(\"{sc.name}\", {_ident(sc.name)})" for sc in written()))
     out.append("\n#endif\n")
     return "\n".join(out)
+
+
+#: The state estimator's example (the board's estimator run, csrc/board): the live twin's filter
+#: (cp.EKF) for this scenario's crane, measuring what the scenario's crane moves on: the boom
+#: cylinders' strokes and chamber pressures, the slew angle and the extension (the slew's and the
+#: telescope's chambers, held, are not measured).
+ESTIMATOR_SCENARIO = "lever-open"
+ESTIMATOR_SENSORS = ("lift_stroke", "tilt_stroke", "slew", "extension",
+                     "lift_p_a", "lift_p_b", "tilt_p_a", "tilt_p_b")
+
+
+def _estimator_lines() -> List[str]:
+    """The estimator example as C initializers: cp.EKF's configuration, each field's sensor
+    variance, and the filter after its first measurement (the scenario's initial state)."""
+    from cranepredict.live.estimator import ESTIMATED
+    from cranepredict.live.measurement import default_sensors
+
+    sc = next(s for s in written() if s.name == ESTIMATOR_SCENARIO)
+    sensors = default_sensors(fields=ESTIMATOR_SENSORS)
+    ekf = cp.EKF(sc.crane, sensors, backend="python")
+    ekf.update(cp.Measurement(t=0.0, inputs=sc.inputs,
+                              **{f: getattr(sc.initial, f) for f in ESTIMATOR_SENSORS}))
+    variance = [sensors[f].std ** 2 if f in ESTIMATOR_SENSORS else 0.0 for f in ESTIMATED]
+
+    def arr(values) -> str:
+        return "{" + ", ".join(_r(float(v)) for v in values) + "}"
+
+    x = "CRANE_EXAMPLE_ESTIMATOR"
+    dt = cp.DEFAULT_DT if ekf.dt is None else ekf.dt
+    return [
+        f"\n/* The state estimator (cp.EKF, docs/live.md) for {ESTIMATOR_SCENARIO}'s crane, measuring",
+        " * " + ", ".join(ESTIMATOR_SENSORS) + ":",
+        f" *   {x}_CONFIG       a crane_estimator_config initializer",
+        f" *   {x}_VARIANCE     each estimated field's sensor variance (SI units^2; 0: not measured)",
+        f" *   {x}_X0, {x}_COVARIANCE0_DIAGONAL, {x}_SPOOL0",
+        " *                    the filter after its first measurement, the scenario's initial state",
+        " *                    (crane_estimator_init's; the covariance is diagonal) */",
+        f"#define {x}_CONFIG {{ \\\n    .lo = {arr(ekf.lo)}, \\\n    .hi = {arr(ekf.hi)}, \\\n"
+        f"    .noise = {arr(ekf._q)}, \\\n    .fd_step = {arr(ekf._h)}, \\\n"
+        f"    .scale = {arr(ekf._scale)}, \\\n    .dt = {_r(dt)}}}",
+        f"#define {x}_VARIANCE {arr(variance)}",
+        f"#define {x}_X0 {arr(ekf.x)}",
+        f"#define {x}_COVARIANCE0_DIAGONAL {arr(np.diag(ekf.covariance))}",
+        f"#define {x}_SPOOL0 {arr(ekf.spools)}",
+    ]
 
 
 def _first_stops(stop: np.ndarray) -> List[int]:

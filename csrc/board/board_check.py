@@ -7,6 +7,8 @@
   * samples: every sample of every scenario the board printed must be the host float build's
     (host.c, the same scenarios.c) to TIP_TOL in the tip position; it says how many are bit for
     bit equal and where the largest difference is;
+  * estimates (make HYD=1): the estimator's estimate after each update, board vs host, to
+    ESTIMATE_TOL of each field's scale;
   * instructions: the board's timer ticks under QEMU's -icount shift=0, turned into instructions
     with the board's own calibration loop (which must show 40 instructions per tick, i.e. icount
     on and the 25 MHz timer clock), per entry point, checked against the count of --profile
@@ -33,6 +35,12 @@ CLOCK_HZ = 168e6               # the Cortex-M4F of the issue (e.g. STM32F407 at 
 INSNS_PER_TICK = 40            # 1 ns per instruction (-icount shift=0) at the 25 MHz timer clock
 DEFAULT_SCENARIO = "paper-dt2ms"   # the scenario the board's figures are quoted for (dt = 2 ms)
 RATIO_GOAL = 100.0
+# The estimator's estimates, board vs host, in each field's scale (mm, mm/s, bar: the estimator's
+# own, crane_estimator_config.scale): its finite-difference Jacobian in float turns the last bit
+# of a libm result (newlib's on the board, glibc's on the host) into differences that grow over
+# the updates (measured 0.002 after 10), far below the sensors' noise (0.2 mm, 2 bar).
+ESTIMATE_SCALE = [1e-3] * 8 + [1e5] * 8
+ESTIMATE_TOL = 1e-2
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 CSRC = os.path.dirname(HERE)
@@ -40,7 +48,8 @@ CSRC = os.path.dirname(HERE)
 
 def parse_run(path):
     """Samples per scenario ({name: [fields...]}), ticks/stack per entry point, calibration."""
-    out = {"samples": {}, "ticks": {}, "stack": {}, "count": {}, "failures": None, "cal": None}
+    out = {"samples": {}, "ticks": {}, "stack": {}, "count": {}, "failures": None, "cal": None,
+           "estimates": [], "calls": {}}
     context = None
     for line in open(path):
         f = line.split()
@@ -51,11 +60,17 @@ def parse_run(path):
         elif f[0] == "scenario":
             context = f[1]
             out["count"][context] = int(f[2])
-        elif f[0] == "entry_points":
+        elif f[0] == "estimate":
+            out["estimates"].append(f[2:])
+        elif f[0] in ("entry_points", "estimator"):
             context = None
         elif f[0] in ("ticks", "stack"):
+            # an entry point called more than once (the estimator's updates): the largest, and
+            # every call's ticks in "calls"
             key = f[1] if context is None else f"{f[1]}[{context}]"
-            out[f[0]][key] = int(f[2])
+            out[f[0]][key] = max(out[f[0]].get(key, 0), int(f[2]))
+            if f[0] == "ticks":
+                out["calls"].setdefault(key, []).append(int(f[2]))
         elif f[0] == "calibration":
             loops = int(f[1])
         elif f[0] == "calibration_ticks":
@@ -148,6 +163,21 @@ def main(argv=None):
               f"{len(b)} board, {len(h)} host samples; {same} bit for bit equal; largest tip "
               f"difference {worst:.3g} m{where} (tolerance {TIP_TOL:g} m)")
 
+    # ---- the estimator (make HYD=1): the board's estimates are the host float build's ----
+    if board["estimates"] or host["estimates"]:
+        b, h = board["estimates"], host["estimates"]
+        same, worst, at = 0, 0.0, None
+        for k, (eb, eh) in enumerate(zip(b, h), 1):
+            same += eb == eh
+            for i, (xb, xh) in enumerate(zip(eb, eh)):
+                e = abs(real(xb) - real(xh)) / ESTIMATE_SCALE[i]
+                if e > worst:
+                    worst, at = e, (k, i)
+        where = "" if at is None else f" (update {at[0]}, field {at[1]})"
+        check("estimates", len(b) == len(h) > 0 and worst <= ESTIMATE_TOL,
+              f"{len(b)} board, {len(h)} host updates; {same} bit for bit equal; largest "
+              f"difference {worst:.3g} of the field's scale{where} (tolerance {ESTIMATE_TOL:g})")
+
     # ---- instructions ----
     loops, ticks = board["cal"]
     per_tick = 2 * loops / ticks
@@ -180,6 +210,16 @@ def main(argv=None):
                   f"faster than real time")
     else:
         print(f"\n{a.profiled}: {insns:,} instructions (no --profile: no CPI range)")
+    updates = board["calls"].get("crane_estimator_update")
+    if updates:
+        n = [t * INSNS_PER_TICK for t in updates]
+        line = (f"\nestimator update ({len(n)} cycles of lever-open, 10 ms each): {min(n):,} to "
+                f"{max(n):,} instructions, mean {sum(n) / len(n):,.0f}")
+        if cpi:
+            lo, art, hi = (max(n) * c / CLOCK_HZ * 1e3 for c in (cpi[0], cpi[2], cpi[1]))
+            line += (f"; the largest {lo:.2f} / {art:.2f} / {hi:.2f} ms at {CLOCK_HZ / 1e6:g} MHz "
+                     f"with the CPI above")
+        print(line)
 
     # ---- stack ----
     static = static_stack(a.footprint, a.footprint_build)

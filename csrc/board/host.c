@@ -35,5 +35,40 @@ int main(void)
             fputs(line, stdout);
         }
     }
+#ifdef BOARD_VALVES
+    {
+        /* The estimator's run, as the board's run_estimator makes it. */
+        static crane_estimator est;
+        static crane_estimator_config config;
+        static crane_model model;
+        static crane_real x0[CRANE_EST_N], cov0[CRANE_EST_N * CRANE_EST_N], spool0[4];
+        static crane_real z[CRANE_EST_N], variance[CRANE_EST_N];
+        const board_scenario *e = board_estimator_scenario();
+
+        board_crane(e, &crane);
+        n = 0;
+        if (crane_model_init(&model, &crane, e->state0.extension) != CRANE_OK ||
+            crane_predict(&crane, &e->state0, &e->inputs,
+                          BOARD_ESTIMATOR_PERIOD * BOARD_ESTIMATOR_CYCLES, BOARD_ESTIMATOR_PERIOD,
+                          out, CAPACITY, &n) != CRANE_OK ||
+            n != BOARD_ESTIMATOR_CYCLES + 1u) {
+            fprintf(stderr, "estimator: its measurements could not be predicted\n");
+            return 1;
+        }
+        board_estimator_start(&config, x0, cov0, spool0);
+        st = crane_estimator_init(&est, &config, x0, cov0, spool0);
+        for (k = 1; k <= BOARD_ESTIMATOR_CYCLES && st == CRANE_OK; ++k) {
+            board_measurement(&out[k], z, variance);
+            st = crane_estimator_update(&est, &model, &e->inputs, BOARD_ESTIMATOR_PERIOD, z,
+                                        variance);
+            board_format_estimate(line, k, &est);
+            fputs(line, stdout);
+        }
+        if (st != CRANE_OK) {
+            fprintf(stderr, "estimator: %s\n", crane_status_message(st));
+            return 1;
+        }
+    }
+#endif
     return 0;
 }

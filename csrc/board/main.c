@@ -319,6 +319,52 @@ static void run_entry_points(const board_scenario *sc)
     run_guard(&model, out, n);
 }
 
+#ifdef BOARD_VALVES
+/* The state estimator (make HYD=1): crane_estimator_init, then BOARD_ESTIMATOR_CYCLES updates,
+ * each with its stack and ticks measured and the estimate printed (the host prints the same). The
+ * measurements are lever-open's own prediction, one sample per period. */
+static void run_estimator(void)
+{
+    static crane_estimator est; /* 15,648 B in float: static memory, not the stack */
+    static crane_estimator_config config;
+    static crane_model model;
+    static crane_real x0[CRANE_EST_N], covariance0[CRANE_EST_N * CRANE_EST_N], spool0[4];
+    static crane_real z[CRANE_EST_N], variance[CRANE_EST_N];
+    const board_scenario *sc = board_estimator_scenario();
+    crane_status st = CRANE_OK;
+    size_t n = 0, k;
+
+    semihost_write("estimator\n");
+    if (sc == NULL) {
+        fail("board_estimator_scenario", 0);
+        return;
+    }
+    board_crane(sc, &crane);
+    expect(crane_model_init(&model, &crane, sc->state0.extension), CRANE_OK, "estimator_model");
+    st = crane_predict(&crane, &sc->state0, &sc->inputs,
+                       BOARD_ESTIMATOR_PERIOD * BOARD_ESTIMATOR_CYCLES, BOARD_ESTIMATOR_PERIOD, out,
+                       CAPACITY, &n);
+    expect(st, CRANE_OK, "estimator_measurements");
+    if (n != BOARD_ESTIMATOR_CYCLES + 1u) {
+        fail("estimator_measurements_count", (unsigned long)n);
+        return;
+    }
+    board_estimator_start(&config, x0, covariance0, spool0);
+    MEASURED("crane_estimator_init",
+             st = crane_estimator_init(&est, &config, x0, covariance0, spool0));
+    expect(st, CRANE_OK, "crane_estimator_init");
+    for (k = 1; k <= BOARD_ESTIMATOR_CYCLES; ++k) {
+        board_measurement(&out[k], z, variance);
+        MEASURED("crane_estimator_update",
+                 st = crane_estimator_update(&est, &model, &sc->inputs, BOARD_ESTIMATOR_PERIOD, z,
+                                             variance));
+        expect(st, CRANE_OK, "crane_estimator_update");
+        board_format_estimate(line, k, &est);
+        semihost_write(line);
+    }
+}
+#endif
+
 int main(void)
 {
     const board_scenario *sc;
@@ -339,6 +385,9 @@ int main(void)
     for (k = 0; k < n_sc; ++k)
         run_scenario(&sc[k]);
     run_entry_points(&sc[0]);
+#ifdef BOARD_VALVES
+    run_estimator();
+#endif
     report("failures", NULL, (unsigned long)failures);
     return failures == 0 ? 0 : 1;
 }

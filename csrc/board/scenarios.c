@@ -107,3 +107,63 @@ void board_format_sample(char *line, const char *name, size_t k, const crane_sam
     p = put_stop(p, s->stop[CRANE_TILT]);
     (void)board_put_str(p, "\n");
 }
+
+#ifdef BOARD_VALVES
+const board_scenario *board_estimator_scenario(void)
+{
+    size_t k;
+
+    for (k = 0; k < sizeof scenarios / sizeof scenarios[0]; ++k) {
+        if (strcmp(scenarios[k].name, "lever-open") == 0)
+            return &scenarios[k];
+    }
+    return NULL;
+}
+
+void board_estimator_start(crane_estimator_config *config, crane_real x0[CRANE_EST_N],
+                           crane_real covariance0[CRANE_EST_N * CRANE_EST_N], crane_real spool0[4])
+{
+    static const crane_estimator_config c = CRANE_EXAMPLE_ESTIMATOR_CONFIG;
+    static const crane_real x[CRANE_EST_N] = CRANE_EXAMPLE_ESTIMATOR_X0;
+    static const crane_real diagonal[CRANE_EST_N] = CRANE_EXAMPLE_ESTIMATOR_COVARIANCE0_DIAGONAL;
+    static const crane_real spool[4] = CRANE_EXAMPLE_ESTIMATOR_SPOOL0;
+    size_t i;
+
+    *config = c;
+    memcpy(x0, x, sizeof x);
+    memcpy(spool0, spool, sizeof spool);
+    for (i = 0; i < CRANE_EST_N * CRANE_EST_N; ++i)
+        covariance0[i] = 0;
+    for (i = 0; i < CRANE_EST_N; ++i)
+        covariance0[i * (CRANE_EST_N + 1)] = diagonal[i];
+}
+
+void board_measurement(const crane_sample *s, crane_real z[CRANE_EST_N],
+                       crane_real variance[CRANE_EST_N])
+{
+    static const crane_real v[CRANE_EST_N] = CRANE_EXAMPLE_ESTIMATOR_VARIANCE;
+    int j;
+
+    memcpy(variance, v, sizeof v);
+    z[CRANE_EST_LIFT_STROKE] = s->stroke[CRANE_LIFT];
+    z[CRANE_EST_TILT_STROKE] = s->stroke[CRANE_TILT];
+    z[CRANE_EST_SLEW] = s->slew;
+    z[CRANE_EST_EXTENSION] = s->extension;
+    for (j = 0; j < 4; ++j) {
+        z[CRANE_EST_RATES + j] = 0; /* not measured (variance 0) */
+        z[CRANE_EST_PRESSURES + 2 * j] = s->p_a[j];
+        z[CRANE_EST_PRESSURES + 2 * j + 1] = s->p_b[j];
+    }
+}
+
+void board_format_estimate(char *line, size_t k, const crane_estimator *est)
+{
+    char *p = board_put_str(line, "estimate ");
+    size_t i;
+
+    p = board_put_u32(p, (unsigned long)k);
+    for (i = 0; i < CRANE_EST_N; ++i)
+        p = put_real(p, est->x[i]);
+    (void)board_put_str(p, "\n");
+}
+#endif

@@ -23,8 +23,28 @@ const board_scenario *board_scenarios(size_t *count);
 /* The crane of crane_patu655.h with the scenario's load. */
 void board_crane(const board_scenario *sc, crane_params *params);
 
-/* Longest line board_format_sample writes, NUL included. */
-enum { BOARD_LINE_MAX = 200 };
+#ifdef BOARD_VALVES
+/* The state estimator's run (make HYD=1): the filter of example/crane_scenarios.h
+ * (CRANE_EXAMPLE_ESTIMATOR_*, the live twin's cp.EKF) on lever-open, BOARD_ESTIMATOR_CYCLES
+ * updates of BOARD_ESTIMATOR_PERIOD, each measuring the scenario's own prediction at its time. */
+enum { BOARD_ESTIMATOR_CYCLES = 10 };
+#define BOARD_ESTIMATOR_PERIOD ((crane_real)0.01)
+
+/* The scenario the estimator runs on, and the filter's configuration and first state. */
+const board_scenario *board_estimator_scenario(void);
+void board_estimator_start(crane_estimator_config *config, crane_real x0[CRANE_EST_N],
+                           crane_real covariance0[CRANE_EST_N * CRANE_EST_N], crane_real spool0[4]);
+
+/* The measurement of a sample: z and each field's variance (0: not measured). */
+void board_measurement(const crane_sample *s, crane_real z[CRANE_EST_N],
+                       crane_real variance[CRANE_EST_N]);
+
+/* "estimate K x[0] ... x[15]\n": the estimate after update K, each as the hex digits of its bits. */
+void board_format_estimate(char *line, size_t k, const crane_estimator *est);
+#endif
+
+/* Longest line board_format_sample or board_format_estimate writes, NUL included. */
+enum { BOARD_LINE_MAX = 320 };
 
 /* "sample NAME K t tip_x tip_y tip_z stroke_lift stroke_tilt theta_lift theta_tilt p_a_lift
  * p_b_lift p_a_tilt p_b_tilt stop_lift stop_tilt\n": every crane_real as the hex digits of its bits (exact, and needs no printf with
