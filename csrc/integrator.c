@@ -1238,11 +1238,19 @@ static CRANE__NOINLINE void dense_sample(ctx_t *c, crane_real t, const xstate *x
                        th * h * f1->v[i]);
     }
     /* a held or stopped joint stays exactly where it is (the interpolant's rounding would move
-     * it off its stop by an ulp), and a spool in [-1, 1] (the cubic can pass a clamped end) */
+     * it off its stop by an ulp); a free one stays between its stops (the cubic of a joint just
+     * released, accelerating away from its stop, first leaves it outwards by up to 1e-12 rad); a
+     * spool in [-1, 1] (the cubic can pass a clamped end) */
     for (i = 0; i < 4; ++i) {
         if (locked(c, i) != 0) {
             xs.v[Q + i] = x0->v[Q + i];
             xs.v[W + i] = x0->v[W + i];
+        } else if (xs.v[Q + i] < lo_q(c, i)) {
+            xs.v[Q + i] = lo_q(c, i);
+        } else if (xs.v[Q + i] > hi_q(c, i)) {
+            xs.v[Q + i] = hi_q(c, i);
+        } else {
+            /* between its stops */
         }
     }
     spools_in_range(c, &xs);

@@ -485,3 +485,35 @@ def test_the_twins_error_controlled_method_does_not_solve_with_lapack(monkeypatc
             warnings.simplefilter("ignore")
             tr = cp.predict(sc.crane, sc.initial, sc.inputs, sc.horizon, backend="python")
         assert np.isfinite(tr.tip).all()
+
+
+@pytest.mark.parametrize("backend", ["c", "python"])
+def test_a_joint_released_from_its_stop_stays_between_its_stops(backend):
+    """A live-twin cycle (the tilt running into its upper stroke end, all four levers on): the
+    tilt stops at 1.815 s, is released, and accelerates away; the dense output's cubic of the
+    next step left the stop outwards by 8e-13 rad, a sample the guard refused ("an angle is
+    outside the range reachable by the cylinder"), which the live twin turned into a FAULT."""
+    crane = cp.Crane.patu655()
+    state = cp.State(
+        lift_stroke=0.21879313029413724, tilt_stroke=0.6672723347849452, slew=1.9434690588330252,
+        extension=0.1867193943114507, lift_stroke_rate=-0.020792895500339068,
+        tilt_stroke_rate=0.08029482436759747, lift_p_a=6991002.9267188385,
+        lift_p_b=4545712.7785809, tilt_p_a=3227714.552577375, tilt_p_b=2117015.1776753357,
+        lift_spool=-0.27999999843121703, tilt_spool=0.6399999964142099,
+        slew_rate=0.003450883843728916, extension_rate=-0.0008978033502282357,
+        slew_p_a=101792.66878287218, slew_p_b=90414.69009543894,
+        extension_p_a=1012131.5722038795, extension_p_b=2271724.0306534884, slew_spool=0.0,
+        extension_spool=-0.00999999994397203)
+    inputs = cp.Inputs(lift=cp.Valve(-0.28), tilt=cp.Valve(0.64), slew=cp.Valve(0.0),
+                       extension=cp.Valve(-0.01))
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        tr = cp.predict(crane, state, inputs, 2.0, backend=backend)
+    stopped = np.flatnonzero(tr.stop[:, 1])
+    assert stopped.size and np.any(np.diff(stopped) > 1)     # stopped, released, stopped again
+    limit = tr.theta[stopped[0], 1]                          # the stop's angle, exactly
+    assert np.all(tr.theta[:, 1] >= limit)
+    if backend == "c":
+        world = cp.worlds.get("wall")
+        v = cp.guard(crane, world, state, inputs, 2.0)
+        assert v.signal in ("GO", "WARN", "STOP")

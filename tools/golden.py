@@ -183,7 +183,7 @@ def _estimator_lines() -> List[str]:
     from cranepredict.live.estimator import ESTIMATED
     from cranepredict.live.measurement import default_sensors
 
-    sc = next(s for s in written() if s.name == ESTIMATOR_SCENARIO)
+    sc = cp.scenarios.get(ESTIMATOR_SCENARIO)
     sensors = default_sensors(fields=ESTIMATOR_SENSORS)
     ekf = cp.EKF(sc.crane, sensors, backend="python")
     ekf.update(cp.Measurement(t=0.0, inputs=sc.inputs,

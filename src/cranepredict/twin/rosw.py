@@ -308,10 +308,14 @@ def integrate(pred: _Prediction, x: State, horizon: float, dt: float, n: int, ti
             xs = [(1.0 - s) * a + s * b + s * (s - 1.0) * ((1.0 - 2.0 * s) * (b - a)
                                                             + (s - 1.0) * hs * fa + s * hs * fb)
                   for a, b, fa, fb in zip(x, x1, f0, f1)]
-            # a held or stopped joint stays exactly where it is (spec)
+            # a held or stopped joint stays exactly where it is, a free one between its stops
+            # (spec)
             for j, lk in enumerate(pred.locked()):
                 if lk:
                     xs[j], xs[4 + j] = x[j], x[4 + j]
+                else:
+                    lo_q, hi_q = model.angle_limits[j]
+                    xs[j] = min(max(xs[j], lo_q), hi_q)
                 if pred.hydraulic and pred.valve[j]:   # the cubic can pass a clamped end
                     xs[SPOOL + j] = min(max(xs[SPOOL + j], -1.0), 1.0)
                     for side in (0, 1):   # an open limit valve's chamber: linear (spec)
