@@ -1,15 +1,18 @@
 """Closed-loop episodes: the live twin against the simulated crane, randomised, with the
 interlock obeyed and ignored. Prints the table of docs/live.md ("Closed loop").
 
-    python tools/closed_loop_study.py [--episodes 100] [--seed 0] [--json FILE]
+    python tools/closed_loop_study.py [--episodes 100] [--seed 0] [--near-miss BAND] [--json FILE]
 
 An episode: an example world, a start pose clear of every obstacle's margin at rest, and a lever
 combination whose future (on the twin's crane file) comes within the margin between 1.5 and 4 s;
 the plant's load, friction and supply pressure drawn off the crane file (x0.7-1.3, x0.8-1.25,
-x0.95-1.03). Each runs until 2 s after that, once obeying the verdict and once ignoring it. A needless STOP: the obeyed run
-STOPs, while the ignored run never comes within the world's margin of an obstacle; also counted:
-the STOPs of episodes whose ignored run came within the margin without touching. Ctrl-C prints
-the table of the episodes done so far (``--json`` is written after every episode).
+x0.95-1.03). Each runs until 2 s after that, once obeying the verdict and once ignoring it.
+With ``--near-miss BAND`` (m) the levers' future instead passes the obstacles outside the margin,
+its closest approach within BAND of it, over NEAR_MISS_LOOK s; each run lasts NEAR_MISS_RUN s
+(the last STOP the twin can give then looks 2 s ahead: inside the look). A needless STOP: the
+obeyed run STOPs, while the ignored run never comes within the world's margin of an obstacle;
+also counted: the STOPs of episodes whose ignored run came within the margin without touching.
+Ctrl-C prints the table of the episodes done so far (``--json`` is written after every episode).
 """
 
 from __future__ import annotations
@@ -25,10 +28,12 @@ from cranepredict.live.episode import run_episode
 from cranepredict.live.sim import LeverScript, perturbed_crane
 
 WORLDS = ("wall", "building-edge", "cab", "power-line")
+NEAR_MISS_LOOK = 7.5   # s: the twin's future of a near-miss episode stays outside the margin so long
+NEAR_MISS_RUN = 5.3    # s: a near-miss episode's runs (the levers move at 0.3 s)
 
 
-def draw(rng: np.random.Generator, crane: cp.Crane):
-    """(world, start state of the plant, script, plant crane, predicted contact time)."""
+def draw(rng: np.random.Generator, crane: cp.Crane, near_miss: float = 0.0):
+    """(world, start state of the plant, script, plant crane, the runs' length in s)."""
     while True:
         world = cp.worlds.get(WORLDS[rng.integers(len(WORLDS))])
         plant = perturbed_crane(crane, load=rng.uniform(0.7, 1.3), friction=rng.uniform(0.8, 1.25),
@@ -45,20 +50,29 @@ def draw(rng: np.random.Generator, crane: cp.Crane):
             continue
         inputs = cp.live.levers(*u)
         try:
-            v = cp.guard(crane, world, start, inputs, 5.0)
+            v = cp.guard(crane, world, start, inputs, NEAR_MISS_LOOK if near_miss else 5.0)
             rest = cp.guard(crane, world, start, cp.live.levers(), 0.5)
         except ValueError:
             continue
+        if rest.contact is not None:
+            continue
+        script = LeverScript(((0.0, (0.0,) * 4), (0.3, u)))
+        if near_miss:
+            # the closest approach outside the margin by at most the band
+            closest = min(v.clearance.values())
+            if v.contact is None and world.margin < closest <= world.margin + near_miss:
+                return world, start, script, plant, NEAR_MISS_RUN
         # clear of the margin at rest; the levers bring the crane within it 1.5-4 s ahead
-        if rest.contact is None and v.contact is not None and 1.5 <= v.contact.t <= 4.0:
-            script = LeverScript(((0.0, (0.0,) * 4), (0.3, u)))
-            return world, start, script, plant, v.contact.t + 0.3
+        elif v.contact is not None and 1.5 <= v.contact.t <= 4.0:
+            return world, start, script, plant, v.contact.t + 0.3 + 2.0
 
 
 def main() -> None:
     ap = argparse.ArgumentParser()
     ap.add_argument("--episodes", type=int, default=100)
     ap.add_argument("--seed", type=int, default=0)
+    ap.add_argument("--near-miss", type=float, default=0.0, metavar="BAND",
+                    help="near-miss episodes: the closest approach within BAND m outside the margin")
     ap.add_argument("--json", default=None)
     a = ap.parse_args()
     rng = np.random.default_rng(a.seed)
@@ -74,8 +88,7 @@ def main() -> None:
 
 def _run(a: argparse.Namespace, rng: np.random.Generator, crane: cp.Crane, rows: list) -> None:
     for k in range(a.episodes):
-        world, start, script, plant, t_contact = draw(rng, crane)
-        seconds = t_contact + 2.0
+        world, start, script, plant, seconds = draw(rng, crane, a.near_miss)
         ign = run_episode(crane, world, start, script, seconds, obey=False, plant_crane=plant, seed=k)
         obe = run_episode(crane, world, start, script, seconds, obey=True, plant_crane=plant, seed=k)
         t_hit = None
