@@ -154,7 +154,7 @@ grep -ah "stat::number_of_executed_units\|Done [0-9]* runs" "$LOG"/fuzz-*.log | 
 # ---- summary ----
 echo
 echo "float vs double (host):  $(tail -n 1 "$LOG/float-vs-double.log")"
-grep -h "^ok    samples\|^  paper-dt2ms:\|^ok    stack crane_predict\[paper-dt2ms\|^estimator update" "$LOG/board.log" 2>/dev/null
+grep -h "^ok    samples\|^  paper-dt2ms:\|^ok    stack crane_predict\[paper-dt2ms\|^estimator update\|^  first after init\|^  the others" "$LOG/board.log" 2>/dev/null
 tail -n 1 "$LOG/misra.log"
 for f in "$LOG"/*-vs-host.log; do
     [ -f "$f" ] && echo "$(basename "$f" .log): $(tail -n 1 "$f")"

@@ -717,6 +717,9 @@ typedef struct {
     crane_real scale[CRANE_EST_N];   /* the field's scale, > 0: the covariance's eigenvalues are
                                         floored at 1e-12 in these units */
     crane_real dt;                   /* the model's RK4 step, s, > 0 (the period if shorter) */
+    int jacobian_columns;            /* the Jacobian's columns renewed per update, in turn, 1 to
+                                        CRANE_EST_N (0: all of them, every update); the first
+                                        update after init renews all */
 } crane_estimator_config;
 
 /* The estimator and its scratch, caller-owned (no heap; sizeof: docs/embedding.md). After an
@@ -730,6 +733,10 @@ typedef struct {
     crane_real field_nis[CRANE_EST_N]; /* per measured field, innovation^2 / S_ii (else 0) */
     int n_measured;                  /* fields measured in the last update */
     int projected;                   /* 1: the last estimate was projected into the domain */
+    crane_real jacobian[CRANE_EST_N * CRANE_EST_N]; /* the model's Jacobian, row-major: each
+                                        column as of the update that last renewed it */
+    int next_column;                 /* the first column the next update renews */
+    int jacobian_ready;              /* 1 once every column has been computed */
     /* scratch of an update */
     crane_real step[CRANE_EST_N], y0[CRANE_EST_N];
     int rows[CRANE_EST_N];

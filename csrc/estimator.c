@@ -11,7 +11,7 @@
  */
 #include "crane_internal.h"
 
-enum estimator_sizes { N = CRANE_EST_N, N_FUTURES = CRANE_EST_N + 1 };
+enum estimator_sizes { N = CRANE_EST_N };
 
 /* The smallest eigenvalue of the scaled covariance: positive definite with room for rounding
  * (the covariance spans 1e-9 m^2 to 1e12 Pa^2; unscaled, rounding alone makes small eigenvalues
@@ -27,6 +27,9 @@ static int config_ok(const crane_estimator_config *c)
     int i;
 
     if (crane__finite(c->dt) == 0 || !(c->dt > 0)) {
+        return 0;
+    }
+    if (c->jacobian_columns < 0 || c->jacobian_columns > N) {
         return 0;
     }
     for (i = 0; i < N; ++i) {
@@ -285,6 +288,8 @@ crane_status crane_estimator_init(crane_estimator *est, const crane_estimator_co
     est->nis = 0;
     est->n_measured = 0;
     est->projected = 0;
+    est->next_column = 0;
+    est->jacobian_ready = 0;
     if (make_positive(est) == 0) {
         return CRANE_E_ESTIMATOR;
     }
@@ -324,28 +329,46 @@ static void state_of(const crane_estimator *est, const crane_real *x, const cran
     }
 }
 
-/* The nominal future and one per perturbed field: futures[0] from x, futures[1 + i] from x with
- * field i moved by its step, towards the inside of the domain (est->step). */
-static CRANE__NOINLINE void perturb(crane_estimator *est, const crane_inputs *in)
+/* The Jacobian's columns this update renews: every one until all have been computed once (or
+ * with jacobian_columns 0), else jacobian_columns of them in turn from next_column (the rest keep
+ * the linearisation of the update that renewed them: at most N / jacobian_columns - 1 periods
+ * old). Returns their number; the first is est->next_column (wrapping at N). */
+static int columns(const crane_estimator *est)
 {
-    int i;
+    const int k = est->config.jacobian_columns;
+
+    return est->jacobian_ready == 0 || k == 0 ? N : k;
+}
+
+/* Field of the r-th renewed column. */
+static int column(const crane_estimator *est, int r)
+{
+    return (est->next_column + r) % N;
+}
+
+/* The nominal future and one per renewed column: futures[0] from x, futures[1 + r] from x with
+ * field column(r) moved by its step, towards the inside of the domain (est->step). */
+static CRANE__NOINLINE void perturb(crane_estimator *est, const crane_inputs *in, int n_cols)
+{
+    int r;
 
     state_of(est, est->x, in, &est->futures[0]);
     est->inputs[0] = *in;
     /* fixed RK4 steps: an adaptive step's choice would put its tolerance's noise into the
      * finite differences */
     est->inputs[0].solver.method = CRANE_METHOD_RK4;
-    for (i = 0; i < N; ++i) {
+    for (r = 0; r < n_cols; ++r) {
         crane_real xi[CRANE_EST_N];
         int k;
+        const int i = column(est, r);
         const crane_real h = est->config.fd_step[i];
         for (k = 0; k < N; ++k) {
             xi[k] = est->x[k];
         }
         est->step[i] = est->x[i] + h <= est->config.hi[i] ? h : -h;
         xi[i] += est->step[i];
-        state_of(est, xi, in, &est->futures[1 + i]);
-        est->inputs[1 + i] = est->inputs[0];
+        state_of(est, xi, in, &est->futures[1 + r]);
+        est->inputs[1 + r] = est->inputs[0];
     }
 }
 
@@ -376,26 +399,31 @@ static crane_status finals(const crane_model *m, const crane_sample *s, crane_re
     return CRANE_OK;
 }
 
-/* est->a = the propagated estimate's Jacobian F (row-major), est->k[0..N) the nominal future's
- * end; a held joint's pressures are not the model's (they are kept, with F's row the identity). */
+/* The renewed columns into est->jacobian, then est->a = the propagated estimate's Jacobian F
+ * (row-major) and y0 the nominal future's end; a held joint's pressures are not the model's (they
+ * are kept, with F's row the identity). */
 static CRANE__NOINLINE crane_status jacobian(crane_estimator *est, const crane_model *m,
-                                             const crane_inputs *in, crane_real *y0)
+                                             const crane_inputs *in, int n_cols, crane_real *y0)
 {
     crane_real *f = est->a, yi[CRANE_EST_N];
-    int i, k, j;
+    int i, k, j, r;
     crane_status st = finals(m, &est->samples[1], y0);
 
     if (st != CRANE_OK) {
         return st;
     }
-    for (i = 0; i < N; ++i) {
-        st = finals(m, &est->samples[2 * (1 + i) + 1], yi);
+    for (r = 0; r < n_cols; ++r) {
+        i = column(est, r);
+        st = finals(m, &est->samples[2 * (1 + r) + 1], yi);
         if (st != CRANE_OK) {
             return st;
         }
         for (k = 0; k < N; ++k) {
-            f[k * N + i] = (yi[k] - y0[k]) / est->step[i];
+            est->jacobian[k * N + i] = (yi[k] - y0[k]) / est->step[i];
         }
+    }
+    for (i = 0; i < N * N; ++i) {
+        f[i] = est->jacobian[i];
     }
     for (j = 0; j < 4; ++j) {
         if (in->drive[j].mode != CRANE_DRIVE_HOLD) {
@@ -507,7 +535,7 @@ crane_status crane_estimator_update(crane_estimator *est, const crane_model *mod
 {
     crane_real *const y0 = est != NULL ? est->y0 : NULL;
     int *const rows = est != NULL ? est->rows : NULL;
-    int m = 0, i;
+    int m = 0, i, n_cols = N;
     size_t failed, count;
     crane_status st;
 
@@ -549,17 +577,22 @@ crane_status crane_estimator_update(crane_estimator *est, const crane_model *mod
         if (count != 2) {
             return CRANE_E_CAPACITY;
         }
-        perturb(est, inputs);
-        st = crane_predict_many(model->params, 1, N_FUTURES, est->futures, est->inputs, period, dt,
-                                every, est->samples, 2, &failed);
+        n_cols = columns(est);
+        perturb(est, inputs, n_cols);
+        st = crane_predict_many(model->params, 1, (size_t)(1 + n_cols), est->futures, est->inputs,
+                                period, dt, every, est->samples, 2, &failed);
         if (st != CRANE_OK) {
             return st;
         }
     }
-    st = jacobian(est, model, inputs, y0);
+    st = jacobian(est, model, inputs, n_cols, y0);
     if (st != CRANE_OK) {
         return st;
     }
+    if (n_cols < N) {
+        est->next_column = (est->next_column + n_cols) % N;
+    }
+    est->jacobian_ready = 1;
     time_update(est, period);
     est->n_measured = m;
     est->nis = 0;

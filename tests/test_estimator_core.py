@@ -101,10 +101,11 @@ def test_the_covariance_is_kept_positive_definite(crane):
     assert np.linalg.eigvalsh(P).min() > 0.5e-12
 
 
-def test_c_equals_the_independent_numpy_filter_over_an_episode():
+@pytest.mark.parametrize("columns", [4, 16, 3])
+def test_c_equals_the_independent_numpy_filter_over_an_episode(columns):
     """A simulated crane whose load is 30 % off, driven through all four levers, 2 s at 100 Hz:
     the C filter and the numpy one (the same algorithm, its algebra in another order) give the
-    same estimate. The finite-difference Jacobian amplifies the algebra's rounding (1e-16
+    same estimate, renewing the Jacobian's columns in the same turn (4 and 3 a cycle) or all. The finite-difference Jacobian amplifies the algebra's rounding (1e-16
     relative) by the ratio of a field's scale to its step (1e5 Pa / 1e3 Pa for the pressures), so
     the pressures agree to about 1e-8 of their size: 1 Pa is asked, 1e-5 bar."""
     crane = cp.Crane.patu655()
@@ -120,7 +121,7 @@ def test_c_equals_the_independent_numpy_filter_over_an_episode():
         sim.step(allowed=True)
     runs = {}
     for backend in ("c", "python"):
-        ekf = EKF(crane, sensors, backend=backend)
+        ekf = EKF(crane, sensors, backend=backend, jacobian_columns=columns)
         xs = []
         for m in measurements:
             ekf.update(m)
@@ -137,6 +138,56 @@ def test_c_equals_the_independent_numpy_filter_over_an_episode():
     assert np.max(np.abs(c.covariance - p.covariance) / scale) < 1e-6
     # the rates moved: the episode exercised the filter, not a crane at rest
     assert np.ptp(xc[:, 4]) > 0.02 and np.ptp(xc[:, 6]) > 0.05
+
+
+def test_each_update_renews_its_share_of_the_jacobians_columns_in_turn(monkeypatch):
+    """The numpy filter's futures per update: the nominal one and 16 columns on the first update,
+    then the nominal one and 4 columns; the columns go round (the C filter's turn is the same:
+    the test above); a whole-Jacobian filter differs from it only by the columns' age."""
+    from cranepredict import api
+    crane = cp.Crane.patu655()
+    start = cp.state_at_rest(crane, 0.25, 0.35, slew=0.0, extension=0.3)
+    sensors = cp.live.default_sensors()
+    sim = SimCrane(Plant(crane, start), LeverScript(((0.0, (0.5, 0.3, 0.0, 0.0)),)),
+                   SensorModel(sensors, seed=2))
+    sizes = []
+    real = api.predict_many
+
+    def counting(crane_, initials, *args, **kwargs):
+        sizes.append(len(initials))
+        return real(crane_, initials, *args, **kwargs)
+
+    monkeypatch.setattr(api, "predict_many", counting)
+    ekf = EKF(crane, sensors, backend="python")
+    assert ekf.jacobian_columns == 4
+    turns = []
+    for _ in range(7):
+        ekf.update(sim.measurement())
+        turns.append(ekf._next_column)
+        sim.step(allowed=True)
+    assert sizes == [17] + [5] * 5      # the first measurement initialises, predicting nothing
+    assert turns == [0, 0, 4, 8, 12, 0, 4]
+    ekf.reset()
+    ekf.update(sim.measurement())
+    sim.step(allowed=True)
+    ekf.update(sim.measurement())
+    assert sizes[-1] == 17              # after a (re)start: every column again
+
+
+@pytest.mark.parametrize("value, error", [(0, ValueError), (17, ValueError), (-1, ValueError),
+                                          (True, TypeError), (4.0, TypeError), ("4", TypeError)])
+def test_jacobian_columns_is_checked(value, error):
+    with pytest.raises(error, match="jacobian_columns"):
+        EKF(cp.Crane.patu655(), jacobian_columns=value)
+
+
+def test_init_refuses_jacobian_columns_outside_0_to_16(crane):
+    for bad in (-1, N + 1):
+        c = _config(crane)
+        c.jacobian_columns = bad
+        est = ffi.new("crane_estimator *")
+        assert lib.crane_estimator_init(est, c, list(_x0(crane)), [0.0] * (N * N),
+                                        [0.0] * 4) == lib.CRANE_E_ESTIMATOR
 
 
 def _bytes(est):

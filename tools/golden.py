@@ -205,7 +205,8 @@ def _estimator_lines() -> List[str]:
         " *                    (crane_estimator_init's; the covariance is diagonal) */",
         f"#define {x}_CONFIG {{ \\\n    .lo = {arr(ekf.lo)}, \\\n    .hi = {arr(ekf.hi)}, \\\n"
         f"    .noise = {arr(ekf._q)}, \\\n    .fd_step = {arr(ekf._h)}, \\\n"
-        f"    .scale = {arr(ekf._scale)}, \\\n    .dt = {_r(dt)}}}",
+        f"    .scale = {arr(ekf._scale)}, \\\n    .dt = {_r(dt)}, "
+        f".jacobian_columns = {ekf.jacobian_columns}}}",
         f"#define {x}_VARIANCE {arr(variance)}",
         f"#define {x}_X0 {arr(ekf.x)}",
         f"#define {x}_COVARIANCE0_DIAGONAL {arr(np.diag(ekf.covariance))}",

@@ -35,6 +35,11 @@ __all__ = ["Estimator", "EKF", "ESTIMATED", "InnovationFault", "chi2_quantile"]
 #: The estimated State fields, in the order of the state vector and the covariance's rows.
 ESTIMATED = POSITIONS + RATES + PRESSURES
 
+#: The Jacobian's columns an update renews by default (in turn; each column then at most 30 ms
+#: old at 100 Hz): a quarter of the futures of the whole Jacobian, with the estimates of the
+#: accuracy study within a few percent of the whole Jacobian's (docs/live.md).
+JACOBIAN_COLUMNS = 4
+
 #: The finite-difference step of each estimated field (its SI unit).
 _STEP = {**{p: 1e-5 for p in POSITIONS}, **{r: 1e-4 for r in RATES}, **{p: 1e3 for p in PRESSURES}}
 
@@ -116,14 +121,21 @@ class EKF(Estimator):
     ``sensors`` say what is measured and how noisy (default: :func:`default_sensors`);
     ``window`` cycles of normalised innovation squared are tested against their chi-square
     ``p``-quantile (all sensors together) and ``p_field``-quantile (each sensor alone): above
-    either, :meth:`update` raises :class:`InnovationFault`.
+    either, :meth:`update` raises :class:`InnovationFault`. Each update renews
+    ``jacobian_columns`` of the model Jacobian's 16 columns, in turn (16: all of them, every
+    update; the first update after a (re)start renews all): one model future per column.
     """
 
     def __init__(self, crane: Crane, sensors: Optional[Sensors] = None, *, dt: Optional[float] = None,
                  window: int = 25, p: float = 1 - 1e-7, p_field: float = 1 - 1e-12, noise: Optional[_Noise] = None,
-                 backend: str = "c") -> None:
+                 jacobian_columns: int = JACOBIAN_COLUMNS, backend: str = "c") -> None:
         if backend not in ("c", "python"):
             raise ValueError(f"backend must be 'c' or 'python', got {backend!r}")
+        if isinstance(jacobian_columns, bool) or not isinstance(jacobian_columns, (int, np.integer)):
+            raise TypeError(f"jacobian_columns must be an int, got {type(jacobian_columns).__name__}")
+        if not 1 <= jacobian_columns <= len(ESTIMATED):
+            raise ValueError(f"jacobian_columns must be in [1, {len(ESTIMATED)}], got {jacobian_columns}")
+        self.jacobian_columns = int(jacobian_columns)
         self.backend = backend
         if not isinstance(crane, Crane):
             raise TypeError(f"crane must be a cranepredict.Crane, got {type(crane).__name__}")
@@ -151,6 +163,8 @@ class EKF(Estimator):
 
     def reset(self) -> None:
         self._c: Any = None
+        self._jacobian: Optional[np.ndarray] = None   # the numpy filter's, column by column
+        self._next_column = 0
         self.x: Optional[np.ndarray] = None
         self.covariance = np.zeros((len(ESTIMATED), len(ESTIMATED)))
         self.spools = np.zeros(4)
@@ -223,6 +237,7 @@ class EKF(Estimator):
         config.lo, config.hi = list(self.lo), list(self.hi)
         config.noise, config.fd_step, config.scale = list(self._q), list(self._h), list(self._scale)
         config.dt = api.DEFAULT_DT if self.dt is None else float(self.dt)
+        config.jacobian_columns = self.jacobian_columns
         est = ffi.new("crane_estimator *")
         _core.ensure(lib.crane_estimator_init(est, config, list(self.x),
                                               list(self.covariance.ravel()), list(self.spools)),
@@ -264,23 +279,34 @@ class EKF(Estimator):
 
     def _propagate(self, inputs: Inputs, period: float) -> Tuple[np.ndarray, np.ndarray, np.ndarray]:
         """(x', F, spools') over ``period`` under ``inputs``: the nominal future and one per
-        perturbed field, in one predict_many call."""
+        renewed column of the Jacobian (all of them until each has been computed once, then
+        ``jacobian_columns`` in turn), in one predict_many call."""
         x = self.x
         n = len(x)
         steps = np.where(x + self._h <= self.hi, self._h, -self._h)
         held = [isinstance(getattr(inputs, j), Hold) for j in JOINTS]
+        if self._jacobian is None or self.jacobian_columns >= n:
+            cols = list(range(n))
+        else:
+            cols = [(self._next_column + r) % n for r in range(self.jacobian_columns)]
         initials = [self._state(x, inputs, self.spools)]
-        for i in range(n):
+        for i in cols:
             xi = x.copy()
             xi[i] += steps[i]
             initials.append(self._state(xi, inputs, self.spools))
         dt = min(api.DEFAULT_DT if self.dt is None else self.dt, period)
         # fixed RK4 steps, as the C filter's (an adaptive step's choice would put its tolerance's
         # noise into the finite differences)
-        batch = api.predict_many(self.crane, initials, [inputs] * (n + 1), period, dt=dt,
+        batch = api.predict_many(self.crane, initials, [inputs] * len(initials), period, dt=dt,
                                  sample_every=max(1, int(math.ceil(period / dt))), method="rk4")
         y = self._finals(batch)
-        F = ((y[1:] - y[0]) / steps[:, None]).T
+        if self._jacobian is None:
+            self._jacobian = np.zeros((n, n))
+        for r, i in enumerate(cols):
+            self._jacobian[:, i] = (y[1 + r] - y[0]) / steps[i]
+        if len(cols) < n:
+            self._next_column = (self._next_column + len(cols)) % n
+        F = self._jacobian.copy()
         for j in range(4):
             if held[j]:   # a held joint: its pressures are not the model's, keep them
                 for side in (2 * j, 2 * j + 1):
