@@ -3,6 +3,7 @@ strokes with 0.2 mm and pressures with 2 bar of noise at 100 Hz. Prints, per est
 RMS and worst error of the estimate and (for measured fields) of the raw sensor.
 
     python tools/estimator_study.py [--seconds 6] [--seed 1] [--friction 1.0] [--supply 1.0]
+                                    [--jacobian-columns 4]
 """
 
 from __future__ import annotations
@@ -13,7 +14,7 @@ import time
 import numpy as np
 
 import cranepredict as cp
-from cranepredict.live.estimator import EKF, ESTIMATED
+from cranepredict.live.estimator import EKF, ESTIMATED, JACOBIAN_COLUMNS
 from cranepredict.live.sim import LeverScript, Plant, SensorModel, SimCrane, perturbed_crane
 
 #: The lever script: lift up, tilt out, slew and extend, then reverse, then let go.
@@ -23,13 +24,13 @@ SCRIPT = LeverScript(((0.0, (0.0, 0.0, 0.0, 0.0)), (0.3, (0.6, 0.0, 0.0, 0.0)),
 
 
 def run(seconds: float = 6.0, seed: int = 1, load: float = 1.3, friction: float = 1.0,
-        supply: float = 1.0, sensors=None):
+        supply: float = 1.0, sensors=None, jacobian_columns: int = JACOBIAN_COLUMNS):
     crane = cp.Crane.patu655()
     truth_crane = perturbed_crane(crane, load=load, friction=friction, supply=supply)
     start = cp.state_at_rest(truth_crane, 0.25, 0.35, slew=0.0, extension=0.3)
     sensors = sensors or cp.live.default_sensors()
     sim = SimCrane(Plant(truth_crane, start), SCRIPT, SensorModel(sensors, seed=seed))
-    ekf = EKF(crane, sensors)
+    ekf = EKF(crane, sensors, jacobian_columns=jacobian_columns)
     rows, walls = [], []
     for _ in range(int(round(seconds / sim.period)) + 1):
         m = sim.measurement()
@@ -67,12 +68,14 @@ def main() -> None:
     ap.add_argument("--load", type=float, default=1.3)
     ap.add_argument("--friction", type=float, default=1.0)
     ap.add_argument("--supply", type=float, default=1.0)
+    ap.add_argument("--jacobian-columns", type=int, default=JACOBIAN_COLUMNS)
     a = ap.parse_args()
-    rows, walls, ekf = run(a.seconds, a.seed, a.load, a.friction, a.supply)
+    rows, walls, ekf = run(a.seconds, a.seed, a.load, a.friction, a.supply,
+                           jacobian_columns=a.jacobian_columns)
     scale = {"m": (1e3, "mm"), "rad": (1e3, "mrad"), "m/s": (1e3, "mm/s"), "rad/s": (1e3, "mrad/s"),
              "Pa": (1e-5, "bar")}
     print(f"plant: load x{a.load}, friction x{a.friction}, supply x{a.supply}; {a.seconds:g} s at 100 Hz, "
-          f"seed {a.seed}; errors after 0.5 s")
+          f"seed {a.seed}; {a.jacobian_columns} Jacobian columns an update; errors after 0.5 s")
     print(f"{'state':18s} {'RMS':>9s} {'worst':>9s} {'raw RMS':>9s} {'raw worst':>9s}  unit")
     for name, (rms, worst, rrms, rworst) in table(rows).items():
         unit = "Pa" if "_p_" in name else ("rad/s" if name == "slew_rate" else
