@@ -112,7 +112,7 @@ class _Noise:
     rate: float = 4e-3             # (m/s)^2/s: unmodelled forces (the load, friction)
     extension_rate: float = 4e-2   # (m/s)^2/s: the telescope's, larger (its friction and valve
                                    # are estimates in the crane file)
-    pressure: float = 2.5e11       # Pa^2/s: unmodelled flows and loads (5 bar over 1 s)
+    pressure: float = 5e11         # Pa^2/s: unmodelled flows and loads (7 bar over 1 s)
 
 
 class EKF(Estimator):
