@@ -43,19 +43,13 @@ int main(void)
         static crane_model model;
         static crane_real x0[CRANE_EST_N], cov0[CRANE_EST_N * CRANE_EST_N], spool0[4];
         static crane_real z[CRANE_EST_N], variance[CRANE_EST_N];
-        const board_scenario *e = board_estimator_scenario();
+        const board_scenario *e =
+            board_estimator_prepare(&crane, &model, out, CAPACITY, &config, x0, cov0, spool0);
 
-        board_crane(e, &crane);
-        n = 0;
-        if (crane_model_init(&model, &crane, e->state0.extension) != CRANE_OK ||
-            crane_predict(&crane, &e->state0, &e->inputs,
-                          BOARD_ESTIMATOR_PERIOD * BOARD_ESTIMATOR_CYCLES, BOARD_ESTIMATOR_PERIOD,
-                          out, CAPACITY, &n) != CRANE_OK ||
-            n != BOARD_ESTIMATOR_CYCLES + 1u) {
+        if (e == NULL) {
             fprintf(stderr, "estimator: its measurements could not be predicted\n");
             return 1;
         }
-        board_estimator_start(&config, x0, cov0, spool0);
         st = crane_estimator_init(&est, &config, x0, cov0, spool0);
         for (k = 1; k <= BOARD_ESTIMATOR_CYCLES && st == CRANE_OK; ++k) {
             board_measurement(&out[k], z, variance);

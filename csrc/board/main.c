@@ -325,31 +325,21 @@ static void run_entry_points(const board_scenario *sc)
  * measurements are lever-open's own prediction, one sample per period. */
 static void run_estimator(void)
 {
-    static crane_estimator est; /* 15,648 B in float: static memory, not the stack */
+    static crane_estimator est; /* 14,984 B in float: static memory, not the stack */
     static crane_estimator_config config;
     static crane_model model;
     static crane_real x0[CRANE_EST_N], covariance0[CRANE_EST_N * CRANE_EST_N], spool0[4];
     static crane_real z[CRANE_EST_N], variance[CRANE_EST_N];
-    const board_scenario *sc = board_estimator_scenario();
+    const board_scenario *sc;
     crane_status st = CRANE_OK;
-    size_t n = 0, k;
+    size_t k;
 
     semihost_write("estimator\n");
+    sc = board_estimator_prepare(&crane, &model, out, CAPACITY, &config, x0, covariance0, spool0);
     if (sc == NULL) {
-        fail("board_estimator_scenario", 0);
+        fail("board_estimator_prepare", 0);
         return;
     }
-    board_crane(sc, &crane);
-    expect(crane_model_init(&model, &crane, sc->state0.extension), CRANE_OK, "estimator_model");
-    st = crane_predict(&crane, &sc->state0, &sc->inputs,
-                       BOARD_ESTIMATOR_PERIOD * BOARD_ESTIMATOR_CYCLES, BOARD_ESTIMATOR_PERIOD, out,
-                       CAPACITY, &n);
-    expect(st, CRANE_OK, "estimator_measurements");
-    if (n != BOARD_ESTIMATOR_CYCLES + 1u) {
-        fail("estimator_measurements_count", (unsigned long)n);
-        return;
-    }
-    board_estimator_start(&config, x0, covariance0, spool0);
     MEASURED("crane_estimator_init",
              st = crane_estimator_init(&est, &config, x0, covariance0, spool0));
     expect(st, CRANE_OK, "crane_estimator_init");

@@ -109,26 +109,33 @@ void board_format_sample(char *line, const char *name, size_t k, const crane_sam
 }
 
 #ifdef BOARD_VALVES
-const board_scenario *board_estimator_scenario(void)
-{
-    size_t k;
-
-    for (k = 0; k < sizeof scenarios / sizeof scenarios[0]; ++k) {
-        if (strcmp(scenarios[k].name, "lever-open") == 0)
-            return &scenarios[k];
-    }
-    return NULL;
-}
-
-void board_estimator_start(crane_estimator_config *config, crane_real x0[CRANE_EST_N],
-                           crane_real covariance0[CRANE_EST_N * CRANE_EST_N], crane_real spool0[4])
+const board_scenario *board_estimator_prepare(crane_params *params, crane_model *model,
+                                              crane_sample *out, size_t capacity,
+                                              crane_estimator_config *config,
+                                              crane_real x0[CRANE_EST_N],
+                                              crane_real covariance0[CRANE_EST_N * CRANE_EST_N],
+                                              crane_real spool0[4])
 {
     static const crane_estimator_config c = CRANE_EXAMPLE_ESTIMATOR_CONFIG;
     static const crane_real x[CRANE_EST_N] = CRANE_EXAMPLE_ESTIMATOR_X0;
     static const crane_real diagonal[CRANE_EST_N] = CRANE_EXAMPLE_ESTIMATOR_COVARIANCE0_DIAGONAL;
     static const crane_real spool[4] = CRANE_EXAMPLE_ESTIMATOR_SPOOL0;
-    size_t i;
+    const board_scenario *sc = NULL;
+    size_t i, n = 0;
 
+    for (i = 0; i < sizeof scenarios / sizeof scenarios[0]; ++i) {
+        if (strcmp(scenarios[i].name, "lever-open") == 0)
+            sc = &scenarios[i];
+    }
+    if (sc == NULL)
+        return NULL;
+    board_crane(sc, params);
+    if (crane_model_init(model, params, sc->state0.extension) != CRANE_OK ||
+        crane_predict(params, &sc->state0, &sc->inputs,
+                      BOARD_ESTIMATOR_PERIOD * BOARD_ESTIMATOR_CYCLES, BOARD_ESTIMATOR_PERIOD, out,
+                      capacity, &n) != CRANE_OK ||
+        n != BOARD_ESTIMATOR_CYCLES + 1u)
+        return NULL;
     *config = c;
     memcpy(x0, x, sizeof x);
     memcpy(spool0, spool, sizeof spool);
@@ -136,6 +143,7 @@ void board_estimator_start(crane_estimator_config *config, crane_real x0[CRANE_E
         covariance0[i] = 0;
     for (i = 0; i < CRANE_EST_N; ++i)
         covariance0[i * (CRANE_EST_N + 1)] = diagonal[i];
+    return sc;
 }
 
 void board_measurement(const crane_sample *s, crane_real z[CRANE_EST_N],

@@ -30,10 +30,15 @@ void board_crane(const board_scenario *sc, crane_params *params);
 enum { BOARD_ESTIMATOR_CYCLES = 10 };
 #define BOARD_ESTIMATOR_PERIOD ((crane_real)0.01)
 
-/* The scenario the estimator runs on, and the filter's configuration and first state. */
-const board_scenario *board_estimator_scenario(void);
-void board_estimator_start(crane_estimator_config *config, crane_real x0[CRANE_EST_N],
-                           crane_real covariance0[CRANE_EST_N * CRANE_EST_N], crane_real spool0[4]);
+/* The estimator's run before its first update: the scenario's crane into *params and *model,
+ * its own prediction (the measurements, one sample per period) into out[0..capacity), the
+ * filter's configuration and first state. The scenario, or NULL if anything failed. */
+const board_scenario *board_estimator_prepare(crane_params *params, crane_model *model,
+                                              crane_sample *out, size_t capacity,
+                                              crane_estimator_config *config,
+                                              crane_real x0[CRANE_EST_N],
+                                              crane_real covariance0[CRANE_EST_N * CRANE_EST_N],
+                                              crane_real spool0[4]);
 
 /* The measurement of a sample: z and each field's variance (0: not measured). */
 void board_measurement(const crane_sample *s, crane_real z[CRANE_EST_N],

@@ -36,8 +36,8 @@ __all__ = ["Estimator", "EKF", "ESTIMATED", "InnovationFault", "chi2_quantile"]
 ESTIMATED = POSITIONS + RATES + PRESSURES
 
 #: The Jacobian's columns an update renews by default (in turn; each column then at most 30 ms
-#: old at 100 Hz): a quarter of the futures of the whole Jacobian, with the estimates of the
-#: accuracy study within a few percent of the whole Jacobian's (docs/live.md).
+#: old at 100 Hz): 5 futures an update instead of 17, with the estimates of the accuracy study
+#: within 1 % of the whole Jacobian's (docs/live.md).
 JACOBIAN_COLUMNS = 4
 
 #: The finite-difference step of each estimated field (its SI unit).
