@@ -138,17 +138,28 @@ step asan make -j"$JOBS" asan
 step valgrind make -j"$JOBS" valgrind BUILD=build-gcc
 
 # ---- 7. fuzzing ----
-fuzz() {   # new crashes land in build-fuzz*/crash-*; the committed corpus is replayed first
-    make fuzz FUZZ_TIME="$1" CRANE_FLOAT="$2"
+# A failed run ends its log with the violated contract and the crashing input in base64, so that
+# the input can be rebuilt from CI's output alone (base64 -d > crash; build-fuzz/fuzz_core crash).
+fuzz() {   # $1: make target (fuzz, fuzz-guard), $2: seconds, $3: CRANE_FLOAT
+    local dir=build-fuzz$([ "$3" = 1 ] && echo -float) log f
+    log=$(mktemp)
+    rm -f "$dir"/crash-* "$dir"/timeout-* "$dir"/leak-*
+    if make "$1" FUZZ_TIME="$2" CRANE_FLOAT="$3" 2>&1 | tee "$log"; then rm -f "$log"; return 0; fi
+    grep -a "contract violated\|runtime error\|ERROR: " "$log" | head -n 5
+    for f in "$dir"/crash-* "$dir"/timeout-* "$dir"/leak-*; do
+        [ -f "$f" ] || continue
+        echo "input $(basename "$f") ($(wc -c < "$f") bytes), base64:"
+        base64 -w 100 "$f"
+    done
+    rm -f "$log"
+    return 1
 }
-step fuzz-double fuzz "$FUZZ_TIME" 0
-step fuzz-float fuzz "$FUZZ_TIME_FLOAT" 1
+# new crashes land in build-fuzz*/crash-*; the committed corpus is replayed first
+step fuzz-double fuzz fuzz "$FUZZ_TIME" 0
+step fuzz-float fuzz fuzz "$FUZZ_TIME_FLOAT" 1
 # the collision guard's target (csrc/fuzz/fuzz_guard.c), half the time each
-fuzz_guard() {
-    make fuzz-guard FUZZ_TIME="$1" CRANE_FLOAT="$2"
-}
-step fuzz-guard-double fuzz_guard "$(( (FUZZ_TIME + 1) / 2 ))" 0
-step fuzz-guard-float fuzz_guard "$(( (FUZZ_TIME_FLOAT + 1) / 2 ))" 1
+step fuzz-guard-double fuzz fuzz-guard "$(( (FUZZ_TIME + 1) / 2 ))" 0
+step fuzz-guard-float fuzz fuzz-guard "$(( (FUZZ_TIME_FLOAT + 1) / 2 ))" 1
 grep -ah "stat::number_of_executed_units\|Done [0-9]* runs" "$LOG"/fuzz-*.log | sed 's/^/      /'
 
 # ---- summary ----
