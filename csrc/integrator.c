@@ -787,7 +787,8 @@ static void put_sample(ctx_t *c, crane_real t, const xstate *x, crane_sample *o)
 {
     const crane_model *m = c->lim.m;
     const crane_params *p = m->params;
-    const crane__conf *cf = configure(c, x, c->mode[CRANE_TILT] == CRANE__FREE);
+    /* the four-bar's stroke only, not its dynamics (the side links' mass terms) */
+    const crane__conf *cf = configure(c, x, 0);
     crane_real cpsi, spsi;
     crane_vec2 tip;
     int i;
@@ -816,7 +817,12 @@ static void put_sample(ctx_t *c, crane_real t, const xstate *x, crane_sample *o)
             case CRANE__STOP_HI: s = locked_stroke(c, i); break;
             case CRANE__HELD: s = c->s0->stroke[i]; break;
             default:
-                (void)ratio(c, i, x->v[Q + i], &s);
+                if (i == CRANE_TILT && (c->cache & CACHE_TK) == 0) {
+                    /* tk's stroke by the same arithmetic (kinematics.c), so the same bits */
+                    crane__tilt_from_angle(m, cf->c1, cf->s1, &s, NULL, NULL, NULL);
+                } else {
+                    (void)ratio(c, i, x->v[Q + i], &s);
+                }
                 /* The stroke -> angle -> stroke round trip can land a few 1e-16 m outside the
                  * range (docs/model.md, "End stops"): the reported stroke is clamped, the angle
                  * is not. */
