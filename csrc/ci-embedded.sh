@@ -17,7 +17,8 @@
 #    qemu-user and compares the tip with the host's (double: <= 1e-9 m) and float with double
 #    over the whole paper scenario (<= 1 mm);
 # 6. the tests and the corpus under ASan+UBSan, and under valgrind;
-# 7. libFuzzer for FUZZ_TIME seconds (default 60) in double and FUZZ_TIME_FLOAT (default 30) in float;
+# 7. libFuzzer for FUZZ_TIME seconds (default 60) in double and FUZZ_TIME_FLOAT (default 30) in float,
+#    from the seed FUZZ_SEED (default 1: a failure can be replayed; its input is printed in base64);
 #    the collision guard's target for half of each.
 #
 # Exits nonzero if any step failed; the last line is "ci-embedded: N passed, N failed".
@@ -27,6 +28,7 @@ CSRC=$(pwd)
 export CRANE_TEST_BENCH_REPS=${CRANE_TEST_BENCH_REPS:-0}   # no benchmark under emulators/valgrind
 FUZZ_TIME=${FUZZ_TIME:-60}
 FUZZ_TIME_FLOAT=${FUZZ_TIME_FLOAT:-30}
+FUZZ_SEED=${FUZZ_SEED:-1}   # fixed: a gate that can be replayed; make fuzz alone explores (seed 0)
 FOOTPRINT_ENFORCE=${FOOTPRINT_ENFORCE:-1}
 JOBS=${JOBS:-2}
 T0=$(date +%s)
@@ -144,7 +146,7 @@ fuzz() {   # $1: make target (fuzz, fuzz-guard), $2: seconds, $3: CRANE_FLOAT
     local dir=build-fuzz$([ "$3" = 1 ] && echo -float) log f
     log=$(mktemp)
     rm -f "$dir"/crash-* "$dir"/timeout-* "$dir"/leak-*
-    if make "$1" FUZZ_TIME="$2" CRANE_FLOAT="$3" 2>&1 | tee "$log"; then rm -f "$log"; return 0; fi
+    if make "$1" FUZZ_TIME="$2" FUZZ_SEED="$FUZZ_SEED" CRANE_FLOAT="$3" 2>&1 | tee "$log"; then rm -f "$log"; return 0; fi
     grep -a "contract violated\|runtime error\|ERROR: " "$log" | head -n 5
     for f in "$dir"/crash-* "$dir"/timeout-* "$dir"/leak-*; do
         [ -f "$f" ] || continue
