@@ -151,3 +151,52 @@ def test_a_verdict_for_every_named_scenario(world):
         assert v.signal in G.SIGNALS, (world, name)
         if v.contact is not None and not v.contact.at_start:
             assert v.stop.model == G.STOP_MODEL and (v.signal == "STOP") == (v.stop.latest < 0.01)
+
+
+def _follow_values(world, horizon=G.DEFAULT_STOP_HORIZON):
+    return {"margin": world.margin, "reaction": REACTION, "cycle": G.DEFAULT_CYCLE,
+            "time_tolerance": G.DEFAULT_TIME_TOLERANCE,
+            "clearance_tolerance": G.DEFAULT_CLEARANCE_TOLERANCE, "stop_horizon": horizon}
+
+
+def test_a_stop_followed_on_in_pieces_is_judged_over_all_of_them(crane, monkeypatch):
+    """A stop that takes more than one piece: each piece continues from the last one's final
+    state (the pieces' lengths 0.5, 0.5, 1, ... s); a "stop" that keeps both levers open reaches an
+    obstacle only after the first piece and is unsafe; the valves to neutral from full speed ring
+    on the oil past the first piece and settle, safe in a clear world; a piece whose end is not a
+    valid State is unsafe, saying why."""
+    start = cp.state_at_rest(crane, 0.05, 0.20)
+    moving = cp.Inputs(lift=cp.Valve(1.0), tilt=cp.Valve(1.0))
+    one_shot = cp.predict(crane, start, moving, 1.5)
+    p = one_shot.tip[-1]
+    hit = _world(0.1, {"name": "ball", "kind": "sphere", "centre": p.tolist(), "radius": 0.05})
+    assert min(np.linalg.norm(one_shot.tip[:int(round(0.6 / cp.DEFAULT_DT))] - p, axis=1)) > 0.4
+    lengths, froms = [], []
+    follow = G.api.predict_many
+
+    def recording(c, states, inputs, horizon, **kw):
+        lengths.append(round(horizon, 9))
+        froms.append(states[0])
+        return follow(c, states, inputs, horizon, **kw)
+
+    monkeypatch.setattr(G.api, "predict_many", recording)
+    args = (crane.shape, _follow_values(hit), cp.DEFAULT_DT, 2)
+    assert G._stops_are_safe(crane, hit, [start], moving, *args) == [(False, "")]
+    assert lengths == [0.5, 0.5, 1.0] and froms[0] == start
+    half = one_shot.state(int(round(0.5 / cp.DEFAULT_DT)))
+    assert abs(froms[1].lift_stroke - half.lift_stroke) < 1e-5
+    assert abs(froms[2].tilt_stroke - one_shot.state(int(round(1.0 / cp.DEFAULT_DT))).tilt_stroke) < 1e-5
+
+    far = _world(0.1, {"name": "far", "kind": "sphere", "centre": [40.0, 0.0, 0.0], "radius": 0.1})
+    neutral = _all_neutral(moving)
+    del lengths[:]
+    assert G._stops_are_safe(crane, far, [half], neutral, crane.shape, _follow_values(far),
+                             cp.DEFAULT_DT, 2) == [(True, "")]
+    assert len(lengths) >= 2 and lengths[:2] == [0.5, 0.5]
+    del lengths[:]
+    monkeypatch.setattr(cp.Trajectory, "final_state", property(
+        lambda self: (_ for _ in ()).throw(ValueError("lift_p_a below vacuum"))))
+    safe, why = G._stops_are_safe(crane, far, [half], neutral, crane.shape, _follow_values(far),
+                                  cp.DEFAULT_DT, 2)[0]
+    assert not safe and "could not be followed on" in why and "lift_p_a" in why
+    assert lengths == [0.5]

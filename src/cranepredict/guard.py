@@ -11,6 +11,7 @@ from __future__ import annotations
 
 import math
 import os
+from types import SimpleNamespace
 from dataclasses import dataclass, field
 from typing import Any, Dict, List, Mapping, Optional, Sequence, Tuple
 
@@ -542,34 +543,62 @@ def _joint_ranges(q: np.ndarray) -> np.ndarray:
 def _stops_are_safe(crane: Crane, world: World, starts: Sequence[State], stop: Inputs,
                     shape: Shape, values: Dict[str, float], dt: float,
                     sample_every: int) -> List[Tuple[bool, str]]:
-    """For each start: predicts the stop over stop_horizon, then over twice as long and so on (at
-    most STOP_FOLLOW_MAX), judging each, until the crane is at rest or only repeats itself (the
-    second half stays within the joint ranges of the first: an oscillation on the closed valves'
-    oil, which no energy feeds); (safe, why not). The pending stops of a round are one batch, on
-    two threads where there are two cores (each future as its own prediction would be)."""
+    """For each start: predicts the stop over stop_horizon, then on from where it ended until it
+    has been followed twice as long and so on (at most STOP_FOLLOW_MAX), judging each piece, until
+    the crane is at rest or only repeats itself (the second half stays within the joint ranges of
+    the first: an oscillation on the closed valves' oil, which no energy feeds); (safe, why not).
+    A piece continues from the last one's final state (Trajectory.final_state) rather than
+    predicting the stop again from its start. The pending stops of a round are one batch, on two
+    threads where there are two cores (each future as its own prediction would be)."""
     horizon = values["stop_horizon"]
     out: List[Tuple[bool, str]] = [(False, "")] * len(starts)
     pending = list(range(len(starts)))
+    froms = list(starts)
+    sofar: Dict[int, Dict[str, np.ndarray]] = {}
+    followed, length = 0.0, horizon
     threads = min(2, os.cpu_count() or 1, max(len(starts), 1))
     while pending:
-        batch = api.predict_many(crane, [starts[i] for i in pending], [stop] * len(pending),
-                                 horizon, dt=dt, sample_every=sample_every,
+        batch = api.predict_many(crane, [froms[i] for i in pending], [stop] * len(pending),
+                                 length, dt=dt, sample_every=sample_every,
                                  threads=min(threads, len(pending)))
         later = []
         for row, i in enumerate(pending):
             piece = batch[row]
             res, _ = _judge(crane, world, _samples(piece), shape, values)
+            whole = _followed(sofar.get(i), piece, followed)
             if res.contact:
                 out[i] = (False, "")
-            elif stop_settled(piece, values["stop_horizon"]):
+            elif stop_settled(whole, values["stop_horizon"]):
                 out[i] = (True, "")
-            elif horizon >= STOP_FOLLOW_MAX - 1e-9:
+            elif followed + length >= STOP_FOLLOW_MAX - 1e-9:
                 out[i] = (False, f"a stop was still moving to new poses {STOP_FOLLOW_MAX:g} s "
                                  "after it took effect: that stop time counts as unsafe")
             else:
+                try:
+                    froms[i] = piece.final_state
+                except ValueError as e:   # State refuses where the piece ended: unsafe
+                    out[i] = (False, f"a stop could not be followed on ({e}): that stop time "
+                                     "counts as unsafe")
+                    continue
+                sofar[i] = whole.__dict__
                 later.append(i)
-        pending, horizon = later, min(2 * horizon, STOP_FOLLOW_MAX)
+        followed += length
+        pending, length = later, min(2 * followed, STOP_FOLLOW_MAX) - followed
     return out
+
+
+def _followed(before: Optional[Dict[str, np.ndarray]], piece: Trajectory,
+              start: float) -> SimpleNamespace:
+    """A stop followed so far: the arrays stop_settled reads (t, tip, theta, slew, extension) of
+    the pieces before (None for the first) and of this one, which starts at ``start`` s (its first
+    sample is the last one before)."""
+    n = len(piece.t)
+    now = {"t": piece.t + start, "tip": piece.tip, "theta": piece.theta,
+           "slew": np.broadcast_to(piece.slew, (n,)),
+           "extension": np.broadcast_to(piece.extension, (n,))}
+    if before is None:
+        return SimpleNamespace(**now)
+    return SimpleNamespace(**{k: np.concatenate([before[k], now[k][1:]]) for k in now})
 
 
 def _latest_stop(crane: Crane, world: World, traj: Trajectory, inputs: Inputs, stop: Inputs,
