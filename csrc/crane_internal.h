@@ -466,10 +466,13 @@ crane_real crane__next_knot(const crane_inputs *in, int n_joints, crane_real t, 
 static const crane_real CRANE__TIP_TOLERANCE = (crane_real)5e-5;
 static const crane_real CRANE__PRESSURE_TOLERANCE = (crane_real)1e4;
 /* Its cap on step attempts over a horizon (docs/model.md, "Integration"): 64 plus 4096 a second
- * (as many as steps of 0.24 ms), so that the work of a call is bounded before it runs. */
+ * (as many as steps of 0.24 ms), so that the work of a call is bounded before it runs. A horizon
+ * whose cap is beyond CRANE_MAX_STEPS gets 64 + CRANE_MAX_STEPS (refused as CRANE_E_STEPS): the
+ * conversion of a larger count to long would overflow. */
 static inline long crane__attempt_cap(crane_real horizon)
 {
-    return 64 + (long)crane__ceil(horizon * 4096);
+    const crane_real n = crane__ceil(horizon * 4096);
+    return n < (crane_real)CRANE_MAX_STEPS ? 64 + (long)n : 64 + (long)CRANE_MAX_STEPS;
 }
 
 /* Runs a validated prediction (docs/model.md, "Integration and samples", "Four joints"): the
