@@ -129,7 +129,10 @@ enum { CRANE__FREE = 0, CRANE__HELD = 1, CRANE__STOP_LO = 2, CRANE__STOP_HI = 3 
 
 enum { CRANE__BISECTIONS = 60, CRANE__RELEASE_BISECTIONS = 40, CRANE__MAX_PIECES = 8 };
 
-/* The segment [t_j, t_j+1] of a sampled drive that holds time t, and t's fraction of it in [0, 1].
+/* The segment [t_j, t_j+1] of a sampled drive that holds time t, and t's fraction of it in [0, 1]:
+ * the last j (at most n - 2) with t_j <= t, so that a time on a knot reads the segment that starts
+ * there (s = 0: the knot's value exactly), whichever segment the cursor came from (the samples of
+ * crane_predict_many and the dense output move it differently; the twin's rule, bisect_right).
  * The cursor walks from the last segment: RK4 stage times move forward, redone event steps go back
  * a little. Validation guarantees n >= 2 and t[0] <= 0 < horizon <= t[n-1]. */
 static CRANE__ALWAYS_INLINE crane_real crane__drive_segment(const crane_drive *d, size_t *cursor,
@@ -138,7 +141,7 @@ static CRANE__ALWAYS_INLINE crane_real crane__drive_segment(const crane_drive *d
     size_t j = *cursor, n = d->n_samples;
     crane_real s;
 
-    while (j + 2 < n && t > d->t[j + 1])
+    while (j + 2 < n && t >= d->t[j + 1])
         ++j;
     while (j > 0 && t < d->t[j])
         --j;

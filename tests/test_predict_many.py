@@ -183,3 +183,27 @@ def test_vary_bad_input_names_field_and_range(crane):
     with pytest.raises(ValueError, match="has no slew_drive.friction table"):
         cp.predict_many(no_slew, initials, inputs, HORIZON, dt=DT,
                         vary={"slew_drive.friction.factor": [1, 1, 1]})
+
+
+@pytest.mark.parametrize("every", [3, 5])
+def test_knots_on_the_sample_grid_read_the_same_with_any_sample_every(crane, every):
+    """A sampled drive whose knots lie on the sample grid: a sample time on a knot reads the
+    segment that starts there, whichever segment the samples before it left the drive's cursor in
+    (the error-controlled method's dense output reads the drive at the kept samples only, so
+    sample_every moves the cursor differently): the kept samples equal predict()'s, bit for bit.
+    (Found by the fuzzer: the segment that ends at the knot gave a + 1 (b - a), not b.)"""
+    t = np.array([-0.1, -0.05, 0.0, 0.05, 0.1, 0.15, 0.2])
+    p_a = np.array([0.0, 1e6, 2e6, 3e6, 4e6 + 0.1, 0.3, 1e6])
+    p_b = np.array([0.0, 5e5, 1e6, 0.0, 5e5 + 0.1, 0.3, 0.0])
+    assert p_a[4] + 1.0 * (p_a[5] - p_a[4]) != p_a[5]   # the two segments differ at t = 0.15
+    inputs = cp.Inputs(lift=cp.PressureSeries(t=t, p_a=p_a, p_b=p_b), tilt=cp.Hold())
+    initial = cp.State(lift_stroke=0.116, tilt_stroke=0.2)
+    one = cp.predict(crane, initial, inputs, 0.2, dt=1e-3)
+    batch = cp.predict_many(crane, [initial] * 2, [inputs] * 2, 0.2, dt=1e-3, sample_every=every)
+    keep = list(range(0, len(one.t), every))
+    if keep[-1] != len(one.t) - 1:
+        keep.append(len(one.t) - 1)
+    assert one.p_a[150, 0] == 0.3
+    for k in range(2):
+        for name in FIELDS:
+            assert np.array_equal(getattr(batch[k], name), getattr(one, name)[keep]), (k, name)
