@@ -648,7 +648,7 @@ typedef struct {
     crane_real reaction;         /* delay from the stop decision to the stop, s, >= 0 */
     crane_real cycle;            /* control cycle, s, > 0: STOP if stopping cannot wait one more */
     crane_real time_tolerance;   /* the first contact is located within this, s, > 0 (at least
-                                    1e-4 of the samples' spacing is used) */
+                                    1e-3 of the samples' spacing is used) */
     crane_real clearance_tolerance; /* per-part minima may be this much too large, m, >= 0 */
 } crane_guard_config;
 
