@@ -818,7 +818,7 @@ static void put_sample(ctx_t *c, crane_real t, const xstate *x, crane_sample *o)
             case CRANE__HELD: s = c->s0->stroke[i]; break;
             default:
                 if (i == CRANE_TILT && (c->cache & CACHE_TK) == 0) {
-                    /* tk's stroke by the same arithmetic (kinematics.c), so the same bits */
+                    /* the stroke alone, from the function that fills tk (kinematics.c) */
                     crane__tilt_from_angle(m, cf->c1, cf->s1, &s, NULL, NULL, NULL);
                 } else {
                     (void)ratio(c, i, x->v[Q + i], &s);

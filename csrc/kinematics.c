@@ -197,15 +197,9 @@ static void side_links(const crane_model *m, crane__tilt_kin *tk)
 void crane__tilt_kinematics(const crane_model *m, crane_real c1, crane_real s1,
                             crane__tilt_kin *tk)
 {
-    const crane_params *p = m->params;
-    crane_real L;
-
-    /* The same arithmetic as crane__tilt_from_angle, so stroke and ds are the same bits. */
-    tk->a = crane__add(p->tilt_pivot, crane__rot(c1, s1, p->link2_attach));
-    (void)circle(p->link1_pivot, m->tilt_l1, tk->a, m->tilt_l2, m->tilt_branch, &tk->q);
-    L = crane__norm(crane__sub(tk->q, p->tilt_cylinder_base));
-    tk->stroke = L - p->cylinder[CRANE_TILT].length_retracted;
-    tk->ds = tilt_ds(p, tk->q, tk->a, L);
+    /* crane__tilt_from_angle itself, so that the samples (which take the stroke alone from it)
+     * and the dynamics read the same bits */
+    crane__tilt_from_angle(m, c1, s1, &tk->stroke, &tk->ds, &tk->q, &tk->a);
     if (m->links != 0) {
         side_links(m, tk);
     }

@@ -550,12 +550,11 @@ def _stops_are_safe(crane: Crane, world: World, starts: Sequence[State], stop: I
     A piece continues from the last one's final state (Trajectory.final_state) rather than
     predicting the stop again from its start. The pending stops of a round are one batch, on two
     threads where there are two cores (each future as its own prediction would be)."""
-    horizon = values["stop_horizon"]
     out: List[Tuple[bool, str]] = [(False, "")] * len(starts)
     pending = list(range(len(starts)))
     froms = list(starts)
     sofar: Dict[int, Dict[str, np.ndarray]] = {}
-    followed, length = 0.0, horizon
+    followed, length = 0.0, values["stop_horizon"]
     threads = min(2, os.cpu_count() or 1, max(len(starts), 1))
     while pending:
         batch = api.predict_many(crane, [froms[i] for i in pending], [stop] * len(pending),
@@ -565,8 +564,8 @@ def _stops_are_safe(crane: Crane, world: World, starts: Sequence[State], stop: I
         for row, i in enumerate(pending):
             piece = batch[row]
             res, _ = _judge(crane, world, _samples(piece), shape, values)
-            whole = _followed(sofar.get(i), piece, followed)
-            if res.contact:
+            whole = None if res.contact else _followed(sofar.get(i), piece, followed)
+            if whole is None:
                 out[i] = (False, "")
             elif stop_settled(whole, values["stop_horizon"]):
                 out[i] = (True, "")
