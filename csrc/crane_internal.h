@@ -42,6 +42,7 @@ static inline crane_real crane__tanh(crane_real x) { return tanhf(x); }
 static inline crane_real crane__fabs(crane_real x) { return fabsf(x); }
 static inline crane_real crane__ceil(crane_real x) { return ceilf(x); }
 static inline crane_real crane__cbrt(crane_real x) { return cbrtf(x); }
+static inline crane_real crane__pow(crane_real x, crane_real y) { return powf(x, y); }
 #else
 static inline crane_real crane__sqrt(crane_real x) { return sqrt(x); }
 static inline crane_real crane__sin(crane_real x) { return sin(x); }
@@ -53,6 +54,7 @@ static inline crane_real crane__tanh(crane_real x) { return tanh(x); }
 static inline crane_real crane__fabs(crane_real x) { return fabs(x); }
 static inline crane_real crane__ceil(crane_real x) { return ceil(x); }
 static inline crane_real crane__cbrt(crane_real x) { return cbrt(x); }
+static inline crane_real crane__pow(crane_real x, crane_real y) { return pow(x, y); }
 #endif
 
 /* isfinite is a type-generic macro; wrapping it keeps the call sites typed. */
@@ -461,6 +463,9 @@ crane_status crane__model_derive(crane_model *m, const crane_params *params, cra
  * samples, smooth only inside a segment, and RK4 across a kink is first order. */
 crane_real crane__next_knot(const crane_inputs *in, int n_joints, crane_real t, crane_real t_end,
                             crane_real dt);
+/* The sample times of the sampled drives inside (0, horizon), counted per drive: the steps that
+ * the knots may cut (RK4's, DOPRI5's) on top of the work bound without them. */
+long crane__knot_count(const crane_inputs *in, crane_real horizon);
 
 /* ---- integrator.c ---- */
 
@@ -469,7 +474,8 @@ crane_real crane__next_knot(const crane_inputs *in, int n_joints, crane_real t, 
 static const crane_real CRANE__TIP_TOLERANCE = (crane_real)5e-5;
 static const crane_real CRANE__PRESSURE_TOLERANCE = (crane_real)1e4;
 /* Its cap on step attempts over a horizon (docs/model.md, "Integration"): 64 plus 4096 a second
- * (as many as steps of 0.24 ms), so that the work of a call is bounded before it runs. A horizon
+ * (as many as steps of 0.24 ms), plus one a knot inside the horizon (crane__knot_count: DOPRI5
+ * cuts its steps there), so that the work of a call is bounded before it runs. A horizon
  * whose cap is beyond CRANE_MAX_STEPS gets 64 + CRANE_MAX_STEPS (refused as CRANE_E_STEPS): the
  * conversion of a larger count to long would overflow. */
 static inline long crane__attempt_cap(crane_real horizon)

@@ -64,6 +64,9 @@ typedef struct {
     /* The error-controlled method (ROS34PW2): the relief and anti-cavitation valves are rates
      * (crane__limit_rates) instead of RK4's implicit update. */
     unsigned char rosw;
+    /* ... with the explicit pair DOPRI5(4) instead of ROS34PW2 (a future without valve drives:
+     * no oil, no chambers) */
+    unsigned char dopri;
     /* bit 2j + side: that chamber's relief or anti-cavitation valve is open over the step
      * (limits_open) */
     unsigned char open;
@@ -1138,7 +1141,9 @@ static void step_start(ctx_t *c, crane_real t, const xstate *x, xstate *f, int v
     if (c->open != open) {
         rates(c, t, x, f); /* under the new modes */
     }
-    w_matrix(c, t, x, J);
+    if (c->dopri == 0u) {
+        w_matrix(c, t, x, J);
+    }
 }
 
 /* One ROS34PW2 step of size h from (t, x), f0 = f(t, x), into y; returns the error's largest
@@ -1193,6 +1198,93 @@ static CRANE__NOINLINE crane_real ros_step(ctx_t *c, crane_real t, const xstate 
         }
     }
     return err;
+}
+
+/* Dormand and Prince's explicit pair DOPRI5(4) (Hairer, Norsett and Wanner, Solving ODEs I,
+ * II.5, Table 5.2): seven stages, the seventh at the step's end (FSAL: f(t + h, x1)); the solution
+ * of order 5, the error of the embedded order 4. Rows of the stages' a by stage, b the solution's
+ * weights, d = b - b^ the error's. */
+static const crane_real DP_C[7] = {0, (crane_real)0.2, (crane_real)0.3, (crane_real)0.8,
+                                   (crane_real)(8.0 / 9.0), 1, 1};
+static const crane_real DP_A[21] = {
+    (crane_real)0.2,
+    (crane_real)(3.0 / 40.0), (crane_real)(9.0 / 40.0),
+    (crane_real)(44.0 / 45.0), (crane_real)(-56.0 / 15.0), (crane_real)(32.0 / 9.0),
+    (crane_real)(19372.0 / 6561.0), (crane_real)(-25360.0 / 2187.0), (crane_real)(64448.0 / 6561.0),
+    (crane_real)(-212.0 / 729.0),
+    (crane_real)(9017.0 / 3168.0), (crane_real)(-355.0 / 33.0), (crane_real)(46732.0 / 5247.0),
+    (crane_real)(49.0 / 176.0), (crane_real)(-5103.0 / 18656.0),
+    (crane_real)(35.0 / 384.0), 0, (crane_real)(500.0 / 1113.0), (crane_real)(125.0 / 192.0),
+    (crane_real)(-2187.0 / 6784.0), (crane_real)(11.0 / 84.0)};
+static const crane_real DP_D[7] = {
+    (crane_real)(35.0 / 384.0 - 5179.0 / 57600.0), 0,
+    (crane_real)(500.0 / 1113.0 - 7571.0 / 16695.0), (crane_real)(125.0 / 192.0 - 393.0 / 640.0),
+    (crane_real)(-2187.0 / 6784.0 + 92097.0 / 339200.0), (crane_real)(11.0 / 84.0 - 187.0 / 2100.0),
+    (crane_real)(-1.0 / 40.0)};
+/* The explicit pair's tolerances over the user's: its order-4 estimate misjudges a step across a
+ * friction reversal or a drive's kink more than ROS34PW2's (random pressure futures: 3 mm off the
+ * converged run at the tolerances themselves, 0.7 mm at 0.3 of them). */
+static const crane_real DP_TOLERANCE_SCALE = (crane_real)0.3;
+
+/* One DOPRI5(4) step of size h from (t, x), f0 = f(t, x), into y with fy = f(t + h, y); returns
+ * the error's largest ratio to its tolerance (NaN if the step failed). Futures without valve
+ * drives only: the mechanical entries. */
+static CRANE__NOINLINE crane_real dp_step(ctx_t *c, crane_real t, const xstate *x, const xstate *f0,
+                                          crane_real h, xstate *y, xstate *fy)
+{
+    crane_real k[6][N_MECH], err = 0;
+    int s, i, m;
+
+    for (i = 0; i < N_MECH; ++i) {
+        k[0][i] = f0->v[i];
+    }
+    for (s = 1; s < 7; ++s) {
+        const int row = (s - 1) * s / 2;
+        for (i = 0; i < N_MECH; ++i) {
+            crane_real v = 0;
+            for (m = 0; m < s; ++m) {
+                v += DP_A[row + m] * k[m][i];
+            }
+            fy->v[i] = x->v[i] + h * v;
+        }
+        rates(c, t + DP_C[s] * h, fy, fy);
+        if (s < 6) {
+            for (i = 0; i < N_MECH; ++i) {
+                k[s][i] = fy->v[i];
+            }
+        }
+    }
+    for (i = 0; i < N_MECH; ++i) {
+        crane_real v = 0, e = 0, r;
+        for (m = 0; m < 6; ++m) {
+            v += DP_A[15 + m] * k[m][i];
+            e += DP_D[m] * k[m][i];
+        }
+        e += DP_D[6] * fy->v[i];
+        y->v[i] = x->v[i] + h * v;
+        r = crane__fabs(h * e) / tolerance(c, i);
+        if (!(r <= err)) {
+            err = r; /* and NaN stays */
+        }
+    }
+    return err;
+}
+
+/* The step of the method in use: DOPRI5(4) (fy its f at the end) or ROS34PW2 (fy untouched). */
+static crane_real adaptive_step(ctx_t *c, crane_real t, const xstate *x, const xstate *f0,
+                                const wjac *J, crane_real h, xstate *y, xstate *fy)
+{
+    if (c->dopri != 0u) {
+        return dp_step(c, t, x, f0, h, y, fy);
+    }
+    return ros_step(c, t, x, f0, J, h, y);
+}
+
+/* The step size's factor from an accepted or rejected step's error ratio: err^(-1/(p + 1)) with
+ * the estimate's order p (3 for ROS34PW2's embedded order 2, 5 for DOPRI5's order 4). */
+static crane_real error_root(const ctx_t *c, crane_real err)
+{
+    return c->dopri != 0u ? crane__pow(err, (crane_real)0.2) : crane__cbrt(err);
 }
 
 /* Every rate in use is finite. */
@@ -1348,8 +1440,8 @@ static CRANE__NOINLINE crane_status integrate_rosw(ctx_t *c, xstate *x, crane_re
                                                    crane_real dt, long n_steps, long sample_every,
                                                    crane_sample *out, size_t *n_written)
 {
-    const long cap = crane__attempt_cap(horizon);
-    xstate f0, x1, f1;
+    const long cap = crane__attempt_cap(horizon) + crane__knot_count(c->in, horizon);
+    xstate f0, x1, f1, fs;
     wjac J;
     crane_real t = 0, h = dt < ROS_FIRST_STEP ? dt : ROS_FIRST_STEP, grow = ROS_GROW;
     long attempts = 0, kept = sample_every;
@@ -1368,19 +1460,30 @@ static CRANE__NOINLINE crane_status integrate_rosw(ctx_t *c, xstate *x, crane_re
             hs = horizon - t;
             last = 1;
         }
+        if (c->dopri != 0u) {
+            /* the explicit pair's steps end at a sampled drive's knot: its estimate misjudges a
+             * kink inside a step (ROS34PW2's steps are not cut: a dense lever log would make
+             * every step as short as its samples' spacing) */
+            const crane_real t_end = last != 0 ? horizon : t + hs;
+            const crane_real knot = crane__next_knot(c->in, 4, t, t_end, hs);
+            if (knot < t_end) {
+                hs = knot - t;
+                last = 0;
+            }
+        }
         ++attempts;
         if (attempts > cap) {
             *n_written = next;
             return CRANE_E_TOLERANCE;
         }
-        err = ros_step(c, t, x, &f0, &J, hs, &x1);
+        err = adaptive_step(c, t, x, &f0, &J, hs, &x1, &fs);
         if (!(err <= 1)) {
             if (hs <= ROS_MIN_STEP) {
                 *n_written = next;
                 return CRANE_E_TOLERANCE;
             }
             grow = 1;
-            h = err == err ? ROS_SAFETY / crane__cbrt(err) : ROS_SHRINK;
+            h = err == err ? ROS_SAFETY / error_root(c, err) : ROS_SHRINK;
             h = hs * (h > ROS_SHRINK ? h : ROS_SHRINK);
             if (h < ROS_MIN_STEP) {
                 h = ROS_MIN_STEP;
@@ -1388,7 +1491,7 @@ static CRANE__NOINLINE crane_status integrate_rosw(ctx_t *c, xstate *x, crane_re
             continue;
         }
         /* the next step's proposal, from this step's error; not larger right after a rejection */
-        h = err > 0 ? ROS_SAFETY / crane__cbrt(err) : ROS_GROW;
+        h = err > 0 ? ROS_SAFETY / error_root(c, err) : ROS_GROW;
         h = hs * (h < grow ? h : grow);
         grow = ROS_GROW;
         /* an end stop or a limit valve's setting inside the step: the step is cut at the first
@@ -1410,7 +1513,14 @@ static CRANE__NOINLINE crane_status integrate_rosw(ctx_t *c, xstate *x, crane_re
         if (first >= 0 || chamber >= 0) {
             hs = tau;
             last = 0;
-            (void)ros_step(c, t, x, &f0, &J, hs, &x1);
+            (void)adaptive_step(c, t, x, &f0, &J, hs, &x1, &fs);
+            changed = 2; /* x1 is not the whole step's */
+            if (any_stopped(c) != 0 && release_set(c, t + hs, &x1) != 0) {
+                /* a stopped joint comes free before the event: the release first (below); the
+                 * event is found again in the next step */
+                first = -1;
+                chamber = -1;
+            }
 #if CRANE_HYDRAULICS
             if (chamber >= 0) {
                 crane_real set;
@@ -1419,13 +1529,14 @@ static CRANE__NOINLINE crane_status integrate_rosw(ctx_t *c, xstate *x, crane_re
                 changed = 1;
             }
 #endif
-        } else if (any_stopped(c) != 0 && release_set(c, t + hs, &x1) != 0) {
+        }
+        if (first < 0 && chamber < 0 && any_stopped(c) != 0 && release_set(c, t + hs, &x1) != 0) {
             /* a stopped joint comes free inside the step: bisect for the time (f1 is scratch) */
             crane_real lo = 0, hi = hs;
             int k;
             for (k = 0; k < CRANE__RELEASE_BISECTIONS; ++k) {
                 const crane_real mid = (lo + hi) / 2;
-                (void)ros_step(c, t, x, &f0, &J, mid, &f1);
+                (void)adaptive_step(c, t, x, &f0, &J, mid, &f1, &fs);
                 if (release_set(c, t + mid, &f1) != 0) {
                     hi = mid;
                 } else {
@@ -1436,13 +1547,18 @@ static CRANE__NOINLINE crane_status integrate_rosw(ctx_t *c, xstate *x, crane_re
                 last = 0;
             }
             hs = hi;
-            (void)ros_step(c, t, x, &f0, &J, hs, &x1);
+            (void)adaptive_step(c, t, x, &f0, &J, hs, &x1, &fs);
             changed = 1;
-        } else {
-            /* no event inside the step: it is taken whole */
         }
         spools_in_range(c, &x1);
-        rates(c, t + hs, &x1, &f1);
+        if (c->dopri != 0u && changed == 0) {
+            copy_state(c, &f1, &fs); /* the pair's last stage is f(t + hs, x1) (FSAL) */
+        } else {
+            rates(c, t + hs, &x1, &f1);
+        }
+        if (changed == 2) {
+            changed = 0;
+        }
         /* the samples are interpolated with f1 too: it must be finite as well */
         if (finite_state(c, &x1) == 0 || finite_rates(c, &f1) == 0) {
             *n_written = next;
@@ -1518,6 +1634,7 @@ crane_status crane__integrate(const crane_model *m, const crane_state *s0, const
     c.release_clear = 0;
 #if CRANE_ROSW
     c.rosw = (unsigned char)(in->solver.method != CRANE_METHOD_RK4);
+    c.dopri = 0;
     {
         /* the angles' tolerance: tip metres over the crane's reach (lift pivot to the tip with the
          * telescope out), which bounds the tip's motion per radian of any joint */
@@ -1602,6 +1719,15 @@ crane_status crane__integrate(const crane_model *m, const crane_state *s0, const
     }
     put_sample(&c, 0, &x, &out[0]);
 #if CRANE_ROSW
+    /* the default's pick: ROS34PW2 with oil (a valve drive's chambers are stiff), the explicit
+     * pair without */
+    c.dopri = (unsigned char)(c.rosw != 0u && (in->solver.method == CRANE_METHOD_DOPRI5 ||
+                                               (in->solver.method == CRANE_METHOD_DEFAULT &&
+                                                c.lim.valves == 0u)));
+    if (c.dopri != 0u) {
+        c.tol_tip *= DP_TOLERANCE_SCALE;
+        c.tol_q *= DP_TOLERANCE_SCALE;
+    }
     if (c.rosw != 0u) {
         return integrate_rosw(&c, &x, horizon, dt, n_steps, sample_every, out, n_written);
     }

@@ -215,11 +215,19 @@ static crane_status check_future(const crane_model *model, const crane_state *st
 
     /* the solver (a zero tolerance is the default; NaN fails every range) */
     if (sv->method != CRANE_METHOD_DEFAULT && sv->method != CRANE_METHOD_ROSW &&
-        sv->method != CRANE_METHOD_RK4) {
+        sv->method != CRANE_METHOD_RK4 && sv->method != CRANE_METHOD_DOPRI5) {
         return CRANE_E_METHOD;
     }
-    if (CRANE_ROSW == 0 && sv->method == CRANE_METHOD_ROSW) {
+    if (CRANE_ROSW == 0 && (sv->method == CRANE_METHOD_ROSW || sv->method == CRANE_METHOD_DOPRI5)) {
         return CRANE_E_METHOD;
+    }
+    /* the explicit pair is for futures without oil: a valve drive's chambers are stiff */
+    if (sv->method == CRANE_METHOD_DOPRI5) {
+        for (i = 0; i < 4; ++i) {
+            if (inputs->drive[i].mode == CRANE_DRIVE_VALVE) {
+                return CRANE_E_METHOD;
+            }
+        }
     }
     if (sv->method != CRANE_METHOD_RK4 &&
         ((sv->tip_tolerance != 0 &&
@@ -294,8 +302,7 @@ crane_real crane__next_knot(const crane_inputs *in, int n_joints, crane_real t, 
     return knot;
 }
 
-/* The knots inside (0, horizon): each cuts at most one step once more. */
-static long knot_count(const crane_inputs *in, crane_real horizon)
+long crane__knot_count(const crane_inputs *in, crane_real horizon)
 {
     long n = 0;
     int j;
@@ -325,15 +332,16 @@ static crane_status check_work(const crane_model *m, const crane_inputs *in, cra
                                crane_real dt, long n_steps, long *total)
 {
     const crane_real h = dt * (crane_real)1.25;
-    const long knots = knot_count(in, horizon);
+    const long knots = crane__knot_count(in, horizon);
     long n_max = 1, work;
 
     /* the error-controlled method: its attempt cap (docs/model.md, "Integration") */
     if (CRANE_ROSW != 0 && in->solver.method != CRANE_METHOD_RK4) {
         work = crane__attempt_cap(horizon);
-        if (work > (long)CRANE_MAX_STEPS) {
+        if (work > (long)CRANE_MAX_STEPS || knots > (long)CRANE_MAX_STEPS - work) {
             return CRANE_E_STEPS;
         }
+        work += knots;
         if (total != NULL) {
             if (work > (long)CRANE_MAX_BATCH_STEPS - *total) {
                 return CRANE_E_BATCH;

@@ -251,10 +251,14 @@ int main(int argc, char **argv)
             return 2;
         }
     }
-    /* CRANE_BENCH_METHOD=rosw|rk4 picks the method (crane_solver); unset: the default */
+    /* CRANE_BENCH_METHOD=auto|rosw|dopri5|rk4 picks the method (crane_solver); unset: the
+     * default (auto) */
     if (getenv("CRANE_BENCH_METHOD") != NULL) {
-        in.solver.method = strcmp(getenv("CRANE_BENCH_METHOD"), "rk4") == 0 ? CRANE_METHOD_RK4
-                                                                              : CRANE_METHOD_ROSW;
+        const char *name = getenv("CRANE_BENCH_METHOD");
+        in.solver.method = strcmp(name, "rk4") == 0      ? CRANE_METHOD_RK4
+                           : strcmp(name, "rosw") == 0   ? CRANE_METHOD_ROSW
+                           : strcmp(name, "dopri5") == 0 ? CRANE_METHOD_DOPRI5
+                                                         : CRANE_METHOD_DEFAULT;
     }
     st = crane_sample_count(R(horizon), R(dt), &need);
     if (st != CRANE_OK || need > MAX_SAMPLES) {

@@ -160,7 +160,7 @@ class _Samples:
 
 
 def _run(crane: Any, state: Any, inputs: Any, horizon: float, dt: float,
-         method: str = "rosw", tolerance: Any = None
+         method: str = "auto", tolerance: Any = None
          ) -> Tuple[dict, List[Tuple[float, int, int]]]:
     """simulate() plus the list of impacts (time, joint, angle side), for diagnostics and tests."""
     horizon = float(horizon)
@@ -172,37 +172,42 @@ def _run(crane: Any, state: Any, inputs: Any, horizon: float, dt: float,
     x, strokes0, rates0 = _initial_state(pred, state)
     x = pred.stop_at_start(x, strokes0, rates0)
     n = int(math.ceil(horizon / dt - 1e-9))
-    if method == "rosw":
-        _check_attempts(horizon)
+    if method == "auto":   # the default's pick (spec): ROS34PW2 with oil, DOPRI5(4) without
+        method = "rosw" if pred.hydraulic else "dopri5"
+    if method != "rk4":
+        _check_attempts(horizon, drives)
     else:
         _check_work(pred, horizon, dt, n)
     samples = _Samples(pred, n, strokes0)
     samples.record(0, 0.0, x)
-    if method == "rosw":
+    if method != "rk4":
         if tolerance is None or tolerance.tip is None or tolerance.pressure is None:
             from ..solver import check
             tolerance = check(method, tolerance)[1]
-        rosw.integrate(pred, x, horizon, dt, n, tolerance.tip, tolerance.pressure, samples.record)
+        rosw.integrate(pred, x, horizon, dt, n, tolerance.tip, tolerance.pressure, samples.record,
+                       dopri=method == "dopri5")
     else:
         integrate(pred, x, horizon, dt, n, samples.record)
     return samples.arrays(), pred.events
 
 
-def _check_attempts(horizon: float) -> None:
-    """Bad input: the error-controlled method's attempt cap counts against MAX_STEPS (spec)."""
+def _check_attempts(horizon: float, drives: Any = ()) -> None:
+    """Bad input: the error-controlled methods' attempt cap counts against MAX_STEPS (spec)."""
     from .._checks import MAX_STEPS
 
-    if rosw.attempt_cap(horizon) > MAX_STEPS:
+    if rosw.attempt_cap(horizon, drives) > MAX_STEPS:
         raise ValueError(f"horizon must allow at most {MAX_STEPS} step attempts of the default "
-                         f"method (64 + 4096 per second), got {horizon:g} s")
+                         "method (64 + 4096 per second + the sampled drives' knots), got "
+                         f"{horizon:g} s")
 
 
 def simulate(crane: Any, state: Any, inputs: Any, horizon: float, dt: float,
-             method: str = "rosw", tolerance: Any = None) -> dict:
+             method: str = "auto", tolerance: Any = None) -> dict:
     """Predict the crane's four joints over [0, horizon] with end stops, per docs/model.md
     ("Four joints"; a left-out slew or extension drive is held): with RK4 steps dt, or with
-    method="rosw" by ROS34PW2 to the tolerance (a cranepredict.Tolerance with its numbers), sampled
-    every dt ("Integration: the default method").
+    error control to the tolerance (a cranepredict.Tolerance with its numbers), sampled every dt
+    ("Integration: the default method"): method="rosw" ROS34PW2, "dopri5" DOPRI5(4) (futures
+    without valve drives), "auto" the first with a valve drive, the second without.
 
     Returns numpy arrays (types.ARRAYS), N = n + 1 samples: ``t`` (N,), ``strokes``, ``theta``,
     ``omega`` (N, 2) [lift, tilt]; ``slew``, ``extension``, ``slew_rate``, ``extension_rate``

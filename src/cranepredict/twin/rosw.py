@@ -19,7 +19,7 @@ import numpy as np
 from ._internal import (EXTENSION, HYD, JOINTS, LIFT, SLEW, SPOOL, TILT, State, _inverse_column,
                         _lu, _lu_solve)
 from .cylinder import friction_rate
-from .integrator import RELEASE_BISECTIONS, _physical, _Prediction
+from .integrator import RELEASE_BISECTIONS, _next_knot, _physical, _Prediction
 
 #: ROS34PW2 (Rang and Angermann 2005) in Hairer and Wanner's transformed form (spec).
 GAMMA = 0.43586652150845900
@@ -43,18 +43,37 @@ EVENT_FRACTION = 0.125
 SPOOL_TOLERANCE = 1e-3
 CHAMBER_EVENT_MIN = 1e-3
 
+#: DOPRI5(4) (Dormand and Prince; Hairer, Norsett and Wanner I, II.5): nodes, stage rows (the
+#: seventh row is the solution's weights b), the error's weights d = b - b^ (spec).
+DP_C = (0.0, 0.2, 0.3, 0.8, 8 / 9, 1.0, 1.0)
+DP_A = ((), (0.2,), (3 / 40, 9 / 40), (44 / 45, -56 / 15, 32 / 9),
+        (19372 / 6561, -25360 / 2187, 64448 / 6561, -212 / 729),
+        (9017 / 3168, -355 / 33, 46732 / 5247, 49 / 176, -5103 / 18656),
+        (35 / 384, 0.0, 500 / 1113, 125 / 192, -2187 / 6784, 11 / 84))
+DP_D = (35 / 384 - 5179 / 57600, 0.0, 500 / 1113 - 7571 / 16695, 125 / 192 - 393 / 640,
+        -2187 / 6784 + 92097 / 339200, 11 / 84 - 187 / 2100, -1 / 40)
+#: The explicit pair's tolerances over the user's (spec: its estimate across a friction reversal
+#: or a drive's kink is less reliable than ROS34PW2's).
+DP_TOLERANCE_SCALE = 0.3
 
-def attempt_cap(horizon: float) -> int:
-    """The most step attempts over a horizon (spec): 64 + ceil(4096 horizon)."""
-    return 64 + int(math.ceil(horizon * 4096.0))
+
+def attempt_cap(horizon: float, drives: Sequence[object] = ()) -> int:
+    """The most step attempts over a horizon (spec): 64 + ceil(4096 horizon), plus one for each
+    sample time of a sampled drive inside (0, horizon)."""
+    knots = sum(1 for d in drives for tk in (getattr(d, "times", None) or ())
+                if 0.0 < tk < horizon)
+    return 64 + int(math.ceil(horizon * 4096.0)) + knots
 
 
 class _Rosw:
     """One prediction with ROS34PW2: the prediction's model, drives and joint status (pred), the
     limit valves' modes and the tolerances."""
 
-    def __init__(self, pred: _Prediction, tip: float, pressure: float) -> None:
+    def __init__(self, pred: _Prediction, tip: float, pressure: float, dopri: bool = False
+                 ) -> None:
         self.pred = pred
+        #: DOPRI5(4) instead of ROS34PW2 (a future without valve drives)
+        self.dopri = dopri
         model = pred.model
         #: open[j][side]: that chamber's limit valve is open over the current step
         self.open = [[False, False] for _ in JOINTS]
@@ -65,6 +84,8 @@ class _Rosw:
         self.tol = [0.0] * n
         for j in JOINTS:
             q_tol = tip if j == EXTENSION else tip / reach
+            if dopri:
+                q_tol *= DP_TOLERANCE_SCALE
             self.tol[j] = self.tol[4 + j] = q_tol
         if pred.hydraulic:
             for j in JOINTS:
@@ -164,6 +185,51 @@ class _Rosw:
 
     # -- a step -------------------------------------------------------------------------------
 
+    def dp_step(self, t: float, x: State, f0: Sequence[float], h: float
+                ) -> Tuple[State, float, List[float]]:
+        """One DOPRI5(4) step of size h from (t, x), f0 = f(t, x); returns (x1, the error's
+        largest ratio to its tolerance, f(t + h, x1))."""
+        n = len(x)
+        ks: List[Sequence[float]] = [f0]
+        fy: List[float] = []
+        for s in range(1, 7):
+            row = DP_A[s]
+            xs = []
+            for i in range(n):
+                v = 0.0
+                for m in range(s):
+                    v += row[m] * ks[m][i]
+                xs.append(x[i] + h * v)
+            fy = self.rates(t + DP_C[s] * h, tuple(xs))
+            ks.append(fy)
+        b = DP_A[6]
+        x1 = []
+        err = 0.0
+        for i in range(n):
+            v = 0.0
+            e = 0.0
+            for m in range(6):
+                v += b[m] * ks[m][i]
+                e += DP_D[m] * ks[m][i]
+            e += DP_D[6] * fy[i]
+            x1.append(x[i] + h * v)
+            r = abs(h * e) / self.tol[i]
+            if not r <= err:
+                err = r
+        return tuple(x1), err, fy
+
+    def adaptive_step(self, t: float, x: State, f0: Sequence[float], W: np.ndarray, h: float
+                      ) -> Tuple[State, float]:
+        """The step of the method in use (DOPRI5(4) or ROS34PW2): (x1, its error ratio)."""
+        if self.dopri:
+            x1, err, _ = self.dp_step(t, x, f0, h)
+            return x1, err
+        return self.step(t, x, f0, W, h)
+
+    def root(self, err: float) -> float:
+        """err^(1/(p + 1)) with the estimate's order p: the step factor's divisor."""
+        return err ** 0.2 if self.dopri else err ** (1.0 / 3.0)
+
     def step(self, t: float, x: State, f0: Sequence[float], W: np.ndarray, h: float
              ) -> Tuple[State, float]:
         """One ROS34PW2 step of size h from (t, x), f0 = f(t, x), W = I - gamma h J factor
@@ -191,12 +257,13 @@ class _Rosw:
 
 
 def integrate(pred: _Prediction, x: State, horizon: float, dt: float, n: int, tip: float,
-              pressure: float, record: Callable[[int, float, State], None]) -> State:
-    """x over [0, horizon] with ROS34PW2 (spec), recording the sample at k dt for k = 1..n - 1
-    by dense output and the final state at the horizon as sample n."""
-    ros = _Rosw(pred, tip, pressure)
+              pressure: float, record: Callable[[int, float, State], None],
+              dopri: bool = False) -> State:
+    """x over [0, horizon] with ROS34PW2, or with dopri DOPRI5(4) (spec), recording the sample at
+    k dt for k = 1..n - 1 by dense output and the final state at the horizon as sample n."""
+    ros = _Rosw(pred, tip, pressure, dopri)
     model = pred.model
-    cap = attempt_cap(horizon)
+    cap = attempt_cap(horizon, pred.drives)
     pred.release(0.0, x)
 
     def start(t: float, x: State, f: Optional[List[float]]) -> Tuple[List[float], np.ndarray]:
@@ -204,7 +271,7 @@ def integrate(pred: _Prediction, x: State, horizon: float, dt: float, n: int, ti
             f = ros.rates(t, x)
         if ros.modes(x, f):
             f = ros.rates(t, x)
-        return f, ros.matrix(t, x)
+        return f, (np.zeros((0, 0)) if dopri else ros.matrix(t, x))
 
     f0, J = start(0.0, x, None)
     t = 0.0
@@ -218,20 +285,26 @@ def integrate(pred: _Prediction, x: State, horizon: float, dt: float, n: int, ti
         if hs >= horizon - t:
             hs = horizon - t
             last = True
+        if dopri:   # the explicit pair's steps end at a sampled drive's knot (spec)
+            t_end = horizon if last else t + hs
+            knot = _next_knot(pred.drives, t, t_end, hs)
+            if knot < t_end:
+                hs = knot - t
+                last = False
         attempts += 1
         if attempts > cap:
             raise ArithmeticError("the error control could not meet the tolerance within the "
                                   "attempt cap")
-        x1, err = ros.step(t, x, f0, J, hs)
+        x1, err = ros.adaptive_step(t, x, f0, J, hs)
         if not err <= 1.0:
             if hs <= MIN_STEP:
                 raise ArithmeticError("the error control could not meet the tolerance at the "
                                       "smallest step")
             grow = 1.0
-            fac = SAFETY / err ** (1.0 / 3.0) if err == err else SHRINK
+            fac = SAFETY / ros.root(err) if err == err else SHRINK
             h = max(hs * max(fac, SHRINK), MIN_STEP)
             continue
-        fac = SAFETY / err ** (1.0 / 3.0) if err > 0.0 else GROW
+        fac = SAFETY / ros.root(err) if err > 0.0 else GROW
         h = hs * min(fac, grow)
         grow = GROW
         # events: the first end stop, then an earlier chamber crossing
@@ -275,17 +348,19 @@ def integrate(pred: _Prediction, x: State, horizon: float, dt: float, n: int, ti
         if joint >= 0 or chamber >= 0:
             hs = tau
             last = False
-            x1, _ = ros.step(t, x, f0, J, hs)
+            x1, _ = ros.adaptive_step(t, x, f0, J, hs)
+            if any(pred.stop) and pred.released(t + hs, x1):
+                joint = chamber = -1   # a release before the event comes first (spec)
             if chamber >= 0:
                 jj, side = divmod(chamber - HYD, 2)
                 setting = pred.drives[jj].limit_side(x1[chamber])[1]  # type: ignore[union-attr]
                 x1 = x1[:chamber] + (setting,) + x1[chamber + 1:]
                 changed = True
-        elif any(pred.stop) and pred.released(t + hs, x1):
+        if joint < 0 and chamber < 0 and any(pred.stop) and pred.released(t + hs, x1):
             lo, hi = 0.0, hs
             for _ in range(RELEASE_BISECTIONS):
                 mid = 0.5 * (lo + hi)
-                x_mid, _ = ros.step(t, x, f0, J, mid)
+                x_mid, _ = ros.adaptive_step(t, x, f0, J, mid)
                 if pred.released(t + mid, x_mid):
                     hi = mid
                 else:
@@ -293,7 +368,7 @@ def integrate(pred: _Prediction, x: State, horizon: float, dt: float, n: int, ti
             if hi < hs:
                 last = False
             hs = hi
-            x1, _ = ros.step(t, x, f0, J, hs)
+            x1, _ = ros.adaptive_step(t, x, f0, J, hs)
             changed = True
         if pred.hydraulic:
             x1 = x1[:SPOOL] + tuple(min(max(y, -1.0), 1.0) if pred.valve[j] else y
