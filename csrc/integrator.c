@@ -1719,11 +1719,9 @@ crane_status crane__integrate(const crane_model *m, const crane_state *s0, const
     }
     put_sample(&c, 0, &x, &out[0]);
 #if CRANE_ROSW
-    /* the default's pick: ROS34PW2 with oil (a valve drive's chambers are stiff), the explicit
-     * pair without */
-    c.dopri = (unsigned char)(c.rosw != 0u && (in->solver.method == CRANE_METHOD_DOPRI5 ||
-                                               (in->solver.method == CRANE_METHOD_DEFAULT &&
-                                                c.lim.valves == 0u)));
+    /* the explicit pair only when asked for (docs/model.md, "Integration": why it is not the
+     * default) */
+    c.dopri = (unsigned char)(c.rosw != 0u && in->solver.method == CRANE_METHOD_DOPRI5);
     if (c.dopri != 0u) {
         c.tol_tip *= DP_TOLERANCE_SCALE;
         c.tol_q *= DP_TOLERANCE_SCALE;

@@ -251,8 +251,7 @@ int main(int argc, char **argv)
             return 2;
         }
     }
-    /* CRANE_BENCH_METHOD=auto|rosw|dopri5|rk4 picks the method (crane_solver); unset: the
-     * default (auto) */
+    /* CRANE_BENCH_METHOD=rosw|dopri5|rk4 picks the method (crane_solver); unset: the default */
     if (getenv("CRANE_BENCH_METHOD") != NULL) {
         const char *name = getenv("CRANE_BENCH_METHOD");
         in.solver.method = strcmp(name, "rk4") == 0      ? CRANE_METHOD_RK4

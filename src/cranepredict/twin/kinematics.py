@@ -14,22 +14,27 @@ _HALF_PI = 0.5 * math.pi
 _TWO_PI = 2.0 * math.pi
 
 
-def _circle(c0: Vec, r0: float, c1: Vec, r1: float, sign: float) -> Vec:
+def _circle(c0: Vec, r0: float, c1: Vec, r1: float, sign: float, clamp: bool = False) -> Vec:
     """Intersection of the circle about c0 (radius r0) and about c1 (radius r1).
 
     sign = -1 picks the point to the right of the directed line c0 -> c1, +1 the one to the left.
-    A mechanism that cannot close raises ValueError instead of silently producing NaN.
+    A mechanism that cannot close raises ValueError instead of silently producing NaN; with clamp
+    (an integration stage beyond the tilt's range, spec "circle") h2 is clamped to 0 instead.
     """
     dx = c1[0] - c0[0]
     dy = c1[1] - c0[1]
     d = math.sqrt(dx * dx + dy * dy)
     if not d > 0.0:
+        if clamp:
+            return c0
         raise ValueError("four-bar does not close: coincident circle centres")
     ux = dx / d
     uy = dy / d
     a = (r0 * r0 - r1 * r1 + d * d) / (2.0 * d)
     h2 = r0 * r0 - a * a
-    if not h2 > 0.0:
+    if clamp and not h2 > 0.0:
+        h2 = 0.0
+    elif not h2 > 0.0:
         raise ValueError(
             f"four-bar does not close (circles about ({c0[0]:.6g}, {c0[1]:.6g}) r={r0:.6g} and "
             f"({c1[0]:.6g}, {c1[1]:.6g}) r={r1:.6g} do not intersect)")
@@ -237,7 +242,7 @@ class Kinematics:
         Q closes the side links about P1."""
         a = _rotate(theta, self.link2_attach)
         a = (self.tilt_pivot[0] + a[0], self.tilt_pivot[1] + a[1])
-        q = _circle(self.link1_pivot, self.tilt_l1, a, self.tilt_l2, self.tilt_branch)
+        q = _circle(self.link1_pivot, self.tilt_l1, a, self.tilt_l2, self.tilt_branch, clamp=True)
         return a, q
 
     def _tilt_ratio(self, q: Vec, a: Vec, length: float) -> float:
