@@ -409,7 +409,8 @@ typedef struct {
  * dt (the fixed cost per call that the embedded worst case is stated for); the tolerances are not
  * read then. */
 typedef struct {
-    int method;                  /* CRANE_METHOD_DEFAULT (0), CRANE_METHOD_ROSW, CRANE_METHOD_RK4 */
+    int method;                  /* CRANE_METHOD_DEFAULT (0), CRANE_METHOD_ROSW, CRANE_METHOD_RK4,
+                                    CRANE_METHOD_DOPRI5 (no valve drive: else CRANE_E_METHOD) */
     crane_real tip_tolerance;    /* m of tip position per step; 0: CRANE_TIP_TOLERANCE; else in
                                     [1e-9, 1] */
     crane_real pressure_tolerance; /* Pa of chamber pressure per step; 0: CRANE_PRESSURE_TOLERANCE;
