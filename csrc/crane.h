@@ -403,9 +403,11 @@ typedef struct {
     const crane_real *u_samples; /* CRANE_DRIVE_VALVE: the lever at the times t */
 } crane_drive;
 
-/* How a future is integrated (docs/model.md, "Integration"). All zero is the default: the
- * ROS34PW2 Rosenbrock-W method with error control at the default tolerances, dt the sample
- * interval (in a build with -DCRANE_ROSW=0: RK4). CRANE_METHOD_RK4 is fixed-step RK4 with step
+/* How a future is integrated (docs/model.md, "Integration"). All zero is the default: error
+ * control at the default tolerances, dt the sample interval, with the ROS34PW2 Rosenbrock-W
+ * method for a stiff future (a valve drive, a moving telescope) and the explicit pair DOPRI5(4)
+ * for the others (in a build with -DCRANE_ROSW=0: RK4). CRANE_METHOD_ROSW and
+ * CRANE_METHOD_DOPRI5 ask for one of the two by name. CRANE_METHOD_RK4 is fixed-step RK4 with step
  * dt (the fixed cost per call that the embedded worst case is stated for); the tolerances are not
  * read then. */
 typedef struct {
@@ -503,8 +505,9 @@ const char *crane_field_rule(crane_field field);
  * used. */
 crane_status crane_model_init(crane_model *model, const crane_params *params, crane_real extension);
 
-/* The default solver with its numbers filled in: CRANE_METHOD_ROSW (RK4 in a build without it)
- * at the default tip and pressure tolerances (what a zero crane_solver means). */
+/* The default solver with its numbers filled in: CRANE_METHOD_DEFAULT (CRANE_METHOD_RK4 in a
+ * build without the error-controlled methods) at the default tip and pressure tolerances (what a
+ * zero crane_solver means). */
 crane_status crane_solver_default(crane_solver *solver);
 
 /* Number of samples a prediction writes: ceil(horizon/dt - 1e-9) + 1. */

@@ -1193,8 +1193,8 @@ static CRANE__NOINLINE crane_real ros_step(ctx_t *c, crane_real t, const xstate 
         const crane_real r = crane__fabs(e) / tolerance(c, i);
         y->v[i] = x->v[i] + (ROS_M[0] * u[0].v[i] + ROS_M[1] * u[1].v[i] + ROS_M[2] * u[2].v[i] +
                              ROS_M[3] * xs.v[i]);
-        if (!(r <= err)) {
-            err = r; /* and NaN stays */
+        if (!(r <= err) && err == err) {
+            err = r; /* the largest; a NaN, once met, stays (a later entry must not hide it) */
         }
     }
     return err;
@@ -1263,8 +1263,8 @@ static CRANE__NOINLINE crane_real dp_step(ctx_t *c, crane_real t, const xstate *
         e += DP_D[6] * fy->v[i];
         y->v[i] = x->v[i] + h * v;
         r = crane__fabs(h * e) / tolerance(c, i);
-        if (!(r <= err)) {
-            err = r; /* and NaN stays */
+        if (!(r <= err) && err == err) {
+            err = r; /* the largest; a NaN, once met, stays (a later entry must not hide it) */
         }
     }
     return err;
@@ -1479,8 +1479,9 @@ static CRANE__NOINLINE crane_status integrate_rosw(ctx_t *c, xstate *x, crane_re
         err = adaptive_step(c, t, x, &f0, &J, hs, &x1, &fs);
         if (!(err <= 1)) {
             if (hs <= ROS_MIN_STEP) {
+                /* a stage that is not finite even at the smallest step: the model diverged */
                 *n_written = next;
-                return CRANE_E_TOLERANCE;
+                return err == err ? CRANE_E_TOLERANCE : CRANE_E_DIVERGED;
             }
             grow = 1;
             h = err == err ? ROS_SAFETY / error_root(c, err) : ROS_SHRINK;
@@ -1719,9 +1720,12 @@ crane_status crane__integrate(const crane_model *m, const crane_state *s0, const
     }
     put_sample(&c, 0, &x, &out[0]);
 #if CRANE_ROSW
-    /* the explicit pair only when asked for (docs/model.md, "Integration": why it is not the
-     * default) */
-    c.dopri = (unsigned char)(c.rosw != 0u && in->solver.method == CRANE_METHOD_DOPRI5);
+    /* the default's pick: ROS34PW2 where the future is stiff (a valve drive's chambers, a
+     * moving telescope's friction: RK4's substep sources), the explicit pair elsewhere */
+    c.dopri = (unsigned char)(c.rosw != 0u && (in->solver.method == CRANE_METHOD_DOPRI5 ||
+                                               (in->solver.method == CRANE_METHOD_DEFAULT &&
+                                                c.lim.valves == 0u &&
+                                                c.mode[CRANE_EXTENSION] == CRANE__HELD)));
     if (c.dopri != 0u) {
         c.tol_tip *= DP_TOLERANCE_SCALE;
         c.tol_q *= DP_TOLERANCE_SCALE;

@@ -44,7 +44,7 @@ crane_status crane_solver_default(crane_solver *solver)
     if (solver == NULL) {
         return CRANE_E_NULL;
     }
-    solver->method = CRANE_ROSW != 0 ? CRANE_METHOD_ROSW : CRANE_METHOD_RK4;
+    solver->method = CRANE_ROSW != 0 ? CRANE_METHOD_DEFAULT : CRANE_METHOD_RK4;
     solver->tip_tolerance = CRANE__TIP_TOLERANCE;
     solver->pressure_tolerance = CRANE__PRESSURE_TOLERANCE;
     return CRANE_OK;

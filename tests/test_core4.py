@@ -34,7 +34,7 @@ def _namespaces(lift=0.25, tilt=0.4, slew=0.0, extension=0.5, rates=(0, 0, 0, 0)
     return state, inputs
 
 
-def core_run(crane, state, inputs, horizon, dt, method="rosw"):
+def core_run(crane, state, inputs, horizon, dt, method="auto"):
     """(status, samples) of crane_predict for a namespace state and inputs (with the method)."""
     prm = _core.params(crane)
     s = ffi.new("crane_state *")

@@ -39,11 +39,15 @@ def test_paper_scenario_reaches_the_upper_stop_and_stays(crane):
 
 
 def test_impact_gains_no_energy(crane):
-    """Frictionless fall under gravity onto the lower lift stop: energy never rises, drops at impact."""
+    """Frictionless fall under gravity onto the lower lift stop: energy never rises, drops at impact.
+    RK4 at 1 ms, whose energy error is far below the bound: the error-controlled methods hold a
+    step's error to the tip tolerance, and between their samples the energy moves by that much
+    (the explicit pair: 0.017 J of 8,307 J, over the 8e-3 J bound here)."""
     c = frictionless(crane)
     initial = cp.State(lift_stroke=0.2, tilt_stroke=0.3)
     for tilt in (cp.Hold(), cp.Pressure(0, 0)):
-        tr = cp.predict(c, initial, cp.Inputs(lift=cp.Pressure(0, 0), tilt=tilt), 1.5, dt=1e-3)
+        tr = cp.predict(c, initial, cp.Inputs(lift=cp.Pressure(0, 0), tilt=tilt), 1.5, dt=1e-3,
+                        method="rk4")
         hit = tr.first_stop_time(0, -1)
         assert hit is not None
         lag = Lagrange(c, 0.0)

@@ -289,7 +289,7 @@ def _frictionless4(crane, gravity=None):
 
 
 def _run4(crane, horizon, dt, *, lift=0.25, tilt=0.4, slew=0.0, extension=0.5, rates=(0, 0, 0, 0),
-          drives=None, method="rosw"):
+          drives=None, method="auto"):
     """The twin's four-joint prediction (the API does not carry the slew and extension drives
     yet): state and inputs as plain namespaces."""
     from types import SimpleNamespace

@@ -396,8 +396,8 @@ def test_a_60s_lever_log_at_1khz_runs_with_the_default_method_faster_than_rk4():
 
 BAD = [
     (dict(method="RK4"), ValueError,
-     r"method must be one of \('rosw', 'dopri5', 'rk4'\), got 'RK4'"),
-    (dict(method="euler"), ValueError, r"method must be one of \('rosw', 'dopri5', 'rk4'\)"),
+     r"method must be one of \('auto', 'rosw', 'dopri5', 'rk4'\), got 'RK4'"),
+    (dict(method="euler"), ValueError, r"method must be one of \('auto', 'rosw', 'dopri5', 'rk4'\)"),
     (dict(method=None), ValueError, r"method must be one of"),
     (dict(tolerance=1e-5), TypeError, r"tolerance must be a cranepredict.Tolerance, got float"),
     (dict(tolerance=(1e-5, 1e4)), TypeError, r"tolerance must be a cranepredict.Tolerance"),

@@ -18,14 +18,14 @@ def _c_state(state):
     return s
 
 
-def _c_inputs(inputs, method="rosw"):
+def _c_inputs(inputs, method="auto"):
     inp, keep = ffi.new("crane_inputs *"), []
     _core._inputs(inp, inputs, keep)
     _core.solver(inp, method, None)
     return inp, keep
 
 
-def _chain(sc, n, dt, period=PERIOD, method="rosw"):
+def _chain(sc, n, dt, period=PERIOD, method="auto"):
     """n chained crane_step calls from the scenario's initial state: the samples at the periods'
     ends and the last state (C structs all the way: no Python conversion in between)."""
     s = _c_state(sc.initial)

@@ -348,8 +348,8 @@ def solver(dst: Any, method: str, tolerance: Any) -> None:
     """crane_inputs.solver from a checked method and Tolerance (solver.check); a tolerance of
     None (or None fields) leaves the core's default (0)."""
     s = dst.solver
-    s.method = {"rosw": lib.CRANE_METHOD_ROSW, "dopri5": lib.CRANE_METHOD_DOPRI5,
-                "rk4": lib.CRANE_METHOD_RK4}[method]
+    s.method = {"auto": lib.CRANE_METHOD_DEFAULT, "rosw": lib.CRANE_METHOD_ROSW,
+                "dopri5": lib.CRANE_METHOD_DOPRI5, "rk4": lib.CRANE_METHOD_RK4}[method]
     if tolerance is not None:
         s.tip_tolerance = tolerance.tip or 0.0
         s.pressure_tolerance = tolerance.pressure or 0.0
@@ -359,7 +359,7 @@ SAMPLE_SIZE = ffi.sizeof("crane_sample")
 
 
 def predict_buffer(crane: "Crane", state: "State", inputs: "Inputs", horizon: float, dt: float,
-                   n: int, method: str = "rosw", tolerance: Any = None) -> Tuple[np.ndarray, int]:
+                   n: int, method: str = "auto", tolerance: Any = None) -> Tuple[np.ndarray, int]:
     """Runs crane_predict_model with the crane's cached model (the samples of crane_predict,
     without re-deriving the crane on every call) into a new buffer of ``n`` samples (the count
     crane_sample_count gives); returns the buffer, read-only (bytes: ``samples`` views them as
@@ -388,7 +388,7 @@ def samples(buffer: np.ndarray, n: int) -> np.ndarray:
 
 
 def predict(crane: "Crane", state: "State", inputs: "Inputs", horizon: float,
-            dt: float, method: str = "rosw", tolerance: Any = None) -> np.ndarray:
+            dt: float, method: str = "auto", tolerance: Any = None) -> np.ndarray:
     """predict_buffer with the sample count of horizon and dt; returns the samples as a read-only
     structured array (SAMPLE_DTYPE)."""
     return samples(*predict_buffer(crane, state, inputs, horizon, dt, sample_count(horizon, dt),
@@ -461,7 +461,7 @@ def _run_chunk(*args: Any) -> int:
 
 def predict_many(crane: "Crane", states: Sequence["State"], inputs: Sequence["Inputs"],
                  horizon: float, dt: float, sample_every: int, threads: int,
-                 per_future: Any = None, method: str = "rosw", tolerance: Any = None) -> np.ndarray:
+                 per_future: Any = None, method: str = "auto", tolerance: Any = None) -> np.ndarray:
     """Runs crane_predict_many; returns the samples as a (F, N) structured array (SAMPLE_DTYPE).
     ``per_future``: a crane_params[F] (params_per_future), one crane per future; None: the crane's.
 

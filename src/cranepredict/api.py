@@ -191,7 +191,7 @@ def _check_drive(joint: str, hydraulics: Any, actuator: str, drive: Any, initial
 
 def predict(crane: Crane, initial: State, inputs: Inputs, horizon: float, *,
             dt: Optional[float] = None, sample_every: int = 1, backend: str = "c",
-            method: str = "rosw", tolerance: Optional[Tolerance] = None) -> Trajectory:
+            method: str = "auto", tolerance: Optional[Tolerance] = None) -> Trajectory:
     """Predicts the crane's motion over ``horizon`` seconds from rest (or the given stroke rates).
 
     ``backend="c"`` runs the C core (the product); ``backend="python"`` runs the pure-Python twin,
@@ -202,11 +202,12 @@ def predict(crane: Crane, initial: State, inputs: Inputs, horizon: float, *,
     step). A call takes at most MAX_STEPS steps and returns at most MAX_SAMPLES samples (both
     checked before anything runs).
 
-    ``method="rosw"`` (the default) integrates with error control to ``tolerance`` (a
+    ``method="auto"`` (the default) integrates with error control to ``tolerance`` (a
     :class:`Tolerance`; None: the default, within 0.25 mm of tip and 0.35 bar of a converged run on
     every named scenario) and samples every ``dt``: ``dt`` is where the samples are, not the step.
-    ``method="dopri5"`` is the explicit pair DOPRI5(4) with the same control (futures without a
-    valve drive only); ``method="rk4"`` is fixed-step RK4 with step ``dt`` (docs/model.md,
+    It runs ROS34PW2 (``"rosw"``) where a drive is a valve or the telescope moves (stiff) and the
+    explicit pair DOPRI5(4) (``"dopri5"``, not with a valve drive) elsewhere; either may be asked
+    for by name. ``method="rk4"`` is fixed-step RK4 with step ``dt`` (docs/model.md,
     "Integration"). Raises ValueError/TypeError naming the field and its allowed range on bad
     input; the arguments are never modified.
 
@@ -510,7 +511,7 @@ def predict_many(crane: Crane, initials: Sequence[State], inputs_list: Sequence[
                  horizon: float, *, dt: Optional[float] = None, sample_every: int = 1,
                  threads: Optional[int] = None,
                  vary: Optional[Mapping[str, Sequence[float]]] = None,
-                 method: str = "rosw", tolerance: Optional[Tolerance] = None) -> TrajectoryBatch:
+                 method: str = "auto", tolerance: Optional[Tolerance] = None) -> TrajectoryBatch:
     """Predicts many futures of one crane in one C call: future k from ``initials[k]`` under
     ``inputs_list[k]``, all over the same ``horizon`` with the same ``dt``.
 

@@ -1,12 +1,12 @@
 """How a future is integrated (docs/model.md, "Integration"): the method and its tolerances.
 
-``method="rosw"`` (the default) is the ROS34PW2 Rosenbrock-W method with error control: it takes
-the steps the accuracy needs and samples the future every ``dt`` by dense output, so ``dt`` is
-where the samples are, not how the core steps. ``method="dopri5"`` is Dormand and Prince's
-explicit pair DOPRI5(4) with the same error control, for futures without valve drives: about
-twice as fast on pressure-driven futures (docs/model.md says why it is not the default).
-``method="rk4"`` is fixed-step RK4 with step ``dt`` (a fixed cost per call: what the embedded
-worst case is stated for).
+``method="auto"`` (the default) integrates with error control: it takes the steps the accuracy
+needs and samples the future every ``dt`` by dense output, so ``dt`` is where the samples are, not
+how the core steps. It picks the ROS34PW2 Rosenbrock-W method (``"rosw"``, stiffly stable) for a
+stiff future (a valve drive's chambers, a moving telescope's friction) and Dormand and Prince's
+explicit pair DOPRI5(4) (``"dopri5"``, fewer and longer steps) for the others. Either can be asked
+for by name (``"dopri5"`` only without valve drives). ``method="rk4"`` is fixed-step RK4 with step
+``dt`` (a fixed cost per call: what the embedded worst case is stated for).
 """
 
 from __future__ import annotations
@@ -20,7 +20,7 @@ from ._checks import number
 __all__ = ["METHODS", "Tolerance", "default_tolerance", "TIP_TOLERANCE_RANGE",
            "PRESSURE_TOLERANCE_RANGE"]
 
-METHODS = ("rosw", "dopri5", "rk4")
+METHODS = ("auto", "rosw", "dopri5", "rk4")
 #: The tolerances a user may ask for (crane_solver in csrc/crane.h; CRANE_E_METHOD outside).
 TIP_TOLERANCE_RANGE = (1e-9, 1.0)
 PRESSURE_TOLERANCE_RANGE = (1.0, 1e7)
@@ -77,4 +77,4 @@ def check_inputs(method: str, inputs: object) -> None:
     for name in ("lift", "tilt", "slew", "extension"):
         if isinstance(getattr(inputs, name, None), (Valve, ValveSeries)):
             raise ValueError(f"method 'dopri5' is for futures without valve drives (inputs.{name} "
-                             "is a valve): use method='rosw' (the default)")
+                             "is a valve): use method='auto' (the default) or 'rosw'")

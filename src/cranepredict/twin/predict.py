@@ -160,7 +160,7 @@ class _Samples:
 
 
 def _run(crane: Any, state: Any, inputs: Any, horizon: float, dt: float,
-         method: str = "rosw", tolerance: Any = None
+         method: str = "auto", tolerance: Any = None
          ) -> Tuple[dict, List[Tuple[float, int, int]]]:
     """simulate() plus the list of impacts (time, joint, angle side), for diagnostics and tests."""
     horizon = float(horizon)
@@ -172,6 +172,9 @@ def _run(crane: Any, state: Any, inputs: Any, horizon: float, dt: float,
     x, strokes0, rates0 = _initial_state(pred, state)
     x = pred.stop_at_start(x, strokes0, rates0)
     n = int(math.ceil(horizon / dt - 1e-9))
+    if method == "auto":   # the default's pick (spec): ROS34PW2 where the future is stiff (oil,
+        # a moving telescope's friction), DOPRI5(4) elsewhere
+        method = "rosw" if pred.hydraulic or not pred.held[EXTENSION] else "dopri5"
     if method != "rk4":
         _check_attempts(horizon, drives)
     else:
@@ -200,12 +203,13 @@ def _check_attempts(horizon: float, drives: Any = ()) -> None:
 
 
 def simulate(crane: Any, state: Any, inputs: Any, horizon: float, dt: float,
-             method: str = "rosw", tolerance: Any = None) -> dict:
+             method: str = "auto", tolerance: Any = None) -> dict:
     """Predict the crane's four joints over [0, horizon] with end stops, per docs/model.md
     ("Four joints"; a left-out slew or extension drive is held): with RK4 steps dt, or with
     error control to the tolerance (a cranepredict.Tolerance with its numbers), sampled every dt
     ("Integration: the default method"): method="rosw" ROS34PW2, "dopri5" DOPRI5(4) (futures
-    without valve drives).
+    without valve drives), "auto" the first for a stiff future (a valve drive, a moving
+    telescope), the second for the others.
 
     Returns numpy arrays (types.ARRAYS), N = n + 1 samples: ``t`` (N,), ``strokes``, ``theta``,
     ``omega`` (N, 2) [lift, tilt]; ``slew``, ``extension``, ``slew_rate``, ``extension_rate``

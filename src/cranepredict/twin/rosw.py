@@ -214,17 +214,23 @@ class _Rosw:
             e += DP_D[6] * fy[i]
             x1.append(x[i] + h * v)
             r = abs(h * e) / self.tol[i]
-            if not r <= err:
+            if not r <= err and err == err:   # a NaN, once met, stays
                 err = r
         return tuple(x1), err, fy
 
     def adaptive_step(self, t: float, x: State, f0: Sequence[float], W: np.ndarray, h: float
                       ) -> Tuple[State, float]:
-        """The step of the method in use (DOPRI5(4) or ROS34PW2): (x1, its error ratio)."""
-        if self.dopri:
-            x1, err, _ = self.dp_step(t, x, f0, h)
-            return x1, err
-        return self.step(t, x, f0, W, h)
+        """The step of the method in use (DOPRI5(4) or ROS34PW2): (x1, its error ratio). A stage
+        whose arithmetic fails (a stage far beyond an end stop, where the four-bar degenerates:
+        a division by zero here, an inf or a NaN in the C core) fails the step: a NaN ratio,
+        rejected as the core rejects it."""
+        try:
+            if self.dopri:
+                x1, err, _ = self.dp_step(t, x, f0, h)
+                return x1, err
+            return self.step(t, x, f0, W, h)
+        except (ArithmeticError, ValueError):
+            return tuple(x), math.nan
 
     def root(self, err: float) -> float:
         """err^(1/(p + 1)) with the estimate's order p: the step factor's divisor."""
@@ -298,6 +304,10 @@ def integrate(pred: _Prediction, x: State, horizon: float, dt: float, n: int, ti
         x1, err = ros.adaptive_step(t, x, f0, J, hs)
         if not err <= 1.0:
             if hs <= MIN_STEP:
+                if err != err:
+                    raise ValueError(f"the prediction diverged at t = {t:g} s (a stage is not "
+                                     "finite even at the smallest step): check the crane's "
+                                     "parameters for absurd values")
                 raise ArithmeticError("the error control could not meet the tolerance at the "
                                       "smallest step")
             grow = 1.0
