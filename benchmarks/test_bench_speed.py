@@ -387,7 +387,7 @@ def test_predict_call_overhead(benchmark):
         print(f"\n[overhead] predict() of one step: {benchmark.stats['median'] * 1e6:.1f} us (median)")
 
 
-# -- the error-controlled method (ROS34PW2) on every named scenario ---------------------------
+# -- the default method (error-controlled: ROS34PW2 or DOPRI5(4)) on every named scenario -------
 
 #: The targets of the error-controlled method at its default tolerance (2-s futures against the
 #: converged RK4 run): pressure-driven >= 20,000x at <= 1 mm; lever-open >= 10,000x and every
@@ -403,14 +403,14 @@ def _rosw_target(name: str) -> float:
 
 
 @pytest.mark.parametrize("name", cp.scenarios.names())
-def test_predict_rosw(benchmark, ratio, name):
-    """Every named scenario through predict(method="rosw") at its default tolerance, samples every
+def test_predict_default(benchmark, ratio, name):
+    """Every named scenario through predict() at the default method and tolerance, samples every
     5 ms: the ratio, the worst tip and chamber pressure error against RK4 at 2e-5 s (printed with
     the target met or missed; the accuracy half asserted: <= 1 mm, <= 0.5 bar)."""
     sc = cp.scenarios.get(name)
     args = (sc.crane, sc.initial, sc.inputs, sc.horizon)
-    tr = ratio(lambda: cp.predict(*args, method="rosw"), sc.horizon, scenario=name,
-               backend="c", method="rosw", dt=cp.DEFAULT_DT)
+    tr = ratio(lambda: cp.predict(*args), sc.horizon, scenario=name,
+               backend="c", method="auto", dt=cp.DEFAULT_DT)
     ref = cp.predict(*args, dt=2e-5, sample_every=250, method="rk4")
     tip = float(np.max(np.linalg.norm(tr.tip - ref.tip, axis=1)))
     dp = float(max(np.abs(tr.p_a - ref.p_a).max(), np.abs(tr.p_b - ref.p_b).max()))
@@ -420,27 +420,26 @@ def test_predict_rosw(benchmark, ratio, name):
     target = _rosw_target(name)
     met = info["ratio"] >= target and tip <= TOL and dp <= ROSW_PRESSURE_TOL
     info["rosw_target_met"] = met
-    print(f"\n[rosw] {name}: {info['ratio']:,.0f}x (best {info['ratio_best']:,.0f}x), tip "
+    print(f"\n[default] {name}: {info['ratio']:,.0f}x (best {info['ratio_best']:,.0f}x), tip "
           f"{tip * 1e3:.3g} mm, pressures {dp / 1e5:.3g} bar; target >= {target:,.0f}x: "
           + ("met" if met else "MISSED"))
     assert tip <= TOL and dp <= ROSW_PRESSURE_TOL
 
 
 @pytest.mark.parametrize("threads", [1, 2])
-def test_predict_many_valves_rosw(benchmark, ratio, request, threads):
+def test_predict_many_valves_default(benchmark, ratio, request, threads):
     """1,000 random valve-driven futures (the lever pairs of test_predict_many_valves) with the
     error-controlled method: target < 100 ms for the batch with 2 threads (printed)."""
     n = 1000 if benchmarks_enabled(request.config) else 20
     c, initials, inputs = _valve_futures(n)
-    batch = ratio(lambda: cp.predict_many(c.crane, initials, inputs, c.horizon, method="rosw",
-                                          threads=threads),
-                  n * c.horizon, scenario="lever-open", backend="predict_many", method="rosw",
+    batch = ratio(lambda: cp.predict_many(c.crane, initials, inputs, c.horizon, threads=threads),
+                  n * c.horizon, scenario="lever-open", backend="predict_many", method="auto",
                   futures=n, threads=threads)
-    one = cp.predict(*c.args(), method="rosw")
+    one = cp.predict(*c.args())
     assert np.array_equal(batch[0].tip, one.tip)
     ms = 1e3 * n * c.horizon / benchmark.extra_info["ratio"]
     benchmark.extra_info["wall_ms_per_batch"] = round(ms, 3)
-    print(f"\n[rosw] {n} valve futures, {threads} thread(s): {ms:.1f} ms (target < 100 ms for "
+    print(f"\n[default] {n} valve futures, {threads} thread(s): {ms:.1f} ms (target < 100 ms for "
           f"1,000 with 2 threads)")
 
 def _per_call_us(fns, calls: int, blocks: int = 50):
