@@ -116,3 +116,38 @@ def test_a_release_before_an_event_in_the_step_comes_first(backend):
     tr = cp.predict(crane, initial, inputs, 2.0, method="dopri5", backend=backend)
     assert tr.stop[-1, 0] == 0
     assert _tip_error(crane, initial, inputs, 2.0, tr) < TIP_TARGET
+
+
+@pytest.mark.slow
+def test_work_balance_of_a_pressure_driven_future():
+    """The pressure forces' work = change of mechanical energy (tests/lagrange.py, an independent
+    formulation) + the friction's work, to 1e-6 of that work, with the explicit pair at a tight
+    tolerance sampled every 0.1 ms (Simpson's rule over the samples)."""
+    from lagrange import Lagrange
+
+    from cranepredict import _core
+    from test_hydraulics_physics import _friction, _simpson
+
+    crane = cp.Crane.patu655()
+    dt, horizon = 1e-4, 0.6
+    initial = cp.State(lift_stroke=0.15, tilt_stroke=0.35)
+    inputs = cp.Inputs(lift=cp.PressureSeries(t=[0.0, 0.3, 0.6], p_a=[90e5, 110e5, 100e5],
+                                              p_b=[5e5, 5e5, 10e5]),
+                       tilt=cp.Pressure(20e5, 45e5))
+    tr = cp.predict(crane, initial, inputs, horizon, dt=dt, method="dopri5",
+                    tolerance=cp.Tolerance(tip=1e-8))
+    assert not tr.stop.any()
+    work = np.zeros(tr.t.size)
+    loss = np.zeros(tr.t.size)
+    for j, cyl in enumerate((crane.lift_cylinder, crane.tilt_cylinder)):
+        ds = np.array([_core.joint_angle(crane, j, s)[1] for s in tr.strokes[:, j]])
+        v = ds * tr.omega[:, j]
+        work += (tr.p_a[:, j] * cyl.area_a - tr.p_b[:, j] * cyl.area_b) * v
+        loss += _friction(cyl.friction, v) * v
+    lag = Lagrange(crane, 0.0)
+    e_mech = np.array([lag.energy(q, w) for q, w in zip(tr.theta, tr.omega)])
+    w = _simpson(work, dt)
+    assert w > 1e3   # J: the run does real work
+    residual = abs(w - (e_mech[-1] - e_mech[0]) - _simpson(loss, dt)) / w
+    print(f"work balance (dopri5): {w:.3f} J, relative residual {residual:.2e}")
+    assert residual < 1e-6

@@ -20,14 +20,15 @@ the default step").
 
     python tools/dt_study.py [--random 30] [--random4 10] [--seed 5]
 
---method rosw: the default method (ROS34PW2, error-controlled) at several tip tolerances (the
-pressure tolerance scaled alike: the default's ratio, 1e4 Pa per 5e-5 m), on every named scenario
-over its own horizon: the worst tip distance and the worst chamber pressure difference from RK4 at
-dt = 2e-5 s (both on the 5-ms sample grid), and the wall time per call (the best of 3) against RK4 at
-the default step, 5 ms. (The number of step attempts is not reported by the API; the time is what
-it costs.)
+--method default: the default method (error-controlled: ROS34PW2 for a stiff future, DOPRI5(4)
+for the others) at several tip tolerances (the pressure tolerance scaled alike: the default's
+ratio, 1e4 Pa per 5e-5 m), on every named scenario over its own horizon: the worst tip distance
+and the worst chamber pressure difference from RK4 at dt = 2e-5 s (both on the 5-ms sample grid),
+and the wall time per call (the best of 3) against RK4 at the default step, 5 ms; then the worst
+tip distance over the N random planar cases (random_case, pressure drives). (The number of step
+attempts is not reported by the API; the time is what it costs.)
 
-    python tools/dt_study.py --method rosw
+    python tools/dt_study.py --method default [--random 60] [--seed 1]
 """
 import argparse
 import sys
@@ -94,14 +95,15 @@ def _best_time(f, repeat=3):
     return best, out
 
 
-def rosw_study() -> int:
-    """The default method's errors and cost over its tolerance, per named scenario."""
+def default_study(n_random: int, seed: int) -> int:
+    """The default method's errors and cost over its tolerance, per named scenario, then over
+    random planar cases."""
     warnings.simplefilter("ignore", UserWarning)     # the supply-short warnings of some scenarios
     default = cp.default_tolerance()
     per_tip = default.pressure / default.tip
     every = round(cp.DEFAULT_DT / REF_DT)
     print(f"{'tip mm / bar; tol [m]':22s}" + "".join(f"{t:>16g}" for t in TIP_TOLERANCES)
-          + f"{'t rosw/rk4 ms':>16s}")
+          + f"{'t def/rk4 ms':>16s}")
     worst = np.zeros((len(TIP_TOLERANCES), 2))
     times = np.zeros(len(TIP_TOLERANCES))
     time_rk4 = 0.0
@@ -115,7 +117,7 @@ def rosw_study() -> int:
         cells = []
         for i, tip in enumerate(TIP_TOLERANCES):
             tol = cp.Tolerance(tip=tip, pressure=tip * per_tip)
-            t, tr = _best_time(lambda: cp.predict(*args, method="rosw", tolerance=tol))
+            t, tr = _best_time(lambda: cp.predict(*args, tolerance=tol))
             assert np.allclose(tr.t, ref.t, rtol=0, atol=1e-12)
             e_tip = float(np.max(np.linalg.norm(tr.tip - ref.tip, axis=1)))
             e_p = float(max(np.max(np.abs(tr.p_a - ref.p_a)), np.max(np.abs(tr.p_b - ref.p_b))))
@@ -136,20 +138,33 @@ def rosw_study() -> int:
     print(f"({len(names)} named scenarios, {horizon:g} s of futures; pressure tolerance "
           f"{per_tip:g} Pa per m of tip tolerance; default tip tolerance {default.tip:g} m; "
           f"converged run: RK4 at dt = {REF_DT * 1e3:g} ms)")
+    rng = np.random.default_rng(seed)
+    worst_random = np.zeros(len(TIP_TOLERANCES))
+    for _ in range(n_random):
+        crane, initial, inputs = random_case(rng, cp.Crane.patu655())
+        ref = cp.predict(crane, initial, inputs, HORIZON, dt=REF_DT, method="rk4",
+                         sample_every=every)
+        for i, tip in enumerate(TIP_TOLERANCES):
+            tol = cp.Tolerance(tip=tip, pressure=tip * per_tip)
+            tr = cp.predict(crane, initial, inputs, HORIZON, tolerance=tol)
+            worst_random[i] = max(worst_random[i],
+                                  float(np.max(np.linalg.norm(tr.tip - ref.tip, axis=1))))
+    print(f"{'random, worst tip mm':22s}" + "".join(f"{w * 1e3:16.4f}" for w in worst_random)
+          + f"   ({n_random} random planar cases, seed {seed})")
     return 0
 
 
 def main() -> int:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("--method", choices=("rk4", "rosw"), default="rk4",
-                    help="rk4: sweep RK4's step (random cases too); rosw: sweep the default "
-                         "method's tolerance (named scenarios)")
+    ap.add_argument("--method", choices=("rk4", "default"), default="rk4",
+                    help="rk4: sweep RK4's step; default: sweep the default method's "
+                         "tolerance (named scenarios, then random planar cases)")
     ap.add_argument("--random", type=int, default=30, help="random planar cases (random_case)")
     ap.add_argument("--random4", type=int, default=10, help="random four-joint valve-driven cases")
     ap.add_argument("--seed", type=int, default=5)
     args = ap.parse_args()
-    if args.method == "rosw":
-        return rosw_study()
+    if args.method == "default":
+        return default_study(args.random, args.seed)
     cases = []   # (name, four-joint?, crane, initial, inputs)
     for n in cp.scenarios.names():
         s = cp.scenarios.get(n)

@@ -1,7 +1,8 @@
-"""The twin's error-controlled method (docs/model.md, "Integration: the default method
-(ROS34PW2)"; the C core's integrator.c): the ROS34PW2 Rosenbrock-W method with error control,
-dense output at the sample times, the end stops, the releases and the relief and anti-cavitation
-valves' openings located in the step.
+"""The twin's error-controlled methods (docs/model.md, "Integration: the default method
+(ROS34PW2)" and "the explicit pair (DOPRI5(4))"; the C core's integrator.c): the ROS34PW2
+Rosenbrock-W method or the explicit pair DOPRI5(4) with error control, dense output at the sample
+times, the end stops, the releases and the relief and anti-cavitation valves' openings located in
+the step.
 
 An independent implementation of the specification: the W-method's matrix is assembled here as
 the dense matrix of the state (the C core eliminates the chambers and solves the mass matrix
