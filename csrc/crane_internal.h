@@ -43,6 +43,9 @@ static inline crane_real crane__fabs(crane_real x) { return fabsf(x); }
 static inline crane_real crane__ceil(crane_real x) { return ceilf(x); }
 static inline crane_real crane__cbrt(crane_real x) { return cbrtf(x); }
 static inline crane_real crane__pow(crane_real x, crane_real y) { return powf(x, y); }
+static inline crane_real crane__floor(crane_real x) { return floorf(x); }
+static inline crane_real crane__frexp(crane_real x, int *e) { return frexpf(x, e); }
+static inline crane_real crane__ldexp(crane_real x, int e) { return ldexpf(x, e); }
 #else
 static inline crane_real crane__sqrt(crane_real x) { return sqrt(x); }
 static inline crane_real crane__sin(crane_real x) { return sin(x); }
@@ -55,6 +58,9 @@ static inline crane_real crane__fabs(crane_real x) { return fabs(x); }
 static inline crane_real crane__ceil(crane_real x) { return ceil(x); }
 static inline crane_real crane__cbrt(crane_real x) { return cbrt(x); }
 static inline crane_real crane__pow(crane_real x, crane_real y) { return pow(x, y); }
+static inline crane_real crane__floor(crane_real x) { return floor(x); }
+static inline crane_real crane__frexp(crane_real x, int *e) { return frexp(x, e); }
+static inline crane_real crane__ldexp(crane_real x, int e) { return ldexp(x, e); }
 #endif
 
 /* isfinite is a type-generic macro; wrapping it keeps the call sites typed. */

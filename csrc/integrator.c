@@ -1224,7 +1224,7 @@ static const crane_real DP_D[7] = {
 /* The explicit pair's tolerances over the user's: its order-4 estimate misjudges a step across a
  * friction reversal or a drive's kink more than ROS34PW2's (random pressure futures: 3 mm off the
  * converged run at the tolerances themselves, 0.7 mm at 0.3 of them). */
-static const crane_real DP_TOLERANCE_SCALE = (crane_real)0.3;
+static const crane_real DP_TOLERANCE_SCALE = (crane_real)0.1;
 
 /* One DOPRI5(4) step of size h from (t, x), f0 = f(t, x), into y with fy = f(t + h, y); returns
  * the error's largest ratio to its tolerance (NaN if the step failed). Futures without valve
@@ -1278,6 +1278,17 @@ static crane_real adaptive_step(ctx_t *c, crane_real t, const xstate *x, const x
         return dp_step(c, t, x, f0, h, y, fy);
     }
     return ros_step(c, t, x, f0, J, h, y);
+}
+
+/* A proposed step rounded down onto the grid m 2^e, m in {16, 17, ..., 31} / 32 (steps 3-6 %
+ * apart), by exact operations (frexp, a product by 32, floor, ldexp): an error ratio that two
+ * implementations compute a few ulps apart then proposes the same step (almost always), and the
+ * C core and the twin take the same steps (docs/model.md, "Integration"). */
+static crane_real on_grid(crane_real h)
+{
+    int e;
+    const crane_real m = crane__frexp(h, &e);
+    return crane__ldexp(crane__floor(m * 32) / 32, e);
 }
 
 /* The step size's factor from an accepted or rejected step's error ratio: err^(-1/(p + 1)) with
@@ -1485,7 +1496,7 @@ static CRANE__NOINLINE crane_status integrate_rosw(ctx_t *c, xstate *x, crane_re
             }
             grow = 1;
             h = err == err ? ROS_SAFETY / error_root(c, err) : ROS_SHRINK;
-            h = hs * (h > ROS_SHRINK ? h : ROS_SHRINK);
+            h = on_grid(hs * (h > ROS_SHRINK ? h : ROS_SHRINK));
             if (h < ROS_MIN_STEP) {
                 h = ROS_MIN_STEP;
             }
@@ -1493,7 +1504,7 @@ static CRANE__NOINLINE crane_status integrate_rosw(ctx_t *c, xstate *x, crane_re
         }
         /* the next step's proposal, from this step's error; not larger right after a rejection */
         h = err > 0 ? ROS_SAFETY / error_root(c, err) : ROS_GROW;
-        h = hs * (h < grow ? h : grow);
+        h = on_grid(hs * (h < grow ? h : grow));
         grow = ROS_GROW;
         /* an end stop or a limit valve's setting inside the step: the step is cut at the first
          * and the joint goes onto its stop, the chamber onto the setting */

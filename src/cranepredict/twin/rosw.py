@@ -55,7 +55,14 @@ DP_D = (35 / 384 - 5179 / 57600, 0.0, 500 / 1113 - 7571 / 16695, 125 / 192 - 393
         -2187 / 6784 + 92097 / 339200, 11 / 84 - 187 / 2100, -1 / 40)
 #: The explicit pair's tolerances over the user's (spec: its estimate across a friction reversal
 #: or a drive's kink is less reliable than ROS34PW2's).
-DP_TOLERANCE_SCALE = 0.3
+DP_TOLERANCE_SCALE = 0.1
+
+
+def on_grid(h: float) -> float:
+    """A proposed step rounded down onto the grid m 2^e, m in {16, ..., 31} / 32, by exact
+    operations (spec): error ratios a few ulps apart propose the same step."""
+    m, e = math.frexp(h)
+    return math.ldexp(math.floor(m * 32.0) / 32.0, e)
 
 
 def attempt_cap(horizon: float, drives: Sequence[object] = ()) -> int:
@@ -313,10 +320,10 @@ def integrate(pred: _Prediction, x: State, horizon: float, dt: float, n: int, ti
                                       "smallest step")
             grow = 1.0
             fac = SAFETY / ros.root(err) if err == err else SHRINK
-            h = max(hs * max(fac, SHRINK), MIN_STEP)
+            h = max(on_grid(hs * max(fac, SHRINK)), MIN_STEP)
             continue
         fac = SAFETY / ros.root(err) if err > 0.0 else GROW
-        h = hs * min(fac, grow)
+        h = on_grid(hs * min(fac, grow))
         grow = GROW
         # events: the first end stop, then an earlier chamber crossing
         tau = hs
