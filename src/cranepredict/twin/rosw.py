@@ -54,7 +54,7 @@ DP_A = ((), (0.2,), (3 / 40, 9 / 40), (44 / 45, -56 / 15, 32 / 9),
 DP_D = (35 / 384 - 5179 / 57600, 0.0, 500 / 1113 - 7571 / 16695, 125 / 192 - 393 / 640,
         -2187 / 6784 + 92097 / 339200, 11 / 84 - 187 / 2100, -1 / 40)
 #: The explicit pair's tolerances over the user's (spec: its estimate across a friction reversal
-#: or a drive's kink is less reliable than ROS34PW2's).
+#: is less reliable than ROS34PW2's).
 DP_TOLERANCE_SCALE = 0.1
 
 
