@@ -1221,10 +1221,6 @@ static const crane_real DP_D[7] = {
     (crane_real)(500.0 / 1113.0 - 7571.0 / 16695.0), (crane_real)(125.0 / 192.0 - 393.0 / 640.0),
     (crane_real)(-2187.0 / 6784.0 + 92097.0 / 339200.0), (crane_real)(11.0 / 84.0 - 187.0 / 2100.0),
     (crane_real)(-1.0 / 40.0)};
-/* The explicit pair's tolerances over the user's: its order-4 estimate misjudges a step across a
- * friction reversal more than ROS34PW2's (60 random pressure futures: 2.0 mm off the converged
- * run at the tolerances themselves, 1.1 mm at 0.3 of them, 0.6 mm at 0.1). */
-static const crane_real DP_TOLERANCE_SCALE = (crane_real)0.1;
 
 /* One DOPRI5(4) step of size h from (t, x), f0 = f(t, x), into y with fy = f(t + h, y); returns
  * the error's largest ratio to its tolerance (NaN if the step failed). Futures without valve
@@ -1268,6 +1264,34 @@ static CRANE__NOINLINE crane_real dp_step(ctx_t *c, crane_real t, const xstate *
         }
     }
     return err;
+}
+
+/* The explicit pair's friction reversals: the largest fraction (<= 1) of the accepted step from x
+ * to x1 that keeps every free joint whose rate changes sign within its actuator's Stribeck
+ * velocity of speed change (ds/dq at x). The friction law turns over within that band; a step
+ * that jumps across it integrates the turn with a polynomial, which the order-4 estimate does not
+ * see (docs/model.md, "the explicit pair"). */
+static crane_real reversal_fraction(ctx_t *c, const xstate *x, const xstate *x1)
+{
+    crane_real frac = 1;
+    int i, conf = 0;
+
+    for (i = 0; i < n_moving(c); ++i) {
+        const crane_real w0 = x->v[W + i], w1 = x1->v[W + i];
+        if (locked(c, i) == 0 && ((w0 < 0 && w1 > 0) || (w0 > 0 && w1 < 0))) {
+            crane_real dv, vs;
+            if (conf == 0) {
+                (void)configure(c, x, 1);
+                conf = 1;
+            }
+            dv = crane__fabs(ratio(c, i, x->v[Q + i], NULL) * (w1 - w0));
+            vs = crane__actuator_friction(c->lim.m, i)->stribeck_velocity;
+            if (dv > vs && vs / dv < frac) {
+                frac = vs / dv;
+            }
+        }
+    }
+    return frac;
 }
 
 /* The step of the method in use: DOPRI5(4) (fy its f at the end) or ROS34PW2 (fy untouched). */
@@ -1501,6 +1525,18 @@ static CRANE__NOINLINE crane_status integrate_rosw(ctx_t *c, xstate *x, crane_re
                 h = ROS_MIN_STEP;
             }
             continue;
+        }
+        if (c->dopri != 0u && hs > ROS_MIN_STEP) {
+            const crane_real frac = reversal_fraction(c, x, &x1);
+            if (frac < 1) {
+                /* a friction reversal jumped across: again, shorter */
+                grow = 1;
+                h = on_grid(hs * (frac > ROS_SHRINK ? frac : ROS_SHRINK));
+                if (h < ROS_MIN_STEP) {
+                    h = ROS_MIN_STEP;
+                }
+                continue;
+            }
         }
         /* the next step's proposal, from this step's error; not larger right after a rejection */
         h = err > 0 ? ROS_SAFETY / error_root(c, err) : ROS_GROW;
@@ -1737,10 +1773,6 @@ crane_status crane__integrate(const crane_model *m, const crane_state *s0, const
                                                (in->solver.method == CRANE_METHOD_DEFAULT &&
                                                 c.lim.valves == 0u &&
                                                 c.mode[CRANE_EXTENSION] == CRANE__HELD)));
-    if (c.dopri != 0u) {
-        c.tol_tip *= DP_TOLERANCE_SCALE;
-        c.tol_q *= DP_TOLERANCE_SCALE;
-    }
     if (c.rosw != 0u) {
         return integrate_rosw(&c, &x, horizon, dt, n_steps, sample_every, out, n_written);
     }

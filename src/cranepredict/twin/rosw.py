@@ -53,9 +53,6 @@ DP_A = ((), (0.2,), (3 / 40, 9 / 40), (44 / 45, -56 / 15, 32 / 9),
         (35 / 384, 0.0, 500 / 1113, 125 / 192, -2187 / 6784, 11 / 84))
 DP_D = (35 / 384 - 5179 / 57600, 0.0, 500 / 1113 - 7571 / 16695, 125 / 192 - 393 / 640,
         -2187 / 6784 + 92097 / 339200, 11 / 84 - 187 / 2100, -1 / 40)
-#: The explicit pair's tolerances over the user's (spec: its estimate across a friction reversal
-#: is less reliable than ROS34PW2's).
-DP_TOLERANCE_SCALE = 0.1
 
 
 def on_grid(h: float) -> float:
@@ -92,8 +89,6 @@ class _Rosw:
         self.tol = [0.0] * n
         for j in JOINTS:
             q_tol = tip if j == EXTENSION else tip / reach
-            if dopri:
-                q_tol *= DP_TOLERANCE_SCALE
             self.tol[j] = self.tol[4 + j] = q_tol
         if pred.hydraulic:
             for j in JOINTS:
@@ -270,6 +265,26 @@ class _Rosw:
         return tuple(x1.tolist()), err
 
 
+def _reversal_fraction(pred: _Prediction, x: State, x1: State) -> float:
+    """The largest fraction (<= 1) of the step from x to x1 that keeps every free joint whose
+    rate changes sign within its actuator's Stribeck velocity of speed change (ds/dq at x; spec,
+    "the explicit pair")."""
+    frac = 1.0
+    conf = None
+    locked = pred.locked()
+    for j in JOINTS:
+        w0, w1 = x[4 + j], x1[4 + j]
+        if locked[j] or not ((w0 < 0.0 < w1) or (w1 < 0.0 < w0)):
+            continue
+        if conf is None:
+            conf = pred._conf(x)
+        dv = abs(pred.ratio(conf, j) * (w1 - w0))
+        vs = pred.model.friction[j][3]
+        if dv > vs and vs / dv < frac:
+            frac = vs / dv
+    return frac
+
+
 def integrate(pred: _Prediction, x: State, horizon: float, dt: float, n: int, tip: float,
               pressure: float, record: Callable[[int, float, State], None],
               dopri: bool = False) -> State:
@@ -322,6 +337,12 @@ def integrate(pred: _Prediction, x: State, horizon: float, dt: float, n: int, ti
             fac = SAFETY / ros.root(err) if err == err else SHRINK
             h = max(on_grid(hs * max(fac, SHRINK)), MIN_STEP)
             continue
+        if dopri and hs > MIN_STEP:
+            frac = _reversal_fraction(pred, x, x1)
+            if frac < 1.0:   # a friction reversal jumped across: again, shorter (spec)
+                grow = 1.0
+                h = max(on_grid(hs * max(frac, SHRINK)), MIN_STEP)
+                continue
         fac = SAFETY / ros.root(err) if err > 0.0 else GROW
         h = on_grid(hs * min(fac, grow))
         grow = GROW
