@@ -73,6 +73,11 @@ typedef struct {
     /* its tolerances: tip metres over the crane's reach (angles), tip metres (the extension),
      * Pa (the pressures) */
     crane_real tol_q, tol_tip, tol_p;
+    /* the explicit pair's stages k1..k6 of the step last taken (k7 is its end's rates), for its
+     * dense output */
+    crane_real dk[6][N_MECH];
+    /* and its dense output's coefficients over the step last taken (dense_coefficients) */
+    crane_real dd[3][N_MECH];
 #endif
 } ctx_t;
 
@@ -1222,13 +1227,22 @@ static const crane_real DP_D[7] = {
     (crane_real)(-2187.0 / 6784.0 + 92097.0 / 339200.0), (crane_real)(11.0 / 84.0 - 187.0 / 2100.0),
     (crane_real)(-1.0 / 40.0)};
 
+/* Its dense output of order 4 (Hairer, Norsett and Wanner I, II.6; their DOPRI5 code's
+ * CONTD5): x(t + s h) = x0 + s (dx + (1 - s) (b + s (c + (1 - s) h sum_i DP_DENSE_i k_i))) with
+ * dx = x1 - x0, b = h k1 - dx, c = dx - h k7 - b. */
+static const crane_real DP_DENSE[7] = {
+    (crane_real)(-12715105075.0 / 11282082432.0), 0,
+    (crane_real)(87487479700.0 / 32700410799.0), (crane_real)(-10690763975.0 / 1880347072.0),
+    (crane_real)(701980252875.0 / 199316789632.0), (crane_real)(-1453857185.0 / 822651844.0),
+    (crane_real)(69997945.0 / 29380423.0)};
+
 /* One DOPRI5(4) step of size h from (t, x), f0 = f(t, x), into y with fy = f(t + h, y); returns
  * the error's largest ratio to its tolerance (NaN if the step failed). Futures without valve
  * drives only: the mechanical entries. */
 static CRANE__NOINLINE crane_real dp_step(ctx_t *c, crane_real t, const xstate *x, const xstate *f0,
                                           crane_real h, xstate *y, xstate *fy)
 {
-    crane_real k[6][N_MECH], err = 0;
+    crane_real (*const k)[N_MECH] = c->dk, err = 0;
     int s, i, m;
 
     for (i = 0; i < N_MECH; ++i) {
@@ -1355,8 +1369,30 @@ static void spools_in_range(const ctx_t *c, xstate *x)
     }
 }
 
-/* The sample at ts in [t, t + h) of the step from (t, x0) to x1: the cubic Hermite interpolant of
- * every entry from its values and rates at both ends (dense output, order 3 like the step). */
+/* The explicit pair's dense output over the step from x0 to x1 of size h (f1 its end's rates,
+ * its k7): per entry b = h k1 - dx, c = dx - h k7 - b and h sum_i DP_DENSE_i k_i (dx = x1 - x0),
+ * once a step for all its samples. */
+static void dense_coefficients(ctx_t *c, const xstate *x0, const xstate *x1, const xstate *f1,
+                               crane_real h)
+{
+    int i, m;
+
+    for (i = 0; i < N_MECH; ++i) {
+        const crane_real dx = x1->v[i] - x0->v[i], b = h * c->dk[0][i] - dx;
+        crane_real d = 0;
+        for (m = 0; m < 6; ++m) {
+            d += DP_DENSE[m] * c->dk[m][i];
+        }
+        d += DP_DENSE[6] * f1->v[i];
+        c->dd[0][i] = b;
+        c->dd[1][i] = dx - h * f1->v[i] - b;
+        c->dd[2][i] = h * d;
+    }
+}
+
+/* The sample at ts in [t, t + h) of the step from (t, x0) to x1: for ROS34PW2 the cubic Hermite
+ * interpolant of every entry from its values and rates at both ends (dense output, order 3 like
+ * the step), for the explicit pair its own of order 4. */
 static CRANE__NOINLINE void dense_sample(ctx_t *c, crane_real t, const xstate *x0,
                                          const xstate *f0, const xstate *x1, const xstate *f1,
                                          crane_real h, crane_real ts, crane_sample *o)
@@ -1366,6 +1402,13 @@ static CRANE__NOINLINE void dense_sample(ctx_t *c, crane_real t, const xstate *x
     int i;
 
     for (i = 0; i < n_used(c); ++i) {
+        if (c->dopri != 0u) {
+            /* the explicit pair's own dense output (order 4, from the step's stages) */
+            xs.v[i] = x0->v[i] +
+                      th * ((x1->v[i] - x0->v[i]) +
+                            (1 - th) * (c->dd[0][i] + th * (c->dd[1][i] + (1 - th) * c->dd[2][i])));
+            continue;
+        }
         xs.v[i] = (1 - th) * x0->v[i] + th * x1->v[i] +
                   th * (th - 1) *
                       ((1 - 2 * th) * (x1->v[i] - x0->v[i]) + (th - 1) * h * f0->v[i] +
@@ -1613,6 +1656,9 @@ static CRANE__NOINLINE crane_status integrate_rosw(ctx_t *c, xstate *x, crane_re
             return CRANE_E_DIVERGED;
         }
         /* the kept sample times in [t, t + hs), by dense output */
+        if (c->dopri != 0u && kept < n_steps && (crane_real)kept * dt < t + hs) {
+            dense_coefficients(c, x, &x1, &f1, hs);
+        }
         while (kept < n_steps && (crane_real)kept * dt < t + hs) {
             dense_sample(c, t, x, &f0, &x1, &f1, hs, (crane_real)kept * dt, &out[next++]);
             kept += sample_every;

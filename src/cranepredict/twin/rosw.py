@@ -53,6 +53,10 @@ DP_A = ((), (0.2,), (3 / 40, 9 / 40), (44 / 45, -56 / 15, 32 / 9),
         (35 / 384, 0.0, 500 / 1113, 125 / 192, -2187 / 6784, 11 / 84))
 DP_D = (35 / 384 - 5179 / 57600, 0.0, 500 / 1113 - 7571 / 16695, 125 / 192 - 393 / 640,
         -2187 / 6784 + 92097 / 339200, 11 / 84 - 187 / 2100, -1 / 40)
+#: Its dense output of order 4 (Hairer, Norsett and Wanner I, II.6, CONTD5; spec).
+DP_DENSE = (-12715105075 / 11282082432, 0.0, 87487479700 / 32700410799,
+            -10690763975 / 1880347072, 701980252875 / 199316789632, -1453857185 / 822651844,
+            69997945 / 29380423)
 
 
 def on_grid(h: float) -> float:
@@ -79,6 +83,8 @@ class _Rosw:
         self.pred = pred
         #: DOPRI5(4) instead of ROS34PW2 (a future without valve drives)
         self.dopri = dopri
+        #: the explicit pair's stages k1..k6 of the step last taken (its dense output)
+        self.stages: List[Sequence[float]] = []
         model = pred.model
         #: open[j][side]: that chamber's limit valve is open over the current step
         self.open = [[False, False] for _ in JOINTS]
@@ -219,6 +225,7 @@ class _Rosw:
             r = abs(h * e) / self.tol[i]
             if not r <= err and err == err:   # a NaN, once met, stays
                 err = r
+        self.stages = ks[:6]   # the step last taken's k1..k6, for the dense output
         return tuple(x1), err, fy
 
     def adaptive_step(self, t: float, x: State, f0: Sequence[float], W: np.ndarray, h: float
@@ -417,11 +424,25 @@ def integrate(pred: _Prediction, x: State, horizon: float, dt: float, n: int, ti
             raise ValueError(f"the prediction diverged at t = {t:g} s (the state is no longer "
                              "finite, or a spool or chamber pressure left its range): check the "
                              "crane's parameters for absurd values")
+        if dopri and k < n and k * dt < t + hs:   # the pair's dense output's coefficients
+            dense = []
+            for i, (a, b, fb) in enumerate(zip(x, x1, f1)):
+                dx = b - a
+                bb = hs * ros.stages[0][i] - dx
+                d = 0.0
+                for m in range(6):
+                    d += DP_DENSE[m] * ros.stages[m][i]
+                d += DP_DENSE[6] * fb
+                dense.append((bb, dx - hs * fb - bb, hs * d))
         while k < n and k * dt < t + hs:
             s = (k * dt - t) / hs
-            xs = [(1.0 - s) * a + s * b + s * (s - 1.0) * ((1.0 - 2.0 * s) * (b - a)
-                                                            + (s - 1.0) * hs * fa + s * hs * fb)
-                  for a, b, fa, fb in zip(x, x1, f0, f1)]
+            if dopri:   # the pair's own dense output, order 4 (spec)
+                xs = [a + s * ((b - a) + (1.0 - s) * (c0 + s * (c1 + (1.0 - s) * c2)))
+                      for a, b, (c0, c1, c2) in zip(x, x1, dense)]
+            else:
+                xs = [(1.0 - s) * a + s * b + s * (s - 1.0) * ((1.0 - 2.0 * s) * (b - a)
+                                                                + (s - 1.0) * hs * fa + s * hs * fb)
+                      for a, b, fa, fb in zip(x, x1, f0, f1)]
             # a held or stopped joint stays exactly where it is, a free one between its stops
             # (spec)
             for j, lk in enumerate(pred.locked()):
