@@ -1401,18 +1401,20 @@ static CRANE__NOINLINE void dense_sample(ctx_t *c, crane_real t, const xstate *x
     xstate xs;
     int i;
 
-    for (i = 0; i < n_used(c); ++i) {
-        if (c->dopri != 0u) {
-            /* the explicit pair's own dense output (order 4, from the step's stages) */
+    if (c->dopri != 0u) {
+        /* the explicit pair's own dense output (order 4, from the step's stages) */
+        for (i = 0; i < N_MECH; ++i) {
             xs.v[i] = x0->v[i] +
                       th * ((x1->v[i] - x0->v[i]) +
                             (1 - th) * (c->dd[0][i] + th * (c->dd[1][i] + (1 - th) * c->dd[2][i])));
-            continue;
         }
-        xs.v[i] = (1 - th) * x0->v[i] + th * x1->v[i] +
-                  th * (th - 1) *
-                      ((1 - 2 * th) * (x1->v[i] - x0->v[i]) + (th - 1) * h * f0->v[i] +
-                       th * h * f1->v[i]);
+    } else {
+        for (i = 0; i < n_used(c); ++i) {
+            xs.v[i] = (1 - th) * x0->v[i] + th * x1->v[i] +
+                      th * (th - 1) *
+                          ((1 - 2 * th) * (x1->v[i] - x0->v[i]) + (th - 1) * h * f0->v[i] +
+                           th * h * f1->v[i]);
+        }
     }
     /* a held or stopped joint stays exactly where it is (the interpolant's rounding would move
      * it off its stop by an ulp); a free one stays between its stops (the cubic of a joint just
