@@ -472,6 +472,15 @@ crane_real crane__next_knot(const crane_inputs *in, int n_joints, crane_real t, 
 /* The sample times of the sampled drives inside (0, horizon), counted per drive: the steps that
  * the knots may cut (RK4's, DOPRI5's) on top of the work bound without them. */
 long crane__knot_count(const crane_inputs *in, crane_real horizon);
+#if CRANE_ROSW
+/* Where a ROS34PW2 step from t to t_end ends (docs/model.md, "Integration": the drives' rule): at
+ * the first sample inside of a sampled pressure drive (farther than a thousandth of dt from both
+ * ends, as crane__next_knot); for a sampled valve drive, at t_end if the spool error that its
+ * stages' view of the lever can leave is within tolerance, else at the farthest sample inside
+ * where it is (the lever is linear up to the first). t_end if nothing cuts the step. */
+crane_real crane__rosw_step_end(const crane_model *m, const crane_inputs *in, crane_real t,
+                                crane_real t_end, crane_real dt, crane_real tolerance);
+#endif
 
 /* ---- integrator.c ---- */
 

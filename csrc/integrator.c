@@ -1540,12 +1540,16 @@ static CRANE__NOINLINE crane_status integrate_rosw(ctx_t *c, xstate *x, crane_re
             hs = horizon - t;
             last = 1;
         }
-        if (c->dopri != 0u) {
+        {
             /* the explicit pair's steps end at a sampled drive's knot: its estimate misjudges a
-             * kink inside a step (ROS34PW2's steps are not cut: a dense lever log would make
-             * every step as short as its samples' spacing) */
+             * kink inside a step. ROS34PW2's end at a pressure drive's knot, and at a lever's
+             * only where its stages would miss what the lever does inside the step (the drives'
+             * rule): a smooth dense lever log does not make every step as short as its samples'
+             * spacing, and a lever pulse between two stages is not stepped over unseen. */
             const crane_real t_end = last != 0 ? horizon : t + hs;
-            const crane_real knot = crane__next_knot(c->in, 4, t, t_end, hs);
+            const crane_real knot =
+                c->dopri != 0u ? crane__next_knot(c->in, 4, t, t_end, hs)
+                               : crane__rosw_step_end(c->lim.m, c->in, t, t_end, hs, ROS_SPOOL_TOLERANCE);
             if (knot < t_end) {
                 hs = knot - t;
                 last = 0;

@@ -273,6 +273,22 @@ static crane_status check_future(const crane_model *model, const crane_state *st
  * it leaves out costs O((margin dt)^2). */
 static const crane_real KNOT_MARGIN = (crane_real)1e-3;
 
+/* The first sample of drive d after time a (bisection: long lever records cost log n). */
+static size_t first_after(const crane_drive *d, crane_real a)
+{
+    size_t lo = 0, hi = d->n_samples;
+
+    while (lo < hi) {
+        const size_t mid = lo + (hi - lo) / 2;
+        if (d->t[mid] > a) {
+            hi = mid;
+        } else {
+            lo = mid + 1;
+        }
+    }
+    return lo;
+}
+
 crane_real crane__next_knot(const crane_inputs *in, int n_joints, crane_real t, crane_real t_end,
                             crane_real dt)
 {
@@ -282,19 +298,11 @@ crane_real crane__next_knot(const crane_inputs *in, int n_joints, crane_real t, 
 
     for (j = 0; j < n_joints; ++j) {
         const crane_drive *d = &in->drive[j];
-        size_t a = 0, b = d->n_samples;
+        size_t a;
         if (d->mode == CRANE_DRIVE_HOLD) {
             continue;
         }
-        /* the first sample after lo: bisection, so that long lever records cost log n a step */
-        while (a < b) {
-            const size_t mid = a + (b - a) / 2;
-            if (d->t[mid] > lo) {
-                b = mid;
-            } else {
-                a = mid + 1;
-            }
-        }
+        a = first_after(d, lo);
         if (a < d->n_samples && d->t[a] < hi && d->t[a] < knot) {
             knot = d->t[a];
         }
@@ -321,6 +329,95 @@ long crane__knot_count(const crane_inputs *in, crane_real horizon)
     }
     return n;
 }
+
+#if CRANE_ROSW
+#if CRANE_HYDRAULICS
+/* The spool error that a step over [a, b] can leave by seeing valve drive d's lever only at its
+ * stages (the lever rule, docs/model.md "Integration"): the stages see the lever as if it were
+ * its chord over the step; the lever's samples inside depart from that chord by delta(t), and a
+ * spool of lag tau follows delta by at most min(max |delta|, integral |delta| dt / tau) (tau = 0:
+ * the spool is the lever). delta is linear between the samples and 0 at a and b. */
+static crane_real chord_error(const crane_drive *d, crane_real tau, crane_real a, crane_real b)
+{
+    size_t k = first_after(d, a), cursor = k > 0 ? k - 1 : 0;
+    const crane_real u_a = crane__drive_lever(d, &cursor, a);
+    const crane_real slope = (crane__drive_lever(d, &cursor, b) - u_a) / (b - a);
+    crane_real t0 = a, d0 = 0, peak = 0, area = 0;
+    int more = 1;
+
+    while (more != 0) {
+        const crane_real t1 = k < d->n_samples && d->t[k] < b ? d->t[k] : b;
+        const crane_real d1 = t1 < b ? d->u_samples[k] - (u_a + slope * (t1 - a)) : 0;
+        const crane_real m0 = crane__fabs(d0), m1 = crane__fabs(d1);
+        if (m0 + m1 > 0) {
+            /* |delta| integrated over the piece: a trapezoid, or two triangles where delta
+             * changes sign */
+            area += (t1 - t0) * (d0 * d1 >= 0 ? (m0 + m1) / 2 : (d0 * d0 + d1 * d1) / (2 * (m0 + m1)));
+        }
+        if (m1 > peak) {
+            peak = m1;
+        }
+        more = t1 < b;
+        t0 = t1;
+        d0 = d1;
+        ++k;
+    }
+    return tau > 0 && area < tau * peak ? area / tau : peak;
+}
+#endif
+
+crane_real crane__rosw_step_end(const crane_model *m, const crane_inputs *in, crane_real t,
+                                crane_real t_end, crane_real dt, crane_real tolerance)
+{
+    const crane_real lo_t = t + KNOT_MARGIN * dt;
+    crane_real end = t_end;
+    int j;
+
+    for (j = 0; j < 4; ++j) {
+        const crane_drive *d = &in->drive[j];
+        if (d->mode == CRANE_DRIVE_HOLD || d->n_samples == 0) {
+            continue;
+        }
+#if CRANE_HYDRAULICS
+        if (d->mode == CRANE_DRIVE_VALVE) {
+            const crane_real tau = crane__circuit(m, j)->spool_time_constant;
+            size_t lo = first_after(d, lo_t), hi;
+            if (chord_error(d, tau, t, end) <= tolerance) {
+                continue;
+            }
+            /* the farthest sample inside whose chord keeps the rule (a bisection over the
+             * samples; the first one always ends the step: the lever is linear before it) */
+            hi = first_after(d, end - KNOT_MARGIN * dt);
+            if (lo >= hi || d->t[lo] >= end - KNOT_MARGIN * dt) {
+                continue;
+            }
+            --hi;
+            while (lo < hi) {
+                const size_t mid = lo + (hi - lo + 1) / 2;
+                if (chord_error(d, tau, t, d->t[mid]) <= tolerance) {
+                    lo = mid;
+                } else {
+                    hi = mid - 1;
+                }
+            }
+            end = d->t[lo];
+            continue;
+        }
+#else
+        (void)m;
+        (void)tolerance;
+#endif
+        {
+            /* a pressure drive's first sample inside: its pressures act on the booms at once */
+            const size_t k = first_after(d, lo_t);
+            if (k < d->n_samples && d->t[k] < end - KNOT_MARGIN * dt) {
+                end = d->t[k];
+            }
+        }
+    }
+    return end;
+}
+#endif
 
 /* Bounded work with valve-driven cylinders or a moving extension (docs/model.md, "Hydraulics",
  * "Four joints", "Bad input"): every step may be cut into substeps, at most as many as at the

@@ -124,3 +124,32 @@ def test_twenty_random_valve_driven_cases_agree(method, spool_tol, p_tol):
           f"{stops} with end stops")
     assert worst_tip < TOL and worst_p < p_tol
     assert stops >= 4
+
+
+def _drives_rule_cases():
+    """Futures whose ROS34PW2 steps the drives' rule cuts (docs/model.md, "Integration"): a lever
+    tap between two stages, a noisy 1-kHz lever log (the farthest sample that keeps the rule is
+    found by bisection) and a pressure pulse in a future that a valve makes stiff."""
+    sc = cp.scenarios.get("lever-open")
+    rng = np.random.default_rng(5)
+    t_log = np.arange(501) * 1e-3
+    noisy = np.clip(0.6 * np.sin(6.0 * t_log) + rng.normal(0.0, 0.02, t_log.size), -1.0, 1.0)
+    p_a = sc.initial.tilt_p_a
+    return sc, [
+        cp.Inputs(lift=cp.ValveSeries(t=[0, 0.3, 0.301, 0.31, 0.311, 0.5], u=[0, 0, 1, 1, 0, 0]),
+                  tilt=cp.Valve(0.0)),
+        cp.Inputs(lift=cp.ValveSeries(t=t_log, u=noisy), tilt=cp.Valve(-0.3)),
+        cp.Inputs(lift=cp.Valve(0.2), tilt=cp.PressureSeries(
+            t=[0, 0.2, 0.201, 0.21, 0.211, 0.5], p_a=[p_a, p_a, p_a + 40e5, p_a + 40e5, p_a, p_a],
+            p_b=[sc.initial.tilt_p_b] * 6)),
+    ]
+
+
+@pytest.mark.parametrize("case", range(3))
+def test_steps_cut_by_the_drives_rule_agree(case):
+    sc, cases = _drives_rule_cases()
+    inputs = cases[case]
+    a = cp.predict(sc.crane, sc.initial, inputs, 0.5, backend="c")
+    b = cp.predict(sc.crane, sc.initial, inputs, 0.5, backend="python")
+    assert float(np.max(np.abs(a.tip - b.tip))) < TOL
+    assert float(max(np.max(np.abs(a.p_a - b.p_a)), np.max(np.abs(a.p_b - b.p_b)))) < 1e-3

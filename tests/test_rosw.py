@@ -367,6 +367,61 @@ def test_the_lever_log_stays_physical():
     _floor_and_states(crane, inputs, tr, "lever log")
 
 
+# -- 4b. the drives' rule: a lever's or a pressure drive's change between two stages ----------
+
+def _pulse(width, start=1.0, rise=1e-3):
+    """A lever tapped open for ``width`` s at ``start`` from neutral (ramps of ``rise`` s): shorter
+    than the steps the error control takes while the crane sits still before it."""
+    return cp.ValveSeries(t=[0.0, start, start + rise, start + width, start + width + rise, 2.0],
+                          u=[0.0, 0.0, 1.0, 1.0, 0.0, 0.0])
+
+
+@pytest.mark.parametrize("width", [0.005, 0.02])
+def test_a_lever_tap_between_two_stages_is_not_stepped_over(width):
+    """At rest on closed valves the steps grow to ~0.1 s; a tap of the lift lever inside one
+    step, between its stages, moved nothing in the prediction (2-5 mm of tip and 4.6-8.5 bar in
+    the converged run). The drives' rule ends the step where its stages would miss the lever."""
+    sc = scenarios.get("lever-open")
+    inputs = cp.Inputs(lift=_pulse(width), tilt=cp.Valve(0.0))
+    ref = _reference(sc.crane, sc.initial, inputs, 2.0)
+    assert np.max(np.linalg.norm(ref.tip - ref.tip[0], axis=1)) > 2e-3      # the tap moves the tip
+    tip, dp = _errors(sc.crane, sc.initial, inputs, 2.0, ref=ref)
+    assert tip <= TIP_TARGET and dp <= PRESSURE_TARGET, (tip, dp)
+
+
+def test_a_pressure_pulse_between_two_stages_is_not_stepped_over():
+    """A pressure drive's samples end ROS34PW2's steps (as the explicit pair's): a 10-ms pressure
+    pulse on the tilt in a future that the lift's valve makes stiff."""
+    sc = scenarios.get("lever-open")
+    p_rest = (sc.initial.tilt_p_a, sc.initial.tilt_p_b)
+    inputs = cp.Inputs(lift=cp.Valve(0.0), tilt=cp.PressureSeries(
+        t=[0.0, 1.0, 1.001, 1.01, 1.011, 2.0], p_a=[p_rest[0]] * 2 + [p_rest[0] + 40e5] * 2
+        + [p_rest[0]] * 2, p_b=[p_rest[1]] * 6))
+    ref = _reference(sc.crane, sc.initial, inputs, 2.0)
+    assert np.max(np.linalg.norm(ref.tip - ref.tip[0], axis=1)) > 2e-3
+    tip, _ = _errors(sc.crane, sc.initial, inputs, 2.0, ref=ref)
+    assert tip <= TIP_TARGET, tip
+
+
+def test_the_chord_error_of_a_tent_is_its_peak_or_its_area_over_the_lag():
+    """The rule's measure, derived by hand for a tent of the lever (0 -> h -> 0 over 2w inside a
+    step with the lever 0 at both ends): the spool can miss min(h, h w / tau)."""
+    from cranepredict.twin.hydraulics import _ValveDrive
+    from cranepredict.twin.rosw import _chord_error
+
+    crane = cp.Crane.patu655()
+    tau = crane.lift_cylinder.hydraulics.spool_time_constant
+    for h, w in ((1.0, 0.01), (0.5, 0.2), (1e-3, 0.004)):
+        drive = _ValveDrive(cp.ValveSeries(t=[0.0, 1.0, 1.0 + w, 1.0 + 2 * w, 2.0],
+                                           u=[0.0, 0.0, h, 0.0, 0.0]), crane.lift_cylinder)
+        assert _chord_error(drive, 0.5, 1.5) == pytest.approx(min(h, h * w / tau), rel=1e-12)
+        # a chord through the samples leaves nothing: the lever is linear between them
+        assert _chord_error(drive, 1.0, 1.0 + w) == 0.0
+    # a ramp across the step is its own chord
+    ramp = _ValveDrive(cp.ValveSeries(t=[0.0, 1.0, 2.0], u=[0.0, 0.5, 1.0]), crane.lift_cylinder)
+    assert _chord_error(ramp, 0.25, 1.75) == pytest.approx(0.0, abs=1e-15)
+
+
 # -- 5. the power balance: tests/test_hydraulics_physics.py::test_power_balance[c-rosw] ---------
 
 # -- 6. bounded work ---------------------------------------------------------------------------

@@ -13,6 +13,7 @@ and the C tests' golden vectors are the twin's numbers)."""
 from __future__ import annotations
 
 import math
+from bisect import bisect_right
 from typing import Callable, List, Optional, Sequence, Tuple
 
 import numpy as np
@@ -20,6 +21,7 @@ import numpy as np
 from ._internal import (EXTENSION, HYD, JOINTS, LIFT, SLEW, SPOOL, TILT, State, _inverse_column,
                         _lu, _lu_solve)
 from .cylinder import friction_rate
+from .hydraulics import _ValveDrive
 from .integrator import RELEASE_BISECTIONS, _next_knot, _physical, _Prediction
 
 #: ROS34PW2 (Rang and Angermann 2005) in Hairer and Wanner's transformed form (spec).
@@ -292,6 +294,67 @@ def _reversal_fraction(pred: _Prediction, x: State, x1: State) -> float:
     return frac
 
 
+def _chord_error(drive: _ValveDrive, a: float, b: float) -> float:
+    """The spool error a step over [a, b] can leave by seeing the lever at its stages only (spec,
+    the drives' rule): the lever's samples inside depart by delta from its chord over the step
+    (delta linear between them, 0 at a and b), which a spool of lag tau follows by at most
+    min(max |delta|, integral |delta| dt / tau) (tau = 0: the spool is the lever)."""
+    times, u = drive.times, drive.u
+    assert times is not None
+    k = bisect_right(times, a)
+    u_a = drive.lever(a)
+    slope = (drive.lever(b) - u_a) / (b - a)
+    t0, d0, peak, area = a, 0.0, 0.0, 0.0
+    while True:
+        t1 = times[k] if k < len(times) and times[k] < b else b
+        d1 = u[k] - (u_a + slope * (t1 - a)) if t1 < b else 0.0
+        m0, m1 = abs(d0), abs(d1)
+        if m0 + m1 > 0:   # a trapezoid, or two triangles where delta changes sign
+            area += (t1 - t0) * ((m0 + m1) / 2 if d0 * d1 >= 0
+                                 else (d0 * d0 + d1 * d1) / (2 * (m0 + m1)))
+        if m1 > peak:
+            peak = m1
+        if not t1 < b:
+            break
+        t0, d0 = t1, d1
+        k += 1
+    tau = drive.tau
+    return area / tau if tau > 0 and area < tau * peak else peak
+
+
+def _step_end(drives: Sequence[object], t: float, t_end: float, dt: float) -> float:
+    """Where a ROS34PW2 step from t to t_end ends (spec, the drives' rule): at a sampled pressure
+    drive's first sample inside (more than dt/1000 from both ends); for a sampled lever, at t_end
+    if _chord_error keeps the spool's tolerance, else at the farthest sample inside where it does
+    (found by bisection over the samples; the lever is linear up to the first)."""
+    lo_t = t + 1e-3 * dt
+    end = t_end
+    for drive in drives:
+        times = getattr(drive, "times", None)
+        if not times:
+            continue
+        if isinstance(drive, _ValveDrive):
+            if _chord_error(drive, t, end) <= SPOOL_TOLERANCE:
+                continue
+            lo = bisect_right(times, lo_t)
+            hi = bisect_right(times, end - 1e-3 * dt)
+            if lo >= hi or times[lo] >= end - 1e-3 * dt:
+                continue
+            hi -= 1
+            while lo < hi:
+                mid = lo + (hi - lo + 1) // 2
+                if _chord_error(drive, t, times[mid]) <= SPOOL_TOLERANCE:
+                    lo = mid
+                else:
+                    hi = mid - 1
+            end = times[lo]
+            continue
+        k = bisect_right(times, lo_t)
+        if k < len(times) and times[k] < end - 1e-3 * dt:
+            end = times[k]
+    return end
+
+
 def integrate(pred: _Prediction, x: State, horizon: float, dt: float, n: int, tip: float,
               pressure: float, record: Callable[[int, float, State], None],
               dopri: bool = False) -> State:
@@ -321,12 +384,13 @@ def integrate(pred: _Prediction, x: State, horizon: float, dt: float, n: int, ti
         if hs >= horizon - t:
             hs = horizon - t
             last = True
-        if dopri:   # the explicit pair's steps end at a sampled drive's knot (spec)
-            t_end = horizon if last else t + hs
-            knot = _next_knot(pred.drives, t, t_end, hs)
-            if knot < t_end:
-                hs = knot - t
-                last = False
+        # the pair's steps end at a sampled drive's knot, ROS34PW2's by the drives' rule (spec)
+        t_end = horizon if last else t + hs
+        knot = (_next_knot(pred.drives, t, t_end, hs) if dopri
+                else _step_end(pred.drives, t, t_end, hs))
+        if knot < t_end:
+            hs = knot - t
+            last = False
         attempts += 1
         if attempts > cap:
             raise ArithmeticError("the error control could not meet the tolerance within the "
