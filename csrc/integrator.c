@@ -37,6 +37,22 @@ typedef struct {
     crane_real key_th[2];
 } dyn;
 
+#if CRANE_ROSW
+/* The Jacobian J of the W-method at a step's start: the stiff parts of f exactly, the rest left
+ * out (a W-method keeps its order with any J): the chambers' slopes (crane__chamber_jacobian),
+ * the oil spring's coupling of the pressures and the joint rates, the friction's damping and the
+ * spool's pole. Not the slopes through the configuration (gravity, volumes, the mass matrix's
+ * change), which are slow. */
+typedef struct {
+    crane_real mp[6], jz;     /* the kernel's mass matrix (mass) and J_z */
+    crane_real ds[4];         /* ds/dq */
+    crane_real fr[4];         /* ds^2 max(dF/dv, 0): the friction's damping of the joint */
+    crane_real ch[4][6];      /* each valve-driven actuator's crane__chamber_jacobian */
+    crane_real area[4][2];    /* A_a ds, -A_b ds: its force's slopes in the pressures, in q terms */
+    crane_real spool[4];      /* 1 / tau of its spool (0 without a lag) */
+} wjac;
+#endif
+
 /* Per-prediction working data, on the caller's stack. */
 typedef struct {
     const crane_inputs *in;
@@ -73,11 +89,18 @@ typedef struct {
     /* its tolerances: tip metres over the crane's reach (angles), tip metres (the extension),
      * Pa (the pressures) */
     crane_real tol_q, tol_tip, tol_p;
-    /* the explicit pair's stages k1..k6 of the step last taken (k7 is its end's rates), for its
-     * dense output */
-    crane_real dk[6][N_MECH];
-    /* and its dense output's coefficients over the step last taken (dense_coefficients) */
-    crane_real dd[3][N_MECH];
+    /* A prediction runs one method: their working data share the storage (the stack). */
+    union {
+        wjac J; /* ROS34PW2's matrix at the step's start (w_matrix) */
+        struct {
+            /* the explicit pair's stages k1..k6 of the step last taken (k7 is its end's rates),
+             * for its dense output */
+            crane_real k[6][N_MECH];
+            /* and its dense output's coefficients over the step last taken
+             * (dense_coefficients) */
+            crane_real d[3][N_MECH];
+        } dp;
+    } work;
 #endif
 } ctx_t;
 
@@ -948,19 +971,6 @@ static const crane_real ROS_EVENT_FRACTION = (crane_real)0.125;
 /* A spool's tolerance (it is dimensionless, in [-1, 1]) */
 static const crane_real ROS_SPOOL_TOLERANCE = (crane_real)1e-3;
 
-/* The Jacobian J of the W-method at a step's start: the stiff parts of f exactly, the rest left
- * out (a W-method keeps its order with any J): the chambers' slopes (crane__chamber_jacobian),
- * the oil spring's coupling of the pressures and the joint rates, the friction's damping and the
- * spool's pole. Not the slopes through the configuration (gravity, volumes, the mass matrix's
- * change), which are slow. */
-typedef struct {
-    crane_real mp[6], jz;     /* the kernel's mass matrix (mass) and J_z */
-    crane_real ds[4];         /* ds/dq */
-    crane_real fr[4];         /* ds^2 max(dF/dv, 0): the friction's damping of the joint */
-    crane_real ch[4][6];      /* each valve-driven actuator's crane__chamber_jacobian */
-    crane_real area[4][2];    /* A_a ds, -A_b ds: its force's slopes in the pressures, in q terms */
-    crane_real spool[4];      /* 1 / tau of its spool (0 without a lag) */
-} wjac;
 
 /* Mp's diagonal entry of in-plane joint j (lift, tilt, extension). */
 static int mp_diag(int j) { return j == CRANE_LIFT ? 0 : j == CRANE_TILT ? 3 : 5; }
@@ -1242,7 +1252,7 @@ static const crane_real DP_DENSE[7] = {
 static CRANE__NOINLINE crane_real dp_step(ctx_t *c, crane_real t, const xstate *x, const xstate *f0,
                                           crane_real h, xstate *y, xstate *fy)
 {
-    crane_real (*const k)[N_MECH] = c->dk, err = 0;
+    crane_real (*const k)[N_MECH] = c->work.dp.k, err = 0;
     int s, i, m;
 
     for (i = 0; i < N_MECH; ++i) {
@@ -1378,15 +1388,15 @@ static void dense_coefficients(ctx_t *c, const xstate *x0, const xstate *x1, con
     int i, m;
 
     for (i = 0; i < N_MECH; ++i) {
-        const crane_real dx = x1->v[i] - x0->v[i], b = h * c->dk[0][i] - dx;
+        const crane_real dx = x1->v[i] - x0->v[i], b = h * c->work.dp.k[0][i] - dx;
         crane_real d = 0;
         for (m = 0; m < 6; ++m) {
-            d += DP_DENSE[m] * c->dk[m][i];
+            d += DP_DENSE[m] * c->work.dp.k[m][i];
         }
         d += DP_DENSE[6] * f1->v[i];
-        c->dd[0][i] = b;
-        c->dd[1][i] = dx - h * f1->v[i] - b;
-        c->dd[2][i] = h * d;
+        c->work.dp.d[0][i] = b;
+        c->work.dp.d[1][i] = dx - h * f1->v[i] - b;
+        c->work.dp.d[2][i] = h * d;
     }
 }
 
@@ -1406,7 +1416,7 @@ static CRANE__NOINLINE void dense_sample(ctx_t *c, crane_real t, const xstate *x
         for (i = 0; i < N_MECH; ++i) {
             xs.v[i] = x0->v[i] +
                       th * ((x1->v[i] - x0->v[i]) +
-                            (1 - th) * (c->dd[0][i] + th * (c->dd[1][i] + (1 - th) * c->dd[2][i])));
+                            (1 - th) * (c->work.dp.d[0][i] + th * (c->work.dp.d[1][i] + (1 - th) * c->work.dp.d[2][i])));
         }
     } else {
         for (i = 0; i < n_used(c); ++i) {
@@ -1522,7 +1532,7 @@ static CRANE__NOINLINE crane_status integrate_rosw(ctx_t *c, xstate *x, crane_re
 {
     const long cap = crane__attempt_cap(horizon) + crane__knot_count(c->in, horizon);
     xstate f0, x1, f1, fs;
-    wjac J;
+    wjac *const J = &c->work.J;
     crane_real t = 0, h = dt < ROS_FIRST_STEP ? dt : ROS_FIRST_STEP, grow = ROS_GROW;
     long attempts = 0, kept = sample_every;
     size_t next = 1;
@@ -1530,7 +1540,7 @@ static CRANE__NOINLINE crane_status integrate_rosw(ctx_t *c, xstate *x, crane_re
 
     release(c, 0, x);
     c->open = 0;
-    step_start(c, 0, x, &f0, 0, &J);
+    step_start(c, 0, x, &f0, 0, J);
     /* an int controls the loop (MISRA 14.1): 0 once the step that ends at the horizon is taken */
     while (more != 0) {
         crane_real hs = h < ROS_MAX_STEP ? h : ROS_MAX_STEP, err, tau = 0;
@@ -1560,7 +1570,7 @@ static CRANE__NOINLINE crane_status integrate_rosw(ctx_t *c, xstate *x, crane_re
             *n_written = next;
             return CRANE_E_TOLERANCE;
         }
-        err = adaptive_step(c, t, x, &f0, &J, hs, &x1, &fs);
+        err = adaptive_step(c, t, x, &f0, J, hs, &x1, &fs);
         if (!(err <= 1)) {
             if (hs <= ROS_MIN_STEP) {
                 /* a stage that is not finite even at the smallest step: the model diverged */
@@ -1610,7 +1620,7 @@ static CRANE__NOINLINE crane_status integrate_rosw(ctx_t *c, xstate *x, crane_re
         if (first >= 0 || chamber >= 0) {
             hs = tau;
             last = 0;
-            (void)adaptive_step(c, t, x, &f0, &J, hs, &x1, &fs);
+            (void)adaptive_step(c, t, x, &f0, J, hs, &x1, &fs);
             changed = 2; /* x1 is not the whole step's */
             if (any_stopped(c) != 0 && release_set(c, t + hs, &x1) != 0) {
                 /* a stopped joint comes free before the event: the release first (below); the
@@ -1633,7 +1643,7 @@ static CRANE__NOINLINE crane_status integrate_rosw(ctx_t *c, xstate *x, crane_re
             int k;
             for (k = 0; k < CRANE__RELEASE_BISECTIONS; ++k) {
                 const crane_real mid = (lo + hi) / 2;
-                (void)adaptive_step(c, t, x, &f0, &J, mid, &f1, &fs);
+                (void)adaptive_step(c, t, x, &f0, J, mid, &f1, &fs);
                 if (release_set(c, t + mid, &f1) != 0) {
                     hi = mid;
                 } else {
@@ -1644,7 +1654,7 @@ static CRANE__NOINLINE crane_status integrate_rosw(ctx_t *c, xstate *x, crane_re
                 last = 0;
             }
             hs = hi;
-            (void)adaptive_step(c, t, x, &f0, &J, hs, &x1, &fs);
+            (void)adaptive_step(c, t, x, &f0, J, hs, &x1, &fs);
             changed = 1;
         }
         spools_in_range(c, &x1);
@@ -1703,7 +1713,7 @@ static CRANE__NOINLINE crane_status integrate_rosw(ctx_t *c, xstate *x, crane_re
         }
         copy_state(c, x, &x1);
         if (last == 0) {
-            step_start(c, t, x, &f0, changed == 0, &J);
+            step_start(c, t, x, &f0, changed == 0, J);
         }
         more = last == 0;
     }
