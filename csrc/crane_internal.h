@@ -445,6 +445,9 @@ void crane__chamber_jacobian(const crane_model *m, int joint, crane_real y, cran
 /* Which limit valve a chamber of actuator joint at p is beyond: -1 the anti-cavitation valve, +1
  * the relief valve, 0 neither; *setting gets the setting of the nearer one. */
 int crane__limit_side(const crane_model *m, int joint, crane_real p, crane_real *setting);
+/* The relief and anti-cavitation valves pass the valve's nominal flow at this much beyond their
+ * settings, Pa (docs/model.md, "Relief, cavitation floor, leakage"). */
+static const crane_real CRANE__LIMIT_OVERRIDE = (crane_real)5e3;
 long crane__substeps(const crane_model *m, const crane_real stroke[4], const int valve[4],
                      crane_real h, crane_real *coef);
 /* Its largest value over every stroke (at the stroke ends, where the chambers are smallest). */

@@ -6,9 +6,7 @@
 #include "crane_internal.h"
 
 #if CRANE_HYDRAULICS
-/* The relief and anti-cavitation valves pass the valve's nominal flow at this much beyond their
- * settings (docs/model.md, "Relief, cavitation floor, leakage"). */
-static const crane_real LIMIT_OVERRIDE = (crane_real)5e3;
+#define LIMIT_OVERRIDE CRANE__LIMIT_OVERRIDE
 
 /* Substeps keep lambda h / n below this: RK4 is stable on the negative real axis up to 2.785,
  * and the 10 % margin covers the chamber volumes changing within a step. */

@@ -993,27 +993,48 @@ static void rates(ctx_t *c, crane_real t, const xstate *x, xstate *f)
     solve(c, NULL, c->d.b, lk, &f->v[W]);
 }
 
-/* Which chambers' limit valves are open at x, f = f(x) (c->open): a chamber beyond its setting,
- * or exactly at it with its rate pointing beyond (the valve opens now). Between steps a chamber
- * crosses a setting only at an event (integrate_rosw), so J's slopes are f's over every step. */
+/* Which chambers' limit valves are open at x, f = f(x) under the modes c->open (which this sets):
+ * a chamber beyond its setting, or at it, with its free rate (f without its limit valve's flow)
+ * pointing beyond; and any chamber beyond its setting by more than the valve's override, where
+ * the valve passes more than its nominal flow. A chamber just beyond, by the finite gradient of a
+ * valve that was open, whose free rate points back (a boom stopped by an impact, the valve's flow
+ * turning) closes now: the valve would close within microseconds (C(V)/G_lim), and open it would
+ * hold the chamber on its setting over the whole step. Between steps a chamber crosses a setting
+ * only at an event (integrate_rosw), so J's slopes are f's over every step. */
 static void limits_open(ctx_t *c, const xstate *x, const xstate *f)
 {
+    const unsigned char was = c->open;
     int k;
 
     c->open = 0;
 #if CRANE_HYDRAULICS
     for (k = 0; k < 8; ++k) {
-        if (valve(c, k >> 1) != 0) {
-            const int i = H + 3 * (k >> 1) + (k & 1);
-            crane_real set;
-            const int side = crane__limit_side(c->lim.m, k >> 1, x->v[i], &set);
-            const int cav = set == crane__circuit(c->lim.m, k >> 1)->cavitation_pressure;
-            if (side != 0 || (x->v[i] == set && (cav != 0 ? f->v[i] < 0 : f->v[i] > 0))) {
+        const int j = k >> 1;
+        if (valve(c, j) != 0) {
+            const crane_real *p = &x->v[H + 3 * j];
+            crane_real set, rate = f->v[H + 3 * j + (k & 1)];
+            const int side = crane__limit_side(c->lim.m, j, p[k & 1], &set);
+            const int cav = set == crane__circuit(c->lim.m, j)->cavitation_pressure;
+            const int near = crane__fabs(p[k & 1] - set) <= CRANE__LIMIT_OVERRIDE;
+            if (((was >> k) & 1u) != 0u && side != 0 && near != 0) {
+                crane_real stroke = 0, lim[2] = {0, 0};
+                if (locked(c, j) != 0) {
+                    stroke = locked_stroke(c, j);
+                } else {
+                    (void)configure(c, x, 1);
+                    (void)ratio(c, j, x->v[Q + j], &stroke);
+                }
+                crane__limit_rates(c->lim.m, j, stroke, p, 1u << (k & 1), lim);
+                rate -= lim[k & 1];
+            }
+            if ((side != 0 || p[k & 1] == set) &&
+                ((cav != 0 ? rate < 0 : rate > 0) || near == 0)) {
                 c->open = (unsigned char)(c->open | (1u << k));
             }
         }
     }
 #else
+    (void)was;
     (void)x;
     (void)f;
     (void)k;

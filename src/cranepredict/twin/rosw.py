@@ -21,7 +21,7 @@ import numpy as np
 from ._internal import (EXTENSION, HYD, JOINTS, LIFT, SLEW, SPOOL, TILT, State, _inverse_column,
                         _lu, _lu_solve)
 from .cylinder import friction_rate
-from .hydraulics import _ValveDrive
+from .hydraulics import LIMIT_OVERRIDE, _ValveDrive
 from .integrator import RELEASE_BISECTIONS, _next_knot, _physical, _Prediction
 
 #: ROS34PW2 (Rang and Angermann 2005) in Hairer and Wanner's transformed form (spec).
@@ -125,8 +125,9 @@ class _Rosw:
         return f
 
     def modes(self, x: State, f: Sequence[float]) -> bool:
-        """The limit valves' modes at a step's start (spec: beyond the nearer setting, or at it
-        with the rate pointing beyond); True if any changed."""
+        """The limit valves' modes at a step's start (spec: beyond the nearer setting, or at it,
+        with the free rate, f without the valve's own flow, pointing beyond; or beyond it by
+        more than the valve's override); True if any changed."""
         pred = self.pred
         changed = False
         for j in JOINTS:
@@ -136,8 +137,12 @@ class _Rosw:
             for side in (0, 1):
                 i = HYD + 2 * j + side
                 beyond, setting = drive.limit_side(x[i])  # type: ignore[union-attr]
-                is_open = beyond != 0 or (x[i] == setting and
-                                          (f[i] < 0.0 if setting == drive.p_c else f[i] > 0.0))  # type: ignore[union-attr]
+                near = abs(x[i] - setting) <= LIMIT_OVERRIDE
+                rate = f[i]
+                if self.open[j][side] and beyond != 0 and near:   # the open valve's flow out
+                    rate -= drive.limit_rate(pred.stroke(j, x[j]), side, x[i])  # type: ignore[union-attr]
+                pointing = rate < 0.0 if setting == drive.p_c else rate > 0.0  # type: ignore[union-attr]
+                is_open = (beyond != 0 or x[i] == setting) and (pointing or not near)
                 changed = changed or is_open != self.open[j][side]
                 self.open[j][side] = is_open
         return changed
