@@ -29,6 +29,13 @@ tip distance over the N random planar cases (random_case, pressure drives). (The
 attempts is not reported by the API; the time is what it costs.)
 
     python tools/dt_study.py --method default [--random 60] [--seed 1]
+
+--method harsh: the default method at its default tolerance over N futures of harsh levers
+(harsh_case: taps of 3 ms to 0.3 s, slams between -1, 0 and +1, strokes on or 1 mm off their
+stops, half of them four-joint): the worst tip, the worst chamber pressures of the booms and of
+the slew and the telescope, and each future over 1 mm or 0.5 bar.
+
+    python tools/dt_study.py --method harsh --random 320 --seed 1
 """
 import argparse
 import sys
@@ -84,6 +91,50 @@ def random_case4(rng, crane):
         drives = {j: _lever(rng) for j in JOINTS}
         if any(not (isinstance(drives[j], cp.Valve) and drives[j].u == 0.0) for j in ("slew", "extension")):
             return c, initial, cp.Inputs(**drives)
+
+
+def _harsh_lever(rng):
+    """A lever as an operator at its worst: fully open, closed or anywhere, held; 1-3 taps
+    (3 ms to 0.3 s, ramps of 1 ms) to -1, +1 or anywhere from neutral; or 2-7 samples slamming
+    between -1, 0 and +1."""
+    kind = rng.integers(0, 3)
+    if kind == 0:
+        return cp.Valve(float(rng.choice([-1.0, 0.0, 1.0, rng.uniform(-1, 1)])))
+    if kind == 1:
+        t, u = [0.0], [0.0]
+        for start in np.sort(rng.uniform(0.05, HORIZON - 0.1, int(rng.integers(1, 4)))):
+            width = float(rng.choice([0.003, 0.01, 0.03, 0.1, 0.3]))
+            level = float(rng.choice([-1.0, 1.0, rng.uniform(-1, 1)]))
+            knots = ((start, 0.0), (start + 1e-3, level), (start + 1e-3 + width, level),
+                     (start + 2e-3 + width, 0.0))
+            if start > t[-1] and knots[-1][0] < HORIZON:
+                for tk, uk in knots:
+                    t.append(tk)
+                    u.append(uk)
+        return cp.ValveSeries(t=np.array(t + [HORIZON]), u=np.array(u + [0.0]))
+    n = int(rng.integers(2, 8))
+    t = np.unique(np.concatenate([[0.0], np.sort(rng.uniform(0, HORIZON, n - 2)), [HORIZON]]))
+    return cp.ValveSeries(t=t, u=rng.choice([-1.0, 0.0, 1.0], t.size))
+
+
+def harsh_case(rng, crane):
+    """(crane, initial, inputs): harsh levers on lift and tilt (_harsh_lever); half the cases
+    four-joint (random_case4's pose, slew and telescope levers), half planar from rest with the
+    strokes anywhere, on their stops or 1 mm off them."""
+    if rng.uniform() < 0.5:
+        c, initial, inputs = random_case4(rng, crane)
+        return c, initial, cp.Inputs(lift=_harsh_lever(rng), tilt=_harsh_lever(rng),
+                                     slew=inputs.slew, extension=inputs.extension)
+    while True:
+        c = crane.with_load(float(rng.uniform(0, 500)))
+        strokes = [float(rng.choice([rng.uniform(cyl.stroke_min, cyl.stroke_max), cyl.stroke_min,
+                                     cyl.stroke_max, cyl.stroke_min + 1e-3, cyl.stroke_max - 1e-3]))
+                   for cyl in (c.lift_cylinder, c.tilt_cylinder)]
+        try:
+            initial = cp.state_at_rest(c, *strokes)
+        except ValueError:      # the balance needs a pressure out of range at this pose
+            continue
+        return c, initial, cp.Inputs(lift=_harsh_lever(rng), tilt=_harsh_lever(rng))
 
 
 def _best_time(f, repeat=3):
@@ -154,17 +205,51 @@ def default_study(n_random: int, seed: int) -> int:
     return 0
 
 
+def harsh_study(n: int, seed: int) -> int:
+    """The default method at its default tolerance over n harsh lever futures (harsh_case): the
+    worst tip, the worst chamber pressure of the booms and of the slew and telescope, and the
+    futures over 1 mm or 0.5 bar."""
+    warnings.simplefilter("ignore", UserWarning)
+    every = round(cp.DEFAULT_DT / REF_DT)
+    rng = np.random.default_rng(seed)
+    worst = {"tip": (0.0, -1), "booms": (0.0, -1), "slew, telescope": (0.0, -1)}
+    over = 0
+    for k in range(n):
+        crane, initial, inputs = harsh_case(rng, cp.Crane.patu655())
+        ref = cp.predict(crane, initial, inputs, HORIZON, dt=REF_DT, method="rk4",
+                         sample_every=every)
+        tr = cp.predict(crane, initial, inputs, HORIZON)
+        dp = np.maximum(np.abs(tr.p_a - ref.p_a), np.abs(tr.p_b - ref.p_b)).max(axis=0)
+        errors = {"tip": float(np.max(np.linalg.norm(tr.tip - ref.tip, axis=1))),
+                  "booms": float(dp[:2].max()), "slew, telescope": float(dp[2:].max())}
+        for key, e in errors.items():
+            if e > worst[key][0]:
+                worst[key] = (e, k)
+        if errors["tip"] > 1e-3 or max(errors["booms"], errors["slew, telescope"]) > 0.5e5:
+            over += 1
+            print(f"case {k}: tip {errors['tip'] * 1e3:.3f} mm, booms {errors['booms'] / 1e5:.2f} "
+                  f"bar, slew and telescope {errors['slew, telescope'] / 1e5:.2f} bar", flush=True)
+    print(f"{n} harsh lever futures (seed {seed}): worst tip {worst['tip'][0] * 1e3:.3f} mm "
+          f"(case {worst['tip'][1]}), booms' pressures {worst['booms'][0] / 1e5:.2f} bar (case "
+          f"{worst['booms'][1]}), slew's and telescope's {worst['slew, telescope'][0] / 1e5:.2f} "
+          f"bar (case {worst['slew, telescope'][1]}); {over} over 1 mm or 0.5 bar")
+    return 0
+
+
 def main() -> int:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("--method", choices=("rk4", "default"), default="rk4",
+    ap.add_argument("--method", choices=("rk4", "default", "harsh"), default="rk4",
                     help="rk4: sweep RK4's step; default: sweep the default method's "
-                         "tolerance (named scenarios, then random planar cases)")
+                         "tolerance (named scenarios, then random planar cases); harsh: the "
+                         "default method over --random harsh lever futures")
     ap.add_argument("--random", type=int, default=30, help="random planar cases (random_case)")
     ap.add_argument("--random4", type=int, default=10, help="random four-joint valve-driven cases")
     ap.add_argument("--seed", type=int, default=5)
     args = ap.parse_args()
     if args.method == "default":
         return default_study(args.random, args.seed)
+    if args.method == "harsh":
+        return harsh_study(args.random, args.seed)
     cases = []   # (name, four-joint?, crane, initial, inputs)
     for n in cp.scenarios.names():
         s = cp.scenarios.get(n)
