@@ -88,6 +88,15 @@ def test_a_valve_drive_is_refused_before_any_work(backend):
         cp.predict(sc.crane, sc.initial, sc.inputs, sc.horizon, method="dopri5", backend=backend)
 
 
+def test_a_valve_drive_in_a_batch_is_refused_naming_its_future():
+    sc = scenarios.get("lever-open")
+    paper = scenarios.get("paper-fig4")
+    with pytest.raises(ValueError, match=r"future 1 \(inputs_list\[1\]\): method 'dopri5' is "
+                                         r"for futures without valve drives \(inputs.lift"):
+        cp.predict_many(sc.crane, [paper.initial, sc.initial], [paper.inputs, sc.inputs], 0.5,
+                        method="dopri5")
+
+
 def _release_case():
     """The lift rests on its lower stop (it hit it at 1.2 s); the tilt swings towards its own
     stop. In the converged run the lift is pushed off its stop at about 1.55 s, before the tilt

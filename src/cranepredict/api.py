@@ -542,8 +542,12 @@ def predict_many(crane: Crane, initials: Sequence[State], inputs_list: Sequence[
     if len(initials) != len(inputs_list):
         raise ValueError(f"initials and inputs_list must have the same length, got "
                          f"{len(initials)} and {len(inputs_list)}")
-    for one in inputs_list:
-        solver.check_inputs(method, one)
+    if method == "dopri5":
+        for k, one in enumerate(inputs_list):
+            try:
+                solver.check_inputs(method, one)
+            except ValueError as e:
+                raise ValueError(f"future {k} (inputs_list[{k}]): {e}") from None
     f = len(initials)
     per_future = kept_samples(n_steps, int(sample_every))
     if f * per_future > MAX_SAMPLES:
