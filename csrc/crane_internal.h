@@ -432,19 +432,25 @@ void crane__limit_valves(const crane__limits *l, crane_real dt, crane_real *p, i
 /* The relief and anti-cavitation valves' flows as rates (the error-controlled method integrates
  * them with the chamber equations, docs/model.md "Integration"): subtracts G_lim (p - setting) /
  * C(V) from each chamber whose valve is open (bit 0 the a side, bit 1 the b side; the setting the
- * nearer one, crane__limit_side). A valve's opening and closing are events of the integrator: a
- * step keeps each valve as it was at its start, so that its rates stay smooth over the step. */
+ * nearer one, crane__limit_side), and the vacuum floor's FLOOR_GAIN G_lim (p - knee) / C(V) where
+ * it is held in (bit 2 the a side, bit 3 the b side). A valve's opening and closing and a floor's
+ * knee are events of the integrator: a step keeps each mode as it was at its start, so that its
+ * rates stay smooth over the step. */
 void crane__limit_rates(const crane_model *m, int joint, crane_real stroke, const crane_real p[2],
                         unsigned open, crane_real rate[2]);
 /* The chamber equations' Jacobian of actuator joint at spool y, the stroke and pressures p:
  * jac = (dpa'/dpa, dpa'/dpb, dpb'/dpa, dpb'/dpb, dpa'/dv, dpb'/dv), v the stroke rate; the valve's
  * pressure slopes, the leakage and the slopes of the limit valves open (bit 0: the a side's, bit 1
- * the b side's), not the spool's. */
+ * the b side's) and of the vacuum floors held in (bit 2: the a side's, bit 3 the b side's), not the
+ * spool's. */
 void crane__chamber_jacobian(const crane_model *m, int joint, crane_real y, crane_real stroke,
                              const crane_real p[2], unsigned open, crane_real jac[6]);
 /* Which limit valve a chamber of actuator joint at p is beyond: -1 the anti-cavitation valve, +1
  * the relief valve, 0 neither; *setting gets the setting of the nearer one. */
 int crane__limit_side(const crane_model *m, int joint, crane_real p, crane_real *setting);
+/* The vacuum floor's knee of actuator joint's chambers, Pa: the cavitation pressure less the
+ * floor's margin (docs/model.md, "The vacuum floor"). */
+crane_real crane__floor_knee(const crane_model *m, int joint);
 /* The relief and anti-cavitation valves pass the valve's nominal flow at this much beyond their
  * settings, Pa (docs/model.md, "Relief, cavitation floor, leakage"). */
 static const crane_real CRANE__LIMIT_OVERRIDE = (crane_real)5e3;

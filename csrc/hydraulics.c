@@ -8,6 +8,15 @@
 #if CRANE_HYDRAULICS
 #define LIMIT_OVERRIDE CRANE__LIMIT_OVERRIDE
 
+/* The vacuum floor (docs/model.md, "Relief, cavitation floor, leakage"): a chamber more than
+ * FLOOR_MARGIN below its cavitation pressure is one that the anti-cavitation valve cannot fill
+ * (an impact empties it at several times the valve's nominal flow); the oil would cavitate. A
+ * make-up flow FLOOR_GAIN times the valve's gradient holds it there, within FLOOR_MARGIN +
+ * Q / (FLOOR_GAIN G_lim) of the cavitation pressure, above vacuum. */
+static const crane_real FLOOR_MARGIN = (crane_real)8e3;
+static const crane_real FLOOR_GAIN = 100;
+
+
 /* Substeps keep lambda h / n below this: RK4 is stable on the negative real axis up to 2.785,
  * and the 10 % margin covers the chamber volumes changing within a step. */
 static const crane_real SUBSTEP_STABILITY = (crane_real)2.5;
@@ -152,6 +161,20 @@ void crane__chamber_rates(const crane_model *m, int joint, crane_real lever, cra
 }
 
 #if CRANE_ROSW
+/* The flow out of a chamber at p through its open limit valve (setting: the valve's): G_lim
+ * (p - setting), and with its vacuum floor held in (floor != 0: ROS34PW2's mode over the step)
+ * FLOOR_GAIN G_lim (p - knee) more. */
+static crane_real limit_outflow(const crane_hydraulics *h, crane_real g, crane_real p,
+                                crane_real setting, unsigned floor)
+{
+    crane_real q = g * (p - setting);
+
+    if (floor != 0u) {
+        q += FLOOR_GAIN * g * (p - (h->cavitation_pressure - FLOOR_MARGIN));
+    }
+    return q;
+}
+
 /* d g(dp) / d dp of orifice (the root's slope, the cubic's inside d_l). */
 static CRANE__ALWAYS_INLINE crane_real orifice_slope(crane_real dp, crane_real dl)
 {
@@ -214,17 +237,17 @@ void crane__limit_rates(const crane_model *m, int joint, crane_real stroke, cons
     const crane_real g = h->nominal_flow / LIMIT_OVERRIDE;   /* G_lim */
     crane_real v_a, v_b, set, ab[4];
 
-    if (open == 0u) {
+    if ((open & 3u) == 0u) {
         return;
     }
     volumes(m, joint, h, stroke, ab, &v_a, &v_b);
     if ((open & 1u) != 0u) {
         (void)crane__limit_side(m, joint, p[0], &set);
-        rate[0] -= g * (p[0] - set) / compliance(h, v_a, h->hose_volume_a);
+        rate[0] -= limit_outflow(h, g, p[0], set, open & 4u) / compliance(h, v_a, h->hose_volume_a);
     }
     if ((open & 2u) != 0u) {
         (void)crane__limit_side(m, joint, p[1], &set);
-        rate[1] -= g * (p[1] - set) / compliance(h, v_b, h->hose_volume_b);
+        rate[1] -= limit_outflow(h, g, p[1], set, open & 8u) / compliance(h, v_b, h->hose_volume_b);
     }
 }
 
@@ -240,6 +263,11 @@ int crane__limit_side(const crane_model *m, int joint, crane_real p, crane_real 
     return p > h->relief_pressure ? 1 : 0;
 }
 
+crane_real crane__floor_knee(const crane_model *m, int joint)
+{
+    return crane__circuit(m, joint)->cavitation_pressure - FLOOR_MARGIN;
+}
+
 void crane__chamber_jacobian(const crane_model *m, int joint, crane_real y, crane_real stroke,
                              const crane_real p[2], unsigned open, crane_real jac[6])
 {
@@ -253,12 +281,13 @@ void crane__chamber_jacobian(const crane_model *m, int joint, crane_real y, cran
     c_b = compliance(h, v_b, h->hose_volume_b);
     valve_slopes(h, y, p[0], p[1], &da, &db);
     /* an open limit valve adds its slope G_lim (open: the caller's judgement, bit 0 the a side,
-     * bit 1 the b side; crane__limit_side) */
+     * bit 1 the b side; crane__limit_side), and its vacuum floor's where the caller holds it in
+     * (bits 2 and 3: the chamber below the floor's knee over the step) */
     if ((open & 1u) != 0u) {
-        da -= g;
+        da -= (open & 4u) != 0u ? (1 + FLOOR_GAIN) * g : g;
     }
     if ((open & 2u) != 0u) {
-        db += g;
+        db += (open & 8u) != 0u ? (1 + FLOOR_GAIN) * g : g;
     }
     jac[0] = (da - l) / c_a;
     jac[1] = l / c_a;
@@ -279,6 +308,8 @@ void crane__limit_valves(const crane__limits *l, crane_real dt, crane_real *p, i
             const crane_hydraulics *const h = crane__circuit(l->m, i >> 1);
             crane_real *const pk = &p[stride * (i >> 1) + (i & 1)];
             /* the setting the pressure is beyond (none: ref = p, which leaves p exactly) */
+            const crane_real p0 = *pk, a = dt * l->coef[i];
+            const crane_real knee = h->cavitation_pressure - FLOOR_MARGIN;
             crane_real ref = h->cavitation_pressure;
             if (*pk > ref) {
                 ref = h->relief_pressure;
@@ -287,6 +318,12 @@ void crane__limit_valves(const crane__limits *l, crane_real dt, crane_real *p, i
                 }
             }
             *pk = ref + (*pk - ref) / (1 + dt * l->coef[i]);
+            if (*pk < knee) {
+                /* beyond the vacuum floor's knee: implicit Euler with the floor's flow as well
+                 * (piecewise linear, so the end below the knee is the one solution) */
+                *pk = (p0 + a * h->cavitation_pressure + FLOOR_GAIN * a * knee) /
+                      (1 + a + FLOOR_GAIN * a);
+            }
         }
     }
 }

@@ -86,6 +86,8 @@ typedef struct {
     /* bit 2j + side: that chamber's relief or anti-cavitation valve is open over the step
      * (limits_open) */
     unsigned char open;
+    /* bit 2j + side: that chamber's vacuum floor is in J over the step (floors_in) */
+    unsigned char floor;
     /* its tolerances: tip metres over the crane's reach (angles), tip metres (the extension),
      * Pa (the pressures) */
     crane_real tol_q, tol_tip, tol_p;
@@ -105,6 +107,15 @@ typedef struct {
 } ctx_t;
 
 static int locked(const ctx_t *c, int j) { return c->mode[j] != CRANE__FREE; }
+
+#if CRANE_ROSW
+/* Actuator j's limit valves' modes as crane__limit_rates and crane__chamber_jacobian take them:
+ * bits 0 and 1 its chambers' valves open, bits 2 and 3 their vacuum floors held in. */
+static unsigned limit_modes(const ctx_t *c, int j)
+{
+    return (((unsigned)c->open >> (2 * j)) & 3u) | ((((unsigned)c->floor >> (2 * j)) & 3u) << 2);
+}
+#endif
 
 static int valve(const ctx_t *c, int j) { return (int)((c->lim.valves >> j) & 1u); }
 
@@ -245,7 +256,7 @@ static CRANE__ALWAYS_INLINE void valve_rates(ctx_t *c, crane_real t, xstate *x, 
     crane__chamber_rates(c->lim.m, j, lever(c, j, t), s, v, &x->v[H + 3 * j], x->v[H + 3 * j + 2], r);
 #if CRANE_ROSW
     if (c->rosw != 0u) {
-        crane__limit_rates(c->lim.m, j, s, &x->v[H + 3 * j], (c->open >> (2 * j)) & 3u, r);
+        crane__limit_rates(c->lim.m, j, s, &x->v[H + 3 * j], limit_modes(c, j), r);
     }
 #endif
     for (k = 0; k < 3; ++k) {
@@ -1083,7 +1094,7 @@ static CRANE__NOINLINE void w_matrix(ctx_t *c, crane_real t, const xstate *x, wj
             const crane_real tau = h->spool_time_constant;
             crane_real a_a, a_b;
             crane__chamber_jacobian(m, j, tau > 0 ? x->v[H + 3 * j + 2] : lever(c, j, t), stroke,
-                                    &x->v[H + 3 * j], (c->open >> (2 * j)) & 3u, J->ch[j]);
+                                    &x->v[H + 3 * j], limit_modes(c, j), J->ch[j]);
             crane__actuator_areas(m, j, &a_a, &a_b);
             J->area[j][0] = a_a * J->ds[j];
             J->area[j][1] = -a_b * J->ds[j];
@@ -1163,12 +1174,39 @@ static crane_real tolerance(const ctx_t *c, int i)
     return (i - H) % 3 == 2 ? ROS_SPOOL_TOLERANCE : c->tol_p;
 }
 
+/* Which chambers' vacuum floors J holds over the step from x, f = f(x) under the limit valves'
+ * modes: an open anti-cavitation valve's chamber below the floor's knee, or at it with its rate
+ * pointing below. Between steps a chamber crosses the knee only at an event (chamber_crossing),
+ * so J's slopes are f's over every step. */
+static void floors_in(ctx_t *c, const xstate *x, const xstate *f)
+{
+    int k;
+
+    c->floor = 0;
+#if CRANE_HYDRAULICS
+    for (k = 0; k < 8; ++k) {
+        if (((c->open >> k) & 1u) != 0u) {
+            const int j = k >> 1;
+            const crane_real p = x->v[H + 3 * j + (k & 1)];
+            const crane_real knee = crane__floor_knee(c->lim.m, j);
+            if (p < knee || (p == knee && f->v[H + 3 * j + (k & 1)] < 0)) {
+                c->floor = (unsigned char)(c->floor | (1u << k));
+            }
+        }
+    }
+#else
+    (void)x;
+    (void)f;
+    (void)k;
+#endif
+}
+
 /* A step's start at (t, x): the limit valves' modes (limits_open, from f = f(t, x) as the last
  * step left it, or computed here if valid is 0), f under them and J (the last rates were at x,
  * leaving its J_z in c->d). */
 static void step_start(ctx_t *c, crane_real t, const xstate *x, xstate *f, int valid, wjac *J)
 {
-    const unsigned char open = c->open;
+    const unsigned char open = c->open, floor = c->floor;
 
     if (valid == 0) {
         rates(c, t, x, f);
@@ -1176,6 +1214,10 @@ static void step_start(ctx_t *c, crane_real t, const xstate *x, xstate *f, int v
     limits_open(c, x, f);
     if (c->open != open) {
         rates(c, t, x, f); /* under the new modes */
+    }
+    floors_in(c, x, f);
+    if (c->floor != floor) {
+        rates(c, t, x, f); /* under the new floors */
     }
     if (c->dopri == 0u) {
         w_matrix(c, t, x, J);
@@ -1509,11 +1551,12 @@ static int first_crossing(const ctx_t *c, const xstate *x, const xstate *x1, cra
 }
 
 /* The first chamber (by crossing time) whose limit valve the step from x to x1 of size h opens
- * or closes against c->open, and the crossing time (the pressure's linear interpolation on the
- * step; *tau is only lowered); its index H + 3j + side, or -1. A crossing at the step's start
- * (a chamber exactly at its setting) is none: the step is taken as it is. */
+ * or closes against c->open, or whose vacuum floor's knee it crosses against c->floor, and the
+ * crossing time (the pressure's linear interpolation on the step; *tau is only lowered); its index
+ * H + 3j + side, or -1, and *at the setting or the knee crossed. A crossing at the step's start
+ * (a chamber exactly at its setting or knee) is none: the step is taken as it is. */
 static int chamber_crossing(const ctx_t *c, const xstate *x, const xstate *x1, crane_real h,
-                            crane_real *tau)
+                            crane_real *tau, crane_real *at)
 {
     int k, first = -1;
 
@@ -1522,15 +1565,27 @@ static int chamber_crossing(const ctx_t *c, const xstate *x, const xstate *x1, c
         if (valve(c, k >> 1) != 0) {
             const int i = H + 3 * (k >> 1) + (k & 1);
             const int open = (c->open >> k) & 1;
+            const crane_real knee = crane__floor_knee(c->lim.m, k >> 1);
             crane_real set, tk;
             const int side = crane__limit_side(c->lim.m, k >> 1, x1->v[i], &set);
-            if ((open != 0) == (side != 0) || x1->v[i] == x->v[i]) {
+            if (x1->v[i] == x->v[i]) {
                 continue;
             }
-            tk = h * ((x->v[i] - set) / (x->v[i] - x1->v[i]));
-            if (tk > h * (crane_real)1e-3 && tk < *tau) {
-                *tau = tk;
-                first = i;
+            if ((open != 0) != (side != 0)) {
+                tk = h * ((x->v[i] - set) / (x->v[i] - x1->v[i]));
+                if (tk > 0 && tk < *tau) {
+                    *tau = tk;
+                    *at = set;
+                    first = i;
+                }
+            }
+            if (open != 0 && ((c->floor >> k) & 1u) != (x1->v[i] < knee ? 1u : 0u)) {
+                tk = h * ((x->v[i] - knee) / (x->v[i] - x1->v[i]));
+                if (tk > 0 && tk < *tau) {
+                    *tau = tk;
+                    *at = knee;
+                    first = i;
+                }
             }
         }
     }
@@ -1540,6 +1595,7 @@ static int chamber_crossing(const ctx_t *c, const xstate *x, const xstate *x1, c
     (void)x1;
     (void)h;
     (void)tau;
+    (void)at;
     (void)k;
 #endif
     return first;
@@ -1561,10 +1617,11 @@ static CRANE__NOINLINE crane_status integrate_rosw(ctx_t *c, xstate *x, crane_re
 
     release(c, 0, x);
     c->open = 0;
+    c->floor = 0;
     step_start(c, 0, x, &f0, 0, J);
     /* an int controls the loop (MISRA 14.1): 0 once the step that ends at the horizon is taken */
     while (more != 0) {
-        crane_real hs = h < ROS_MAX_STEP ? h : ROS_MAX_STEP, err, tau = 0;
+        crane_real hs = h < ROS_MAX_STEP ? h : ROS_MAX_STEP, err, tau = 0, at = 0;
         int last = 0, first, chamber, upper = 0, changed = 0, i;
 
         if (hs >= horizon - t) {
@@ -1626,7 +1683,7 @@ static CRANE__NOINLINE crane_status integrate_rosw(ctx_t *c, xstate *x, crane_re
          * and the joint goes onto its stop, the chamber onto the setting */
         tau = hs;
         first = first_crossing(c, x, &x1, hs, &tau, &upper);
-        chamber = chamber_crossing(c, x, &x1, hs, &tau);
+        chamber = chamber_crossing(c, x, &x1, hs, &tau, &at);
         if (chamber >= 0) {
             first = -1;
         }
@@ -1651,9 +1708,7 @@ static CRANE__NOINLINE crane_status integrate_rosw(ctx_t *c, xstate *x, crane_re
             }
 #if CRANE_HYDRAULICS
             if (chamber >= 0) {
-                crane_real set;
-                (void)crane__limit_side(c->lim.m, (chamber - H) / 3, x1.v[chamber], &set);
-                x1.v[chamber] = set;
+                x1.v[chamber] = at;
                 changed = 1;
             }
 #endif

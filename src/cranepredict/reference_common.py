@@ -50,6 +50,11 @@ P_UNIT = 1e6
 #: Pa beyond its setting at which a relief or anti-cavitation valve passes the nominal flow
 #: (docs/model.md, "Relief, cavitation floor, leakage").
 LIMIT_OVERRIDE = 5e3
+#: The vacuum floor: below the cavitation pressure by more than FLOOR_MARGIN (Pa), a make-up flow
+#: FLOOR_GAIN times the anti-cavitation valve's gradient more (docs/model.md, "Relief, cavitation
+#: floor, leakage").
+FLOOR_MARGIN = 8e3
+FLOOR_GAIN = 100.0
 
 
 def available() -> bool:
@@ -261,10 +266,12 @@ def valve_flows(c: Circuit, y: float, pa: float, pb: float) -> Tuple[float, floa
 
 
 def limit_flow(c: Circuit, p: float) -> float:
-    """Flow into a chamber through its anti-cavitation (below p_cavitation) and relief (above
-    p_relief) valves, m^3/s."""
+    """Flow into a chamber through its anti-cavitation (below p_cavitation, with the vacuum
+    floor's below its knee) and relief (above p_relief) valves, m^3/s."""
     if p < c.p_cavitation:
-        return c.g_limit * (c.p_cavitation - p)
+        knee = c.p_cavitation - FLOOR_MARGIN
+        return c.g_limit * (c.p_cavitation - p) + (FLOOR_GAIN * c.g_limit * (knee - p)
+                                                    if p < knee else 0.0)
     if p > c.p_relief:
         return -c.g_limit * (p - c.p_relief)
     return 0.0

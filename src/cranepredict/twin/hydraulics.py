@@ -14,6 +14,11 @@ from .cylinder import piston_areas
 #: The relief and anti-cavitation valves pass the valve's nominal flow this far beyond their
 #: settings, Pa (docs/model.md, "Relief, cavitation floor, leakage").
 LIMIT_OVERRIDE = 5e3
+#: The vacuum floor: a chamber more than FLOOR_MARGIN (Pa) below its cavitation pressure is held
+#: by a make-up flow FLOOR_GAIN times the limit valve's gradient (docs/model.md, "Relief,
+#: cavitation floor, leakage").
+FLOOR_MARGIN = 8e3
+FLOOR_GAIN = 100.0
 
 #: Substeps keep lambda h/n below this (RK4 is stable on the negative real axis up to 2.785).
 SUBSTEP_STABILITY = 2.5
@@ -163,10 +168,31 @@ class _ValveDrive:
             return (-1 if p < self.p_c else 0), self.p_c
         return (1 if p > self.p_r else 0), self.p_r
 
-    def limit_rate(self, stroke: float, side: int, p: float) -> float:
-        """-G_lim (p - setting) / C(V): an open limit valve's flow as the chamber's rate."""
+    def limit_outflow(self, p: float, floor: bool = False) -> float:
+        """G_lim (p - setting): the flow out of a chamber through its open limit valve, and with
+        its vacuum floor held in (ROS34PW2's mode over the step) FLOOR_GAIN G_lim (p - knee)
+        more."""
+        g = self.limit_gradient
+        q = g * (p - self.limit_side(p)[1])
+        if floor:
+            q += FLOOR_GAIN * g * (p - (self.p_c - FLOOR_MARGIN))
+        return q
+
+    @property
+    def floor_knee(self) -> float:
+        """The vacuum floor's knee, Pa: the cavitation pressure less FLOOR_MARGIN."""
+        return self.p_c - FLOOR_MARGIN
+
+    def limit_slope(self, floor: bool) -> float:
+        """An open limit valve's slope in ROS34PW2's matrix: G_lim, (1 + FLOOR_GAIN) G_lim with
+        the chamber's vacuum floor held in over the step."""
+        g = self.limit_gradient
+        return (1.0 + FLOOR_GAIN) * g if floor else g
+
+    def limit_rate(self, stroke: float, side: int, p: float, floor: bool = False) -> float:
+        """-limit_outflow(p, floor) / C(V): an open limit valve's flow as the chamber's rate."""
         volume = self.volumes(stroke)[side]
-        return -self.limit_gradient * (p - self.limit_side(p)[1]) / self.compliance(volume, side)
+        return -self.limit_outflow(p, floor) / self.compliance(volume, side)
 
     def limit_coefficients(self, stroke: float) -> Tuple[float, float]:
         """G_lim / C(V) of both chambers at a stroke: the rates of limit_valves."""
@@ -178,11 +204,16 @@ class _ValveDrive:
                      p_b: float) -> Tuple[float, float]:
         """The relief and anti-cavitation valves over dt (docs/model.md, "Relief, cavitation
         floor, leakage"): implicit Euler of dp/dt = Q_lim(p)/C(V) for each chamber alone, with
-        the rates coef = G_lim/C(V) at the substep's start."""
+        the rates coef = G_lim/C(V) at the substep's start, the vacuum floor's included."""
         out = []
+        knee = self.p_c - FLOOR_MARGIN
         for p, c in zip((p_a, p_b), coef):
             ref = self.p_c if p < self.p_c else self.p_r if p > self.p_r else p
-            out.append(ref + (p - ref) / (1.0 + dt * c))
+            q = ref + (p - ref) / (1.0 + dt * c)
+            if q < knee:        # the vacuum floor's flow as well (piecewise linear: one solution)
+                a = dt * c
+                q = (p + a * self.p_c + FLOOR_GAIN * a * knee) / (1.0 + a + FLOOR_GAIN * a)
+            out.append(q)
         return out[0], out[1]
 
     def rates(self, t: float, stroke: float, v: float, p_a: float, p_b: float,

@@ -44,7 +44,7 @@ GROW = 5.0
 SAFETY = 0.9
 EVENT_FRACTION = 0.125
 SPOOL_TOLERANCE = 1e-3
-CHAMBER_EVENT_MIN = 1e-3
+CHAMBER_EVENT_MIN = 0.0
 
 #: DOPRI5(4) (Dormand and Prince; Hairer, Norsett and Wanner I, II.5): nodes, stage rows (the
 #: seventh row is the solution's weights b), the error's weights d = b - b^ (spec).
@@ -90,6 +90,8 @@ class _Rosw:
         model = pred.model
         #: open[j][side]: that chamber's limit valve is open over the current step
         self.open = [[False, False] for _ in JOINTS]
+        #: floor[j][side]: that chamber's vacuum floor is in the matrix over the current step
+        self.floor = [[False, False] for _ in JOINTS]
         reach = math.hypot(*model.tilt_pivot) + math.hypot(
             model.extension_mount[0] + model.extension_limits[1] + model.tip_distance,
             model.extension_mount[1])
@@ -121,7 +123,7 @@ class _Rosw:
                     for side in (0, 1):
                         if self.open[j][side]:
                             i = HYD + 2 * j + side
-                            f[i] += drive.limit_rate(stroke, side, x[i])  # type: ignore[union-attr]
+                            f[i] += drive.limit_rate(stroke, side, x[i], self.floor[j][side])  # type: ignore[union-attr]
         return f
 
     def modes(self, x: State, f: Sequence[float]) -> bool:
@@ -145,6 +147,21 @@ class _Rosw:
                 is_open = (beyond != 0 or x[i] == setting) and (pointing or not near)
                 changed = changed or is_open != self.open[j][side]
                 self.open[j][side] = is_open
+        return changed
+
+    def floors(self, x: State, f: Sequence[float]) -> bool:
+        """The vacuum floors held in over a step (spec: an open limit valve's chamber below the
+        floor's knee, or at it with its rate f pointing below); True if any changed."""
+        pred = self.pred
+        changed = False
+        for j in JOINTS:
+            for side in (0, 1):
+                i = HYD + 2 * j + side
+                knee = pred.drives[j].floor_knee if pred.valve[j] else 0.0  # type: ignore[union-attr]
+                held = bool(pred.valve[j] and self.open[j][side] and
+                            (x[i] < knee or (x[i] == knee and f[i] < 0.0)))
+                changed = changed or held != self.floor[j][side]
+                self.floor[j][side] = held
         return changed
 
     def matrix(self, t: float, x: State) -> np.ndarray:
@@ -188,13 +205,14 @@ class _Rosw:
             c_a, c_b = drive.compliances(stroke)  # type: ignore[union-attr]
             y = x[SPOOL + j] if drive.tau > 0.0 else drive.lever(t)  # type: ignore[union-attr]
             d_a, d_b = drive.flow_slopes(y, x[HYD + 2 * j], x[HYD + 2 * j + 1])  # type: ignore[union-attr]
-            g = drive.limit_gradient  # type: ignore[union-attr]
             leak = drive.leakage  # type: ignore[union-attr]
             a, b = HYD + 2 * j, HYD + 2 * j + 1
-            J[a, a] = (d_a - leak - (g if self.open[j][0] else 0.0)) / c_a
+            g_a = drive.limit_slope(self.floor[j][0]) if self.open[j][0] else 0.0  # type: ignore[union-attr]
+            g_b = drive.limit_slope(self.floor[j][1]) if self.open[j][1] else 0.0  # type: ignore[union-attr]
+            J[a, a] = (d_a - leak - g_a) / c_a
             J[a, b] = leak / c_a
             J[b, a] = leak / c_b
-            J[b, b] = (-d_b - leak - (g if self.open[j][1] else 0.0)) / c_b
+            J[b, b] = (-d_b - leak - g_b) / c_b
             if drive.tau > 0.0:  # type: ignore[union-attr]
                 J[SPOOL + j, SPOOL + j] = -1.0 / drive.tau  # type: ignore[union-attr]
         return J
@@ -375,6 +393,8 @@ def integrate(pred: _Prediction, x: State, horizon: float, dt: float, n: int, ti
             f = ros.rates(t, x)
         if ros.modes(x, f):
             f = ros.rates(t, x)
+        if ros.floors(x, f):
+            f = ros.rates(t, x)
         return f, (np.zeros((0, 0)) if dopri else ros.matrix(t, x))
 
     f0, J = start(0.0, x, None)
@@ -439,7 +459,7 @@ def integrate(pred: _Prediction, x: State, horizon: float, dt: float, n: int, ti
                                     not up)
             if joint < 0 or tj < tau:
                 joint, tau, upper = j, tj, up
-        chamber = -1
+        chamber, at = -1, 0.0
         if pred.hydraulic:
             for j in JOINTS:
                 if not pred.valve[j]:
@@ -447,11 +467,17 @@ def integrate(pred: _Prediction, x: State, horizon: float, dt: float, n: int, ti
                 for side in (0, 1):
                     i = HYD + 2 * j + side
                     beyond, setting = pred.drives[j].limit_side(x1[i])  # type: ignore[union-attr]
-                    if ros.open[j][side] == (beyond != 0) or x1[i] == x[i]:
+                    if x1[i] == x[i]:
                         continue
-                    tk = hs * ((x[i] - setting) / (x[i] - x1[i]))
-                    if tk > hs * CHAMBER_EVENT_MIN and tk < tau:
-                        tau, chamber = tk, i
+                    if ros.open[j][side] != (beyond != 0):
+                        tk = hs * ((x[i] - setting) / (x[i] - x1[i]))
+                        if tk > hs * CHAMBER_EVENT_MIN and tk < tau:
+                            tau, chamber, at = tk, i, setting
+                    knee = pred.drives[j].floor_knee  # type: ignore[union-attr]
+                    if ros.open[j][side] and ros.floor[j][side] != (x1[i] < knee):
+                        tk = hs * ((x[i] - knee) / (x[i] - x1[i]))
+                        if tk > hs * CHAMBER_EVENT_MIN and tk < tau:
+                            tau, chamber, at = tk, i, knee
         if chamber >= 0:
             joint = -1
         changed = False
@@ -466,10 +492,8 @@ def integrate(pred: _Prediction, x: State, horizon: float, dt: float, n: int, ti
             x1, _ = ros.adaptive_step(t, x, f0, J, hs)
             if any(pred.stop) and pred.released(t + hs, x1):
                 joint = chamber = -1   # a release before the event comes first (spec)
-            if chamber >= 0:
-                jj, side = divmod(chamber - HYD, 2)
-                setting = pred.drives[jj].limit_side(x1[chamber])[1]  # type: ignore[union-attr]
-                x1 = x1[:chamber] + (setting,) + x1[chamber + 1:]
+            if chamber >= 0:     # onto the setting or the knee crossed
+                x1 = x1[:chamber] + (at,) + x1[chamber + 1:]
                 changed = True
         if joint < 0 and chamber < 0 and any(pred.stop) and pred.released(t + hs, x1):
             lo, hi = 0.0, hs
