@@ -44,7 +44,6 @@ GROW = 5.0
 SAFETY = 0.9
 EVENT_FRACTION = 0.125
 SPOOL_TOLERANCE = 1e-3
-CHAMBER_EVENT_MIN = 0.0
 
 #: DOPRI5(4) (Dormand and Prince; Hairer, Norsett and Wanner I, II.5): nodes, stage rows (the
 #: seventh row is the solution's weights b), the error's weights d = b - b^ (spec).
@@ -471,12 +470,12 @@ def integrate(pred: _Prediction, x: State, horizon: float, dt: float, n: int, ti
                         continue
                     if ros.open[j][side] != (beyond != 0):
                         tk = hs * ((x[i] - setting) / (x[i] - x1[i]))
-                        if tk > hs * CHAMBER_EVENT_MIN and tk < tau:
+                        if tk > 0.0 and tk < tau:
                             tau, chamber, at = tk, i, setting
                     knee = pred.drives[j].floor_knee  # type: ignore[union-attr]
                     if ros.open[j][side] and ros.floor[j][side] != (x1[i] < knee):
                         tk = hs * ((x[i] - knee) / (x[i] - x1[i]))
-                        if tk > hs * CHAMBER_EVENT_MIN and tk < tau:
+                        if tk > 0.0 and tk < tau:
                             tau, chamber, at = tk, i, knee
         if chamber >= 0:
             joint = -1
