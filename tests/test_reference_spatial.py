@@ -177,7 +177,12 @@ def test_spatial_reference_is_the_planar_one_when_slew_and_extension_are_held():
     """With the slew and the extension held, the 3D model (six 3D bodies, engine joints about the
     boom plane's normal, the slew fixed) is the planar reference (four 2D bodies): valve-end-stop
     (both valves, the lift's oil, its stop and its release) agrees to 1e-7 m and 100 Pa, with the
-    same events at the same instants."""
+    same events at the same instants.
+
+    The pressures are compared in a tube (as regression tools compare event-driven results): 100 Pa
+    wide and 1e-6 s long, the events' agreement. Each engine starts a piece at the instant it
+    located (0.5 us apart at the release), and the tilt's rod side, falling at 1,600 bar/s onto
+    its vacuum floor, moves ~200 Pa over that on one shared clock."""
     from cranepredict import reference, scenarios
 
     sc = scenarios.get("valve-end-stop")
@@ -188,12 +193,14 @@ def test_spatial_reference_is_the_planar_one_when_slew_and_extension_are_held():
     tr = planar.trajectory
     tip_max, _ = _tip_error(tr.t, tr.tip, run)
     assert tip_max < 1e-7, tip_max                          # measured 2.7e-8 m
-    for ch in ("p_a", "p_b"):
-        for j in range(2):
-            dp = np.interp(tr.t, run.t, getattr(run, ch)[:, j]) - getattr(tr, ch)[:, j]
-            assert np.max(np.abs(dp)) < 100.0               # measured 8.8 Pa (of up to 151 bar)
     assert [(k, rs.JOINTS.index(j), s) for _, k, j, s in run.events] == [e[1:] for e in planar.events]
     assert all(abs(a[0] - b[0]) < 1e-6 for a, b in zip(run.events, planar.events))
+    shifts = np.linspace(-1e-6, 1e-6, 21)
+    for ch in ("p_a", "p_b"):
+        for j in range(2):
+            p3, p2 = getattr(run, ch)[:, j], getattr(tr, ch)[:, j]
+            dp = np.min([np.abs(np.interp(tr.t + s, run.t, p3) - p2) for s in shifts], axis=0)
+            assert np.max(dp) < 100.0                       # measured 13.5 Pa (of up to 151 bar)
 
 
 def _energy(crane, run):
