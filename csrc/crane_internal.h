@@ -439,12 +439,12 @@ void crane__limit_valves(const crane__limits *l, crane_real dt, crane_real *p, i
 void crane__limit_rates(const crane_model *m, int joint, crane_real stroke, const crane_real p[2],
                         unsigned open, crane_real rate[2]);
 /* The chamber equations' Jacobian of actuator joint at spool y, the stroke and pressures p:
- * jac = (dpa'/dpa, dpa'/dpb, dpb'/dpa, dpb'/dpb, dpa'/dv, dpb'/dv), v the stroke rate; the valve's
- * pressure slopes, the leakage and the slopes of the limit valves open (bit 0: the a side's, bit 1
- * the b side's) and of the vacuum floors held in (bit 2: the a side's, bit 3 the b side's), not the
- * spool's. */
+ * jac = (dpa'/dpa, dpa'/dpb, dpb'/dpa, dpb'/dpb, dpa'/dv, dpb'/dv, dpa'/dy, dpb'/dy), v the stroke
+ * rate; the valve's pressure slopes, the leakage and the slopes of the limit valves open (bit 0:
+ * the a side's, bit 1 the b side's) and of the vacuum floors held in (bit 2: the a side's, bit 3
+ * the b side's); the valve's gains in the spool where the spool is a state (a lag), else 0. */
 void crane__chamber_jacobian(const crane_model *m, int joint, crane_real y, crane_real stroke,
-                             const crane_real p[2], unsigned open, crane_real jac[6]);
+                             const crane_real p[2], unsigned open, crane_real jac[8]);
 /* Which limit valve a chamber of actuator joint at p is beyond: -1 the anti-cavitation valve, +1
  * the relief valve, 0 neither; *setting gets the setting of the nearer one. */
 int crane__limit_side(const crane_model *m, int joint, crane_real p, crane_real *setting);

@@ -230,6 +230,39 @@ static void valve_slopes(const crane_hydraulics *h, crane_real y, crane_real p_a
     }
 }
 
+/* (dQ_a/dy, dQ_b/dy) of crane__valve_flows on the branch its y takes: each flow is linear in the
+ * spool's opening there (the dead band: both edges closed, no gain). */
+static void valve_gains(const crane_hydraulics *h, crane_real y, crane_real p_a, crane_real p_b,
+                        crane_real *ga, crane_real *gb)
+{
+    const crane_real dl = h->laminar_pressure_drop;
+
+    *ga = 0;
+    *gb = 0;
+    if (h->valve != CRANE_VALVE_COMPENSATED) {
+        const crane_real k = gain(h);
+        if (y >= 0) {
+            *ga = k * orifice(h->supply_pressure - p_a, dl);
+            *gb = k * orifice(p_b - h->tank_pressure, dl);
+        } else {
+            *ga = k * orifice(p_a - h->tank_pressure, dl);
+            *gb = k * orifice(h->supply_pressure - p_b, dl);
+        }
+    } else {
+        const crane_real u0 = h->dead_band;
+        const crane_real km = h->meter_out_flow / crane__sqrt(h->meter_out_pressure_drop);
+        if (y > u0) {
+            *ga = h->nominal_flow * saturation((h->supply_pressure - p_a) / dl) / (1 - u0);
+            *gb = km * orifice(p_b - h->tank_pressure, dl) / (1 - u0);
+        } else if (y < -u0) {
+            *ga = km * orifice(p_a - h->tank_pressure, dl) / (1 - u0);
+            *gb = h->nominal_flow * saturation((h->supply_pressure - p_b) / dl) / (1 - u0);
+        } else {
+            /* the dead band */
+        }
+    }
+}
+
 void crane__limit_rates(const crane_model *m, int joint, crane_real stroke, const crane_real p[2],
                         unsigned open, crane_real rate[2])
 {
@@ -269,12 +302,12 @@ crane_real crane__floor_knee(const crane_model *m, int joint)
 }
 
 void crane__chamber_jacobian(const crane_model *m, int joint, crane_real y, crane_real stroke,
-                             const crane_real p[2], unsigned open, crane_real jac[6])
+                             const crane_real p[2], unsigned open, crane_real jac[8])
 {
     const crane_hydraulics *const h = crane__circuit(m, joint);
     const crane_real g = h->nominal_flow / LIMIT_OVERRIDE;   /* G_lim */
     const crane_real l = h->leakage;
-    crane_real v_a, v_b, c_a, c_b, da, db, ab[4];
+    crane_real v_a, v_b, c_a, c_b, da, db, ga, gb, ab[4];
 
     volumes(m, joint, h, stroke, ab, &v_a, &v_b);
     c_a = compliance(h, v_a, h->hose_volume_a);
@@ -295,6 +328,16 @@ void crane__chamber_jacobian(const crane_model *m, int joint, crane_real y, cran
     jac[3] = (-db - l) / c_b;
     jac[4] = -ab[0] / c_a;
     jac[5] = ab[1] / c_b;
+    /* the valve's gain: a spool opening or closing over the step moves the flows in proportion;
+     * left out, ROS34PW2's error estimate of a chamber draining as its spool opens cancelled
+     * (docs/model.md, "The matrix J") */
+    ga = 0;
+    gb = 0;
+    if (h->spool_time_constant > 0) {
+        valve_gains(h, y, p[0], p[1], &ga, &gb);
+    }
+    jac[6] = ga / c_a;
+    jac[7] = -gb / c_b;
 }
 #endif /* CRANE_ROSW */
 

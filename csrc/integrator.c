@@ -40,14 +40,14 @@ typedef struct {
 #if CRANE_ROSW
 /* The Jacobian J of the W-method at a step's start: the stiff parts of f exactly, the rest left
  * out (a W-method keeps its order with any J): the chambers' slopes (crane__chamber_jacobian),
- * the oil spring's coupling of the pressures and the joint rates, the friction's damping and the
- * spool's pole. Not the slopes through the configuration (gravity, volumes, the mass matrix's
+ * the oil spring's coupling of the pressures and the joint rates, the friction's damping, the
+ * spool's pole and the valve's gain. Not the slopes through the configuration (gravity, volumes, the mass matrix's
  * change), which are slow. */
 typedef struct {
     crane_real mp[6], jz;     /* the kernel's mass matrix (mass) and J_z */
     crane_real ds[4];         /* ds/dq */
     crane_real fr[4];         /* ds^2 max(dF/dv, 0): the friction's damping of the joint */
-    crane_real ch[4][6];      /* each valve-driven actuator's crane__chamber_jacobian */
+    crane_real ch[4][8];      /* each valve-driven actuator's crane__chamber_jacobian */
     crane_real area[4][2];    /* A_a ds, -A_b ds: its force's slopes in the pressures, in q terms */
     crane_real spool[4];      /* 1 / tau of its spool (0 without a lag) */
 } wjac;
@@ -1069,7 +1069,7 @@ static CRANE__NOINLINE void w_matrix(ctx_t *c, crane_real t, const xstate *x, wj
         J->spool[j] = 0;
         J->area[j][0] = 0;
         J->area[j][1] = 0;
-        for (k = 0; k < 6; ++k) {
+        for (k = 0; k < 8; ++k) {
             J->ch[j][k] = 0;
         }
         if (j >= nq) {
@@ -1135,12 +1135,15 @@ static CRANE__NOINLINE void wsolve(ctx_t *c, const wjac *J, crane_real gh, xstat
             crane_real *u = &r->v[H + 3 * j];
             const crane_real b11 = 1 - gh * P[0], b12 = -gh * P[1], b21 = -gh * P[2];
             const crane_real b22 = 1 - gh * P[3], det = b11 * b22 - b12 * b21;
-            const crane_real ua = (b22 * u[0] - b12 * u[1]) / det;
-            const crane_real ub = (b11 * u[1] - b21 * u[0]) / det;
+            /* the spool's row first (it depends on nothing else), its gain into the chambers' */
+            const crane_real ky = u[2] / (1 + gh * J->spool[j]);
+            const crane_real ra = u[0] + gh * P[6] * ky, rb = u[1] + gh * P[7] * ky;
+            const crane_real ua = (b22 * ra - b12 * rb) / det;
+            const crane_real ub = (b11 * rb - b21 * ra) / det;
             const crane_real ca = gh * J->ds[j] * P[4], cb = gh * J->ds[j] * P[5];
             u[0] = ua;
             u[1] = ub;
-            u[2] = u[2] / (1 + gh * J->spool[j]);
+            u[2] = ky;
             w[j][0] = (b22 * ca - b12 * cb) / det;
             w[j][1] = (b11 * cb - b21 * ca) / det;
             diag -= gh * (J->area[j][0] * w[j][0] + J->area[j][1] * w[j][1]);

@@ -146,7 +146,10 @@ def test_orifice_valve_pressure_split(crane, backend):
         lo, hi = (mid, hi) if split(mid)[2] > 0 else (lo, mid)
     v = lo
     rest = cp.State(0.05, 0.35, lift_p_a=1e5, lift_p_b=1e5)
-    tr = cp.predict(c, rest, cp.Inputs(lift=cp.Valve(u), tilt=cp.Hold()), 1.0, dt=1e-3, backend=backend)
+    # converged (a tenth of the default tolerances): the hand split is the model's; the method's
+    # error at its default (0.1 bar, 600 Pa here) is tests/test_rosw.py's
+    tr = cp.predict(c, rest, cp.Inputs(lift=cp.Valve(u), tilt=cp.Hold()), 1.0, dt=1e-3, backend=backend,
+                    tolerance=cp.Tolerance(tip=5e-6, pressure=1e3))
     rate = np.gradient(tr.strokes[:, 0], tr.t)
     late = tr.t > 0.6
     assert not tr.stop[late].any()
@@ -159,8 +162,8 @@ def test_orifice_valve_pressure_split(crane, backend):
     split_b = h.tank_pressure + (cyl.area_b * rate[late] / k) ** 2
     print(f"orifice split: v {rate[late][-1]:.6f} m/s (hand {v:.6f}), p_a {tr.p_a[-1, 0] / 1e5:.4f} bar "
           f"(hand {split_a[-1] / 1e5:.4f}), p_b {tr.p_b[-1, 0] / 1e5:.4f} bar (hand {split_b[-1] / 1e5:.4f})")
-    assert np.max(np.abs(tr.p_a[late, 0] - split_a)) < 0.02e5
-    assert np.max(np.abs(tr.p_b[late, 0] - split_b)) < 0.02e5
+    assert np.max(np.abs(tr.p_a[late, 0] - split_a)) < 0.02e5     # measured 1,670 Pa
+    assert np.max(np.abs(tr.p_b[late, 0] - split_b)) < 0.02e5     # measured 950 Pa
 
 
 @pytest.mark.slow

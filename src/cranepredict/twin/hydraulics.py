@@ -155,6 +155,25 @@ class _ValveDrive:
                     r * self.q_n * _saturation_slope((self.p_s - p_b) / lam) / lam)
         return 0.0, 0.0
 
+    def flow_gains(self, y: float, p_a: float, p_b: float) -> Pair:
+        """(dQ_a/dy, dQ_b/dy) of flows on the branch y takes: each flow is linear in the spool's
+        opening there (the dead band: no gain)."""
+        lam = self.laminar
+        if not self.compensated:
+            if y >= 0.0:
+                return (self.k * _signed_root(self.p_s - p_a, lam),
+                        self.k * _signed_root(p_b - self.p_t, lam))
+            return (self.k * _signed_root(p_a - self.p_t, lam),
+                    self.k * _signed_root(self.p_s - p_b, lam))
+        u0 = self.dead_band
+        if y > u0:
+            return (self.q_n * _saturation((self.p_s - p_a) / lam) / (1.0 - u0),
+                    self.k_m * _signed_root(p_b - self.p_t, lam) / (1.0 - u0))
+        if y < -u0:
+            return (self.k_m * _signed_root(p_a - self.p_t, lam) / (1.0 - u0),
+                    self.q_n * _saturation((self.p_s - p_b) / lam) / (1.0 - u0))
+        return 0.0, 0.0
+
     def compliances(self, stroke: float) -> Pair:
         """(C_a, C_b) at a stroke."""
         v_a, v_b = self.volumes(stroke)

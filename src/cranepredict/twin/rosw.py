@@ -214,6 +214,10 @@ class _Rosw:
             J[b, b] = (-d_b - leak - g_b) / c_b
             if drive.tau > 0.0:  # type: ignore[union-attr]
                 J[SPOOL + j, SPOOL + j] = -1.0 / drive.tau  # type: ignore[union-attr]
+                # the valve's gain (spec)
+                q_a, q_b = drive.flow_gains(y, x[a], x[b])  # type: ignore[union-attr]
+                J[a, SPOOL + j] = q_a / c_a
+                J[b, SPOOL + j] = -q_b / c_b
         return J
 
     # -- a step -------------------------------------------------------------------------------
