@@ -68,8 +68,13 @@ static CRANE__ALWAYS_INLINE crane_real gradient(const crane_hydraulics *h)
     return (crane_real)1.25 * gain(h) / crane__sqrt(h->laminar_pressure_drop);
 }
 
-void crane__valve_flows(const crane_hydraulics *h, crane_real y, crane_real p_a, crane_real p_b,
-                        crane_real *q_a, crane_real *q_b)
+/* The valve at spool y on the branch y takes, where each flow is an opening o(y) times a flow per
+ * unit opening (Q_a = o w_a into the bore side, Q_b = o w_b out of the rod side): the orifice
+ * valve's o = K y, the compensated valve's (y -+ u0) / (1 - u0) beyond its dead band (0 inside,
+ * both edges closed). Returns do/dy: the flows' gain in the spool is (do/dy) w. One function for
+ * the flows and their gains, so that the two keep one branch. */
+static crane_real valve_branch(const crane_hydraulics *h, crane_real y, crane_real p_a,
+                               crane_real p_b, crane_real *o, crane_real *w_a, crane_real *w_b)
 {
     const crane_real dl = h->laminar_pressure_drop;
 
@@ -78,27 +83,41 @@ void crane__valve_flows(const crane_hydraulics *h, crane_real y, crane_real p_a,
          * which keeps this frame (on the stack budget's deepest path) smaller */
         const crane_real dp_a = y >= 0 ? h->supply_pressure - p_a : p_a - h->tank_pressure;
         const crane_real dp_b = y >= 0 ? p_b - h->tank_pressure : h->supply_pressure - p_b;
-        const crane_real k = y * gain(h);
-        *q_a = k * orifice(dp_a, dl);
-        *q_b = k * orifice(dp_b, dl);
-        return;
+        const crane_real k = gain(h);
+        *o = y * k;
+        *w_a = orifice(dp_a, dl);
+        *w_b = orifice(dp_b, dl);
+        return k;
     }
     {
         const crane_real u0 = h->dead_band;
         const crane_real km = h->meter_out_flow / crane__sqrt(h->meter_out_pressure_drop);
         if (y > u0) {
-            const crane_real r = (y - u0) / (1 - u0);
-            *q_a = r * h->nominal_flow * saturation((h->supply_pressure - p_a) / dl);
-            *q_b = r * km * orifice(p_b - h->tank_pressure, dl);
+            *o = (y - u0) / (1 - u0);
+            *w_a = h->nominal_flow * saturation((h->supply_pressure - p_a) / dl);
+            *w_b = km * orifice(p_b - h->tank_pressure, dl);
         } else if (y < -u0) {
-            const crane_real r = (-y - u0) / (1 - u0);
-            *q_a = -r * km * orifice(p_a - h->tank_pressure, dl);
-            *q_b = -r * h->nominal_flow * saturation((h->supply_pressure - p_b) / dl);
+            *o = (y + u0) / (1 - u0);
+            *w_a = km * orifice(p_a - h->tank_pressure, dl);
+            *w_b = h->nominal_flow * saturation((h->supply_pressure - p_b) / dl);
         } else {
-            *q_a = 0;
-            *q_b = 0;
+            *o = 0;
+            *w_a = 0;
+            *w_b = 0;
+            return 0;
         }
+        return 1 / (1 - u0);
     }
+}
+
+void crane__valve_flows(const crane_hydraulics *h, crane_real y, crane_real p_a, crane_real p_b,
+                        crane_real *q_a, crane_real *q_b)
+{
+    crane_real o, w_a, w_b;
+
+    (void)valve_branch(h, y, p_a, p_b, &o, &w_a, &w_b);
+    *q_a = o * w_a;
+    *q_b = o * w_b;
 }
 
 /* C(V) = V / Be: the oil, the cylinder wall and the hose in series. */
@@ -230,39 +249,6 @@ static void valve_slopes(const crane_hydraulics *h, crane_real y, crane_real p_a
     }
 }
 
-/* (dQ_a/dy, dQ_b/dy) of crane__valve_flows on the branch its y takes: each flow is linear in the
- * spool's opening there (the dead band: both edges closed, no gain). */
-static void valve_gains(const crane_hydraulics *h, crane_real y, crane_real p_a, crane_real p_b,
-                        crane_real *ga, crane_real *gb)
-{
-    const crane_real dl = h->laminar_pressure_drop;
-
-    *ga = 0;
-    *gb = 0;
-    if (h->valve != CRANE_VALVE_COMPENSATED) {
-        const crane_real k = gain(h);
-        if (y >= 0) {
-            *ga = k * orifice(h->supply_pressure - p_a, dl);
-            *gb = k * orifice(p_b - h->tank_pressure, dl);
-        } else {
-            *ga = k * orifice(p_a - h->tank_pressure, dl);
-            *gb = k * orifice(h->supply_pressure - p_b, dl);
-        }
-    } else {
-        const crane_real u0 = h->dead_band;
-        const crane_real km = h->meter_out_flow / crane__sqrt(h->meter_out_pressure_drop);
-        if (y > u0) {
-            *ga = h->nominal_flow * saturation((h->supply_pressure - p_a) / dl) / (1 - u0);
-            *gb = km * orifice(p_b - h->tank_pressure, dl) / (1 - u0);
-        } else if (y < -u0) {
-            *ga = km * orifice(p_a - h->tank_pressure, dl) / (1 - u0);
-            *gb = h->nominal_flow * saturation((h->supply_pressure - p_b) / dl) / (1 - u0);
-        } else {
-            /* the dead band */
-        }
-    }
-}
-
 void crane__limit_rates(const crane_model *m, int joint, crane_real stroke, const crane_real p[2],
                         unsigned open, crane_real rate[2])
 {
@@ -307,7 +293,7 @@ void crane__chamber_jacobian(const crane_model *m, int joint, crane_real y, cran
     const crane_hydraulics *const h = crane__circuit(m, joint);
     const crane_real g = h->nominal_flow / LIMIT_OVERRIDE;   /* G_lim */
     const crane_real l = h->leakage;
-    crane_real v_a, v_b, c_a, c_b, da, db, ga, gb, ab[4];
+    crane_real v_a, v_b, c_a, c_b, da, db, ab[4];
 
     volumes(m, joint, h, stroke, ab, &v_a, &v_b);
     c_a = compliance(h, v_a, h->hose_volume_a);
@@ -331,13 +317,14 @@ void crane__chamber_jacobian(const crane_model *m, int joint, crane_real y, cran
     /* the valve's gain: a spool opening or closing over the step moves the flows in proportion;
      * left out, ROS34PW2's error estimate of a chamber draining as its spool opens cancelled
      * (docs/model.md, "The matrix J") */
-    ga = 0;
-    gb = 0;
+    jac[6] = 0;
+    jac[7] = 0;
     if (h->spool_time_constant > 0) {
-        valve_gains(h, y, p[0], p[1], &ga, &gb);
+        crane_real o, w_a, w_b;
+        const crane_real g_y = valve_branch(h, y, p[0], p[1], &o, &w_a, &w_b);
+        jac[6] = g_y * w_a / c_a;
+        jac[7] = -g_y * w_b / c_b;
     }
-    jac[6] = ga / c_a;
-    jac[7] = -gb / c_b;
 }
 #endif /* CRANE_ROSW */
 

@@ -115,24 +115,29 @@ class _ValveDrive:
         v_hose = self.v_hose[side]
         return volume / self.b_oil + (volume - v_hose) / self.b_cyl + v_hose / self.b_hose
 
-    def flows(self, y: float, p_a: float, p_b: float) -> Pair:
-        """(Q_a into the bore side, Q_b out of the rod side) through the valve at spool y."""
+    def branch(self, y: float, p_a: float, p_b: float) -> Tuple[float, float, float, float]:
+        """The valve at spool y on the branch y takes, each flow an opening o(y) times a flow per
+        unit opening (Q_a = o w_a, Q_b = o w_b): (o, w_a, w_b, do/dy). The orifice valve's o is
+        K y, the compensated valve's (y -+ u0) / (1 - u0) beyond its dead band (inside: all 0)."""
         lam = self.laminar
         if not self.compensated:
-            k = y * self.k
+            o = y * self.k
             if y >= 0.0:
-                return k * _signed_root(self.p_s - p_a, lam), k * _signed_root(p_b - self.p_t, lam)
-            return k * _signed_root(p_a - self.p_t, lam), k * _signed_root(self.p_s - p_b, lam)
+                return o, _signed_root(self.p_s - p_a, lam), _signed_root(p_b - self.p_t, lam), self.k
+            return o, _signed_root(p_a - self.p_t, lam), _signed_root(self.p_s - p_b, lam), self.k
         u0 = self.dead_band
         if y > u0:
-            r = (y - u0) / (1.0 - u0)
-            return (r * self.q_n * _saturation((self.p_s - p_a) / lam),
-                    r * self.k_m * _signed_root(p_b - self.p_t, lam))
+            return ((y - u0) / (1.0 - u0), self.q_n * _saturation((self.p_s - p_a) / lam),
+                    self.k_m * _signed_root(p_b - self.p_t, lam), 1.0 / (1.0 - u0))
         if y < -u0:
-            r = (-y - u0) / (1.0 - u0)
-            return (-r * self.k_m * _signed_root(p_a - self.p_t, lam),
-                    -r * self.q_n * _saturation((self.p_s - p_b) / lam))
-        return 0.0, 0.0
+            return ((y + u0) / (1.0 - u0), self.k_m * _signed_root(p_a - self.p_t, lam),
+                    self.q_n * _saturation((self.p_s - p_b) / lam), 1.0 / (1.0 - u0))
+        return 0.0, 0.0, 0.0, 0.0
+
+    def flows(self, y: float, p_a: float, p_b: float) -> Pair:
+        """(Q_a into the bore side, Q_b out of the rod side) through the valve at spool y."""
+        o, w_a, w_b, _ = self.branch(y, p_a, p_b)
+        return o * w_a, o * w_b
 
     def flow_slopes(self, y: float, p_a: float, p_b: float) -> Pair:
         """(dQ_a/dp_a, dQ_b/dp_b) of flows (Q_a does not depend on p_b, nor Q_b on p_a)."""
@@ -156,23 +161,9 @@ class _ValveDrive:
         return 0.0, 0.0
 
     def flow_gains(self, y: float, p_a: float, p_b: float) -> Pair:
-        """(dQ_a/dy, dQ_b/dy) of flows on the branch y takes: each flow is linear in the spool's
-        opening there (the dead band: no gain)."""
-        lam = self.laminar
-        if not self.compensated:
-            if y >= 0.0:
-                return (self.k * _signed_root(self.p_s - p_a, lam),
-                        self.k * _signed_root(p_b - self.p_t, lam))
-            return (self.k * _signed_root(p_a - self.p_t, lam),
-                    self.k * _signed_root(self.p_s - p_b, lam))
-        u0 = self.dead_band
-        if y > u0:
-            return (self.q_n * _saturation((self.p_s - p_a) / lam) / (1.0 - u0),
-                    self.k_m * _signed_root(p_b - self.p_t, lam) / (1.0 - u0))
-        if y < -u0:
-            return (self.k_m * _signed_root(p_a - self.p_t, lam) / (1.0 - u0),
-                    self.q_n * _saturation((self.p_s - p_b) / lam) / (1.0 - u0))
-        return 0.0, 0.0
+        """(dQ_a/dy, dQ_b/dy) of flows on the branch y takes (the dead band: no gain)."""
+        _, w_a, w_b, g = self.branch(y, p_a, p_b)
+        return g * w_a, g * w_b
 
     def compliances(self, stroke: float) -> Pair:
         """(C_a, C_b) at a stroke."""
