@@ -17,6 +17,10 @@ import textwrap
 
 import board_check as bc
 
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.dirname(os.path.dirname(
+    os.path.abspath(__file__)))), "tools"))
+import footprint  # noqa: E402  (the budgets: one source)
+
 HERE = os.path.dirname(os.path.abspath(__file__))
 DOCS = os.path.join(os.path.dirname(os.path.dirname(HERE)), "docs", "embedding.md")
 TOP = 10          # functions listed by name; libm and the soft-float helpers are grouped
@@ -28,7 +32,6 @@ ROLE = {
     "put_sample": "the tip position of each sample",
 }
 SOFT = re.compile(r"^(__aeabi_\w+|__\w+[sd]f\d|__\w+df2)$")
-STACK_BUDGET = 1024   # bytes per entry point (GUIDE.md, tools/footprint.py)
 
 
 def wrap(text):
@@ -147,7 +150,9 @@ def stack(board, static):
         seen.setdefault(entry, []).append(used)
     for entry, used in sorted(seen.items(), key=lambda e: -max(e[1])):
         s = static.get(entry)
-        over = " (over the 1,024-byte budget)" if max(used + [s or 0]) > STACK_BUDGET else ""
+        budget = footprint.BUDGET["estimator stack" if entry.startswith(footprint.ESTIMATOR_ENTRY)
+                                  else "stack"]
+        over = f" (over the {budget:,}-byte budget)" if max(used + [s or 0]) > budget else ""
         rows.append(f"| `{entry}`{over} | {max(used):,} | "
                     f"{'not analysed by tools/footprint.py yet' if s is None else f'{s:,}'} |")
     return "\n".join(["| entry point | measured on the board (bytes) | static worst case (bytes) |",
