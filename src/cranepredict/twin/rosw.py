@@ -44,6 +44,8 @@ GROW = 5.0
 SAFETY = 0.9
 EVENT_FRACTION = 0.125
 SPOOL_TOLERANCE = 1e-3
+#: a chamber whose own slope over a ROS34PW2 step, -h dp'/dp, exceeds this is sampled linearly
+STIFF_SAMPLE = 10.0
 
 #: DOPRI5(4) (Dormand and Prince; Hairer, Norsett and Wanner I, II.5): nodes, stage rows (the
 #: seventh row is the solution's weights b), the error's weights d = b - b^ (spec).
@@ -549,9 +551,9 @@ def integrate(pred: _Prediction, x: State, horizon: float, dt: float, n: int, ti
                     xs[j] = min(max(xs[j], lo_q), hi_q)
                 if pred.hydraulic and pred.valve[j]:   # the cubic can pass a clamped end
                     xs[SPOOL + j] = min(max(xs[SPOOL + j], -1.0), 1.0)
-                    for side in (0, 1):   # an open limit valve's chamber: linear (spec)
-                        if ros.open[j][side]:
-                            i = HYD + 2 * j + side
+                    for side in (0, 1):   # a chamber relaxing within the step: linear (spec)
+                        i = HYD + 2 * j + side
+                        if ros.open[j][side] or -hs * J[i, i] > STIFF_SAMPLE:
                             xs[i] = (1.0 - s) * x[i] + s * x1[i]
             record(k, k * dt, tuple(xs))
             k += 1
