@@ -1519,10 +1519,12 @@ static CRANE__NOINLINE void dense_sample(ctx_t *c, crane_real t, const xstate *x
      * interpolated linearly. The cubic through its end rates would carry the end's departure
      * from that path, within the tolerance, times the slope: a chamber held at the supply
      * pressure swung by a bar between two samples of an 82-ms step. */
-    if (c->dopri == 0u) {
+    if (c->dopri == 0u && c->lim.valves != 0u) {
+        const crane_real lim = -STIFF_SAMPLE / h;
         for (i = 0; i < 8; ++i) {
             const int j = i >> 1, k = H + 3 * j + (i & 1);
-            if (((c->open >> i) & 1u) != 0u || -h * c->work.J.ch[j][(i & 1) * 3] > STIFF_SAMPLE) {
+            if (valve(c, j) != 0 &&
+                (((c->open >> i) & 1u) != 0u || c->work.J.ch[j][(i & 1) * 3] < lim)) {
                 xs.v[k] = (1 - th) * x0->v[k] + th * x1->v[k];
             }
         }

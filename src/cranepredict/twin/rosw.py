@@ -553,7 +553,7 @@ def integrate(pred: _Prediction, x: State, horizon: float, dt: float, n: int, ti
                     xs[SPOOL + j] = min(max(xs[SPOOL + j], -1.0), 1.0)
                     for side in (0, 1):   # a chamber relaxing within the step: linear (spec)
                         i = HYD + 2 * j + side
-                        if ros.open[j][side] or -hs * J[i, i] > STIFF_SAMPLE:
+                        if ros.open[j][side] or J[i, i] < -STIFF_SAMPLE / hs:
                             xs[i] = (1.0 - s) * x[i] + s * x1[i]
             record(k, k * dt, tuple(xs))
             k += 1
