@@ -41,8 +41,8 @@ typedef struct {
 /* The Jacobian J of the W-method at a step's start: the stiff parts of f exactly, the rest left
  * out (a W-method keeps its order with any J): the chambers' slopes (crane__chamber_jacobian),
  * the oil spring's coupling of the pressures and the joint rates, the friction's damping, the
- * spool's pole and the valve's gain. Not the slopes through the configuration (gravity, volumes, the mass matrix's
- * change), which are slow. */
+ * spool's pole and the valve's gain. Not the slopes through the configuration (gravity,
+ * volumes, the mass matrix's change), which are slow. */
 typedef struct {
     crane_real mp[6], jz;     /* the kernel's mass matrix (mass) and J_z */
     crane_real ds[4];         /* ds/dq */

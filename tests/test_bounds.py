@@ -115,6 +115,27 @@ def test_predict_many_stops_between_chunks_on_ctrl_c(crane, monkeypatch):
     assert calls and calls[0] == 2 and len(calls) <= 2, calls
 
 
+@pytest.mark.skipif(not hasattr(__import__("os"), "fork"), reason="needs os.fork")
+def test_a_threaded_batch_runs_in_a_forked_child(crane):
+    """The batches' worker threads are kept between calls; a child forked after a threaded batch
+    (multiprocessing's default on Linux) has none of them, and must make its own rather than queue
+    its slices for threads that do not exist there (it hung until its alarm)."""
+    import os
+    import signal
+    whole = cp.predict_many(crane, [STATE] * 4, [INPUTS] * 4, 0.5, threads=2)
+    pid = os.fork()
+    if pid == 0:   # the child: exit 0 if its threaded batch ran and equals the parent's
+        code = 1
+        try:
+            signal.alarm(30)
+            again = cp.predict_many(crane, [STATE] * 4, [INPUTS] * 4, 0.5, threads=2)
+            code = 0 if np.array_equal(again.tip, whole.tip) else 2
+        finally:
+            os._exit(code)
+    _, status = os.waitpid(pid, 0)
+    assert os.waitstatus_to_exitcode(status) == 0
+
+
 def test_chunked_batch_equals_one_call(crane, monkeypatch):
     from cranepredict import api
 

@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import dataclasses
 import math
+import os
 import struct
 import threading
 from typing import TYPE_CHECKING, Any, Mapping, Sequence, Tuple
@@ -456,6 +457,18 @@ def check_params(arr: Any, k: int) -> Tuple[int, int]:
 
 _WORKERS: list = []          # [ThreadPoolExecutor], made at the first threaded batch
 _WORKERS_LOCK = threading.Lock()
+
+
+def _forget_workers() -> None:
+    """In a forked child: the parent's worker threads do not exist there, and an executor that
+    believes it has idle ones would queue the slices for nobody. The child makes its own."""
+    global _WORKERS_LOCK
+    _WORKERS.clear()
+    _WORKERS_LOCK = threading.Lock()
+
+
+if hasattr(os, "register_at_fork"):
+    os.register_at_fork(after_in_child=_forget_workers)
 
 
 def _workers() -> Any:
