@@ -73,14 +73,20 @@ def test_guarded_future(benchmark, ratio, name, which):
           f"verdict {benchmark.extra_info['verdict_ms']:.3f} ms (target 5 ms), {v.signal}")
 
 
-def test_guarded_future_valves(benchmark, ratio):
-    """cp.guard on a valve-driven future (lever-open, both levers' stop = valve to neutral) that
-    meets an obstacle, so the stop analysis predicts the stop from the candidate stop times."""
+def _lever_open_and_a_ball():
+    """lever-open and a ball 0.9 m above its tip's path at 1.2 s: contact, so a stop analysis."""
     sc = cp.scenarios.get("lever-open")
     tr = cp.predict(sc.crane, sc.initial, sc.inputs, 2.0)
     p = tr.tip[int(round(1.2 / cp.DEFAULT_DT))]
     world = cp.World.from_dict({"name": "ball", "margin": 0.2, "obstacle": [
         {"name": "ball", "kind": "sphere", "centre": (p + [0, 0, 0.9]).tolist(), "radius": 0.3}]})
+    return sc, world
+
+
+def test_guarded_future_valves(benchmark, ratio):
+    """cp.guard on a valve-driven future (lever-open, both levers' stop = valve to neutral) that
+    meets an obstacle, so the stop analysis predicts the stop from the candidate stop times."""
+    sc, world = _lever_open_and_a_ball()
     v = ratio(lambda: cp.guard(sc.crane, world, sc.initial, sc.inputs, 2.0), 2.0,
               scenario="lever-open", obstacles=1)
     assert v.stop is not None and v.stop.model == "valves to neutral"
@@ -93,11 +99,7 @@ def test_guarded_future_valves_with_hint(benchmark, ratio):
     """The same verdict as a control loop asks for it: with the previous verdict's latest stop time
     as ``stop_hint``, the search starts there (two stop predictions instead of about ten). The
     issue's target for the verdict with the valve stop analysis: 2 ms."""
-    sc = cp.scenarios.get("lever-open")
-    tr = cp.predict(sc.crane, sc.initial, sc.inputs, 2.0)
-    p = tr.tip[int(round(1.2 / cp.DEFAULT_DT))]
-    world = cp.World.from_dict({"name": "ball", "margin": 0.2, "obstacle": [
-        {"name": "ball", "kind": "sphere", "centre": (p + [0, 0, 0.9]).tolist(), "radius": 0.3}]})
+    sc, world = _lever_open_and_a_ball()
     first = cp.guard(sc.crane, world, sc.initial, sc.inputs, 2.0)
     hint = first.stop.latest
     v = ratio(lambda: cp.guard(sc.crane, world, sc.initial, sc.inputs, 2.0, stop_hint=hint), 2.0,
