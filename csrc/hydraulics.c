@@ -50,6 +50,27 @@ static CRANE__ALWAYS_INLINE crane_real saturation(crane_real x)
     return x * (3 - x * x) * (crane_real)0.5;
 }
 
+/* d g(dp) / d dp of orifice (the root's slope, the cubic's inside d_l). */
+static CRANE__ALWAYS_INLINE crane_real orifice_slope(crane_real dp, crane_real dl)
+{
+    crane_real x;
+
+    if (dp >= dl) {
+        return (crane_real)0.5 / crane__sqrt(dp);
+    }
+    if (dp <= -dl) {
+        return (crane_real)0.5 / crane__sqrt(-dp);
+    }
+    x = dp / dl;
+    return crane__sqrt(dl) * (5 - 3 * x * x) * (crane_real)0.25 / dl;
+}
+
+/* d phi(x) / dx of saturation. */
+static CRANE__ALWAYS_INLINE crane_real saturation_slope(crane_real x)
+{
+    return x <= 0 || x >= 1 ? 0 : (1 - x * x) * (crane_real)1.5;
+}
+
 static CRANE__ALWAYS_INLINE crane_real gain(const crane_hydraulics *h)
 {
     return h->nominal_flow / crane__sqrt(h->nominal_pressure_drop);
@@ -71,10 +92,13 @@ static CRANE__ALWAYS_INLINE crane_real gradient(const crane_hydraulics *h)
 /* The valve at spool y on the branch y takes, where each flow is an opening o(y) times a flow per
  * unit opening (Q_a = o w_a into the bore side, Q_b = o w_b out of the rod side): the orifice
  * valve's o = K y, the compensated valve's (y -+ u0) / (1 - u0) beyond its dead band (0 inside,
- * both edges closed). Returns do/dy: the flows' gain in the spool is (do/dy) w. One function for
- * the flows and their gains, so that the two keep one branch. */
+ * both edges closed). Returns do/dy: the flows' gain in the spool is (do/dy) w. With slope not
+ * NULL it also gets dw_a/dp_a and dw_b/dp_b: the flows' slopes in their own chambers' pressures
+ * are o times them (w_a does not depend on p_b, nor w_b on p_a). One function for the flows, their
+ * gains and their slopes, so that the three keep one branch. */
 static crane_real valve_branch(const crane_hydraulics *h, crane_real y, crane_real p_a,
-                               crane_real p_b, crane_real *o, crane_real *w_a, crane_real *w_b)
+                               crane_real p_b, crane_real *o, crane_real *w_a, crane_real *w_b,
+                               crane_real slope[2])
 {
     const crane_real dl = h->laminar_pressure_drop;
 
@@ -87,23 +111,43 @@ static crane_real valve_branch(const crane_hydraulics *h, crane_real y, crane_re
         *o = y * k;
         *w_a = orifice(dp_a, dl);
         *w_b = orifice(dp_b, dl);
+        if (slope != NULL) {
+            /* dp_a falls with p_a on the supply side (y >= 0), rises on the tank side; dp_b the
+             * other way round */
+            slope[0] = y >= 0 ? -orifice_slope(dp_a, dl) : orifice_slope(dp_a, dl);
+            slope[1] = y >= 0 ? orifice_slope(dp_b, dl) : -orifice_slope(dp_b, dl);
+        }
         return k;
     }
     {
         const crane_real u0 = h->dead_band;
         const crane_real km = h->meter_out_flow / crane__sqrt(h->meter_out_pressure_drop);
         if (y > u0) {
+            const crane_real x = (h->supply_pressure - p_a) / dl;
             *o = (y - u0) / (1 - u0);
-            *w_a = h->nominal_flow * saturation((h->supply_pressure - p_a) / dl);
+            *w_a = h->nominal_flow * saturation(x);
             *w_b = km * orifice(p_b - h->tank_pressure, dl);
+            if (slope != NULL) {
+                slope[0] = -h->nominal_flow * saturation_slope(x) / dl;
+                slope[1] = km * orifice_slope(p_b - h->tank_pressure, dl);
+            }
         } else if (y < -u0) {
+            const crane_real x = (h->supply_pressure - p_b) / dl;
             *o = (y + u0) / (1 - u0);
             *w_a = km * orifice(p_a - h->tank_pressure, dl);
-            *w_b = h->nominal_flow * saturation((h->supply_pressure - p_b) / dl);
+            *w_b = h->nominal_flow * saturation(x);
+            if (slope != NULL) {
+                slope[0] = km * orifice_slope(p_a - h->tank_pressure, dl);
+                slope[1] = -h->nominal_flow * saturation_slope(x) / dl;
+            }
         } else {
             *o = 0;
             *w_a = 0;
             *w_b = 0;
+            if (slope != NULL) {
+                slope[0] = 0;
+                slope[1] = 0;
+            }
             return 0;
         }
         return 1 / (1 - u0);
@@ -115,7 +159,7 @@ void crane__valve_flows(const crane_hydraulics *h, crane_real y, crane_real p_a,
 {
     crane_real o, w_a, w_b;
 
-    (void)valve_branch(h, y, p_a, p_b, &o, &w_a, &w_b);
+    (void)valve_branch(h, y, p_a, p_b, &o, &w_a, &w_b, NULL);
     *q_a = o * w_a;
     *q_b = o * w_b;
 }
@@ -194,61 +238,6 @@ static crane_real limit_outflow(const crane_hydraulics *h, crane_real g, crane_r
     return q;
 }
 
-/* d g(dp) / d dp of orifice (the root's slope, the cubic's inside d_l). */
-static CRANE__ALWAYS_INLINE crane_real orifice_slope(crane_real dp, crane_real dl)
-{
-    crane_real x;
-
-    if (dp >= dl) {
-        return (crane_real)0.5 / crane__sqrt(dp);
-    }
-    if (dp <= -dl) {
-        return (crane_real)0.5 / crane__sqrt(-dp);
-    }
-    x = dp / dl;
-    return crane__sqrt(dl) * (5 - 3 * x * x) * (crane_real)0.25 / dl;
-}
-
-/* d phi(x) / dx of saturation. */
-static CRANE__ALWAYS_INLINE crane_real saturation_slope(crane_real x)
-{
-    return x <= 0 || x >= 1 ? 0 : (1 - x * x) * (crane_real)1.5;
-}
-
-/* dq_a/dp_a and dq_b/dp_b of crane__valve_flows (q_a does not depend on p_b, nor q_b on p_a). */
-static void valve_slopes(const crane_hydraulics *h, crane_real y, crane_real p_a, crane_real p_b,
-                         crane_real *da, crane_real *db)
-{
-    const crane_real dl = h->laminar_pressure_drop;
-
-    *da = 0;
-    *db = 0;
-    if (h->valve != CRANE_VALVE_COMPENSATED) {
-        const crane_real k = y * gain(h);
-        if (y >= 0) {
-            *da = -k * orifice_slope(h->supply_pressure - p_a, dl);
-            *db = k * orifice_slope(p_b - h->tank_pressure, dl);
-        } else {
-            *da = k * orifice_slope(p_a - h->tank_pressure, dl);
-            *db = -k * orifice_slope(h->supply_pressure - p_b, dl);
-        }
-    } else {
-        const crane_real u0 = h->dead_band;
-        const crane_real km = h->meter_out_flow / crane__sqrt(h->meter_out_pressure_drop);
-        if (y > u0) {
-            const crane_real r = (y - u0) / (1 - u0);
-            *da = -r * h->nominal_flow * saturation_slope((h->supply_pressure - p_a) / dl) / dl;
-            *db = r * km * orifice_slope(p_b - h->tank_pressure, dl);
-        } else if (y < -u0) {
-            const crane_real r = (-y - u0) / (1 - u0);
-            *da = -r * km * orifice_slope(p_a - h->tank_pressure, dl);
-            *db = r * h->nominal_flow * saturation_slope((h->supply_pressure - p_b) / dl) / dl;
-        } else {
-            /* the dead band: both edges closed, no slope */
-        }
-    }
-}
-
 void crane__limit_rates(const crane_model *m, int joint, crane_real stroke, const crane_real p[2],
                         unsigned open, crane_real rate[2])
 {
@@ -293,12 +282,15 @@ void crane__chamber_jacobian(const crane_model *m, int joint, crane_real y, cran
     const crane_hydraulics *const h = crane__circuit(m, joint);
     const crane_real g = h->nominal_flow / LIMIT_OVERRIDE;   /* G_lim */
     const crane_real l = h->leakage;
-    crane_real v_a, v_b, c_a, c_b, da, db, ab[4];
+    crane_real v_a, v_b, c_a, c_b, da, db, ab[4], o, w_a, w_b, slope[2];
+    const crane_real g_y = valve_branch(h, y, p[0], p[1], &o, &w_a, &w_b, slope);
 
     volumes(m, joint, h, stroke, ab, &v_a, &v_b);
     c_a = compliance(h, v_a, h->hose_volume_a);
     c_b = compliance(h, v_b, h->hose_volume_b);
-    valve_slopes(h, y, p[0], p[1], &da, &db);
+    /* the flows' slopes in the chambers' pressures, dQ_a/dp_a and dQ_b/dp_b */
+    da = o * slope[0];
+    db = o * slope[1];
     /* an open limit valve adds its slope G_lim (open: the caller's judgement, bit 0 the a side,
      * bit 1 the b side; crane__limit_side), and its vacuum floor's where the caller holds it in
      * (bits 2 and 3: the chamber below the floor's knee over the step) */
@@ -320,8 +312,6 @@ void crane__chamber_jacobian(const crane_model *m, int joint, crane_real y, cran
     jac[6] = 0;
     jac[7] = 0;
     if (h->spool_time_constant > 0) {
-        crane_real o, w_a, w_b;
-        const crane_real g_y = valve_branch(h, y, p[0], p[1], &o, &w_a, &w_b);
         jac[6] = g_y * w_a / c_a;
         jac[7] = -g_y * w_b / c_b;
     }

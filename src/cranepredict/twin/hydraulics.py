@@ -115,54 +115,57 @@ class _ValveDrive:
         v_hose = self.v_hose[side]
         return volume / self.b_oil + (volume - v_hose) / self.b_cyl + v_hose / self.b_hose
 
-    def branch(self, y: float, p_a: float, p_b: float) -> Tuple[float, float, float, float]:
+    def branch(self, y: float, p_a: float, p_b: float, slopes: bool = False
+               ) -> Tuple[float, float, float, float, float, float]:
         """The valve at spool y on the branch y takes, each flow an opening o(y) times a flow per
-        unit opening (Q_a = o w_a, Q_b = o w_b): (o, w_a, w_b, do/dy). The orifice valve's o is
-        K y, the compensated valve's (y -+ u0) / (1 - u0) beyond its dead band (inside: all 0)."""
+        unit opening (Q_a = o w_a, Q_b = o w_b): (o, w_a, w_b, do/dy, dw_a/dp_a, dw_b/dp_b), the
+        last two only with ``slopes`` (else 0; w_a does not depend on p_b, nor w_b on p_a). The
+        orifice valve's o is K y, the compensated valve's (y -+ u0) / (1 - u0) beyond its dead
+        band (inside: all 0). One function for the flows, their gains and their slopes, so that
+        the three keep one branch."""
         lam = self.laminar
+        s_a = s_b = 0.0
         if not self.compensated:
             o = y * self.k
             if y >= 0.0:
-                return o, _signed_root(self.p_s - p_a, lam), _signed_root(p_b - self.p_t, lam), self.k
-            return o, _signed_root(p_a - self.p_t, lam), _signed_root(self.p_s - p_b, lam), self.k
+                dp_a, dp_b = self.p_s - p_a, p_b - self.p_t
+                if slopes:   # dp_a falls with p_a on the supply side, dp_b rises with p_b
+                    s_a, s_b = -_signed_root_slope(dp_a, lam), _signed_root_slope(dp_b, lam)
+            else:
+                dp_a, dp_b = p_a - self.p_t, self.p_s - p_b
+                if slopes:
+                    s_a, s_b = _signed_root_slope(dp_a, lam), -_signed_root_slope(dp_b, lam)
+            return o, _signed_root(dp_a, lam), _signed_root(dp_b, lam), self.k, s_a, s_b
         u0 = self.dead_band
         if y > u0:
-            return ((y - u0) / (1.0 - u0), self.q_n * _saturation((self.p_s - p_a) / lam),
-                    self.k_m * _signed_root(p_b - self.p_t, lam), 1.0 / (1.0 - u0))
+            x = (self.p_s - p_a) / lam
+            if slopes:
+                s_a = -self.q_n * _saturation_slope(x) / lam
+                s_b = self.k_m * _signed_root_slope(p_b - self.p_t, lam)
+            return ((y - u0) / (1.0 - u0), self.q_n * _saturation(x),
+                    self.k_m * _signed_root(p_b - self.p_t, lam), 1.0 / (1.0 - u0), s_a, s_b)
         if y < -u0:
+            x = (self.p_s - p_b) / lam
+            if slopes:
+                s_a = self.k_m * _signed_root_slope(p_a - self.p_t, lam)
+                s_b = -self.q_n * _saturation_slope(x) / lam
             return ((y + u0) / (1.0 - u0), self.k_m * _signed_root(p_a - self.p_t, lam),
-                    self.q_n * _saturation((self.p_s - p_b) / lam), 1.0 / (1.0 - u0))
-        return 0.0, 0.0, 0.0, 0.0
+                    self.q_n * _saturation(x), 1.0 / (1.0 - u0), s_a, s_b)
+        return 0.0, 0.0, 0.0, 0.0, 0.0, 0.0
 
     def flows(self, y: float, p_a: float, p_b: float) -> Pair:
         """(Q_a into the bore side, Q_b out of the rod side) through the valve at spool y."""
-        o, w_a, w_b, _ = self.branch(y, p_a, p_b)
+        o, w_a, w_b = self.branch(y, p_a, p_b)[:3]
         return o * w_a, o * w_b
 
     def flow_slopes(self, y: float, p_a: float, p_b: float) -> Pair:
         """(dQ_a/dp_a, dQ_b/dp_b) of flows (Q_a does not depend on p_b, nor Q_b on p_a)."""
-        lam = self.laminar
-        if not self.compensated:
-            k = y * self.k
-            if y >= 0.0:
-                return (-k * _signed_root_slope(self.p_s - p_a, lam),
-                        k * _signed_root_slope(p_b - self.p_t, lam))
-            return (k * _signed_root_slope(p_a - self.p_t, lam),
-                    -k * _signed_root_slope(self.p_s - p_b, lam))
-        u0 = self.dead_band
-        if y > u0:
-            r = (y - u0) / (1.0 - u0)
-            return (-r * self.q_n * _saturation_slope((self.p_s - p_a) / lam) / lam,
-                    r * self.k_m * _signed_root_slope(p_b - self.p_t, lam))
-        if y < -u0:
-            r = (-y - u0) / (1.0 - u0)
-            return (-r * self.k_m * _signed_root_slope(p_a - self.p_t, lam),
-                    r * self.q_n * _saturation_slope((self.p_s - p_b) / lam) / lam)
-        return 0.0, 0.0
+        o, _, _, _, s_a, s_b = self.branch(y, p_a, p_b, slopes=True)
+        return o * s_a, o * s_b
 
     def flow_gains(self, y: float, p_a: float, p_b: float) -> Pair:
         """(dQ_a/dy, dQ_b/dy) of flows on the branch y takes (the dead band: no gain)."""
-        _, w_a, w_b, g = self.branch(y, p_a, p_b)
+        _, w_a, w_b, g, _, _ = self.branch(y, p_a, p_b)
         return g * w_a, g * w_b
 
     def compliances(self, stroke: float) -> Pair:
