@@ -27,6 +27,17 @@ __all__ = ["predict", "predict_many", "state_at_rest", "DEFAULT_DT", "BACKENDS",
 _CORE: Any = None
 
 
+_CORES: list = []
+
+
+def cores() -> int:
+    """os.cpu_count() (at least 1), asked once: the call reads the system's files (about 6 us),
+    and a guard's verdict, a control loop's call, asks four times."""
+    if not _CORES:
+        _CORES.append(os.cpu_count() or 1)
+    return int(_CORES[0])
+
+
 def _core_module() -> Any:
     global _CORE
     if _CORE is None:
@@ -564,11 +575,11 @@ def predict_many(crane: Crane, initials: Sequence[State], inputs_list: Sequence[
     if vary is not None:
         per_future = _cranes_per_future(crane, _check_vary(crane, vary, f), f)
     if threads is None:
-        threads = min(2, os.cpu_count() or 1) if f >= 2 * MIN_FUTURES_PER_THREAD else 1
-    cores = os.cpu_count() or 1
+        threads = min(2, cores()) if f >= 2 * MIN_FUTURES_PER_THREAD else 1
+    n_cores = cores()
     if isinstance(threads, bool) or not isinstance(threads, (int, np.integer)) or \
-            not 1 <= threads <= max(cores, 1):
-        raise ValueError(f"threads must be an int in [1, {cores}] (os.cpu_count(): more threads "
+            not 1 <= threads <= n_cores:
+        raise ValueError(f"threads must be an int in [1, {n_cores}] (os.cpu_count(): more threads "
                          f"than cores only add memory and delay Ctrl-C), got {threads!r}")
     _core = _core_module()
     arrays = _sample_arrays(_core.predict_many(crane, initials, inputs_list, float(horizon),

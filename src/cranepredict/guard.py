@@ -10,7 +10,6 @@ GO / WARN / STOP. See docs/guard.md.
 from __future__ import annotations
 
 import math
-import os
 from types import SimpleNamespace
 from dataclasses import dataclass, field
 from typing import Any, Dict, List, Mapping, Optional, Sequence, Tuple
@@ -555,7 +554,7 @@ def _stops_are_safe(crane: Crane, world: World, starts: Sequence[State], stop: I
     froms = list(starts)
     sofar: Dict[int, Dict[str, np.ndarray]] = {}
     followed, length = 0.0, values["stop_horizon"]
-    threads = min(2, os.cpu_count() or 1, max(len(starts), 1))
+    threads = min(2, api.cores(), max(len(starts), 1))
     while pending:
         batch = api.predict_many(crane, [froms[i] for i in pending], [stop] * len(pending),
                                  length, dt=dt, sample_every=sample_every,
