@@ -2,8 +2,9 @@
 /*
  * cranepredict C core: faster-than-real-time prediction of a hydraulic loader crane: lift, tilt
  * (planar Newton-Euler), and with a slew or extension drive also the slew and the telescope
- * (four-joint spatial dynamics); fixed-step RK4 with end stops. The model is specified in
- * docs/model.md.
+ * (four-joint spatial dynamics), with end stops and valve-driven hydraulics; integrated with error
+ * control (ROS34PW2, DOPRI5(4)) or fixed-step RK4 (crane_solver). The model and the methods are
+ * specified in docs/model.md.
  *
  * C99, libm only, no heap, no mutable globals, no I/O. The caller owns every struct and buffer.
  * Every entry point returns a crane_status and never aborts; on an error nothing is written to
@@ -89,8 +90,11 @@ enum { CRANE_CHAMBER_PRESSURE_MIN = -100000 };  /* Pa gauge (vacuum): the lowest
  * CRANE_E_SAMPLE_COUNT, CRANE_E_BATCH), so that no accepted call runs for more than seconds
  * (measured on the project's shared 2-core CI machine, both cylinders driven: 1.0 s for one
  * prediction of CRANE_MAX_STEPS, 0.5 us a step; a PC core is about twice as fast).
- *   CRANE_MAX_STEPS: RK4 steps per prediction (one future), n = ceil(horizon/dt - 1e-9): 2^20,
- *     17 min of crane time at dt = 1 ms. The work counted against it is n plus one step per
+ *   CRANE_MAX_STEPS: sample intervals per prediction (one future), n = ceil(horizon/dt - 1e-9):
+ *     2^20; with RK4 these are its steps. The error-controlled methods' work is their cap on step
+ *     attempts (64 + 4096 a second of horizon + one per sample of a sampled drive inside), which
+ *     counts against it in place of the RK4 work: 2^20 is 17 min of crane time at dt = 1 ms.
+ *     With RK4 the work counted against it is n plus one step per
  *     sample of a sampled drive inside (0, horizon) (steps are cut there), times the most
  *     substeps a step of valve-driven cylinders or a moving extension can take.
  *     Why 2^20: the step times are t_k = k dt in every build (never accumulated), and in the float
@@ -513,8 +517,11 @@ crane_status crane_solver_default(crane_solver *solver);
 /* Number of samples a prediction writes: ceil(horizon/dt - 1e-9) + 1. */
 crane_status crane_sample_count(crane_real horizon, crane_real dt, size_t *count);
 
-/* Predicts the motion from state0 under the inputs over [0, horizon] with RK4 step dt.
- * Writes *n_written samples (t = 0 first) into out[0..capacity).
+/* Predicts the motion from state0 under the inputs over [0, horizon] and samples it every dt
+ * (the last sample at the horizon), integrated by inputs->solver: by default with error control
+ * to its tolerances, its steps independent of dt (the samples by dense output); with
+ * CRANE_METHOD_RK4 by fixed RK4 steps of dt. Writes *n_written samples (t = 0 first) into
+ * out[0..capacity).
  * CRANE_E_DIVERGED is the one error after which samples have been written: if the state stops
  * being finite or a valve-driven actuator leaves the physical domain (a spool beyond [-1, 1], a
  * chamber above CRANE_PRESSURE_MAX: possible only with absurd parameters, e.g. gravity 1e135) the
@@ -534,14 +541,16 @@ crane_status crane_predict_model(const crane_model *model, const crane_state *st
                                  crane_sample *out, size_t capacity, size_t *n_written);
 
 /* One control period: advances *state by period (s) under the inputs with crane_predict_model's
- * integration (RK4 step dt <= period, the last step of the period up to 1.25 dt long; end stops,
+ * integration (inputs->solver: with RK4, steps of dt <= period, the last step of the period up to
+ * 1.25 dt long; with error control, steps of its own from the period's start; end stops,
  * valves), writes the samples at the period's start and end to out[0] and out[1] (t = 0 and
  * t = period) and the state at its end to *next (which may be state): the strokes, slew, extension
  * and their rates (a boom cylinder's stroke rate is omega ds/dtheta at its stroke, 0 on a stop or
  * held), every actuator's chamber pressures and spool (docs/model.md, "Continuing from a
- * prediction"). Chained under constant drives, the calls continue one prediction: the samples at
- * the periods' ends are those of one prediction over their sum, to the rounding of the stroke <->
- * angle conversion. As crane_predict_model, the model must be the one at state->extension (a
+ * prediction"). Chained under constant drives, the calls continue one prediction: with RK4 the
+ * samples at the periods' ends are those of one prediction over their sum, to the rounding of the
+ * stroke <-> angle conversion; with error control each period steps from its own start, so they
+ * agree with it to the method's accuracy. As crane_predict_model, the model must be the one at state->extension (a
  * telescope that has moved needs a model made at its new extension: crane_model_init); sampled
  * drives' times count from the period's start. Every error of crane_predict_model with period as
  * the horizon (CRANE_E_HORIZON if period <= 0, CRANE_E_DT if dt <= 0 or dt > period, ...); on an
