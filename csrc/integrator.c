@@ -910,7 +910,14 @@ static void put_sample(ctx_t *c, crane_real t, const xstate *x, crane_sample *o)
                                                       crane__add(crane__add(p->extension_mount,
                                                                             crane__v2(o->extension, 0)),
                                                                  crane__v2(p->tip_distance, 0))))));
-    crane__sincos(o->slew, &spsi, &cpsi);
+    if (o->slew == 0) {
+        /* a slew at zero (held, as every planar future's is): sin(+-0) = +-0 and cos = 1
+         * exactly, without a third sine and cosine per sample */
+        spsi = o->slew;
+        cpsi = 1;
+    } else {
+        crane__sincos(o->slew, &spsi, &cpsi);
+    }
     o->tip[0] = tip.x * cpsi;
     o->tip[1] = tip.x * spsi;
     o->tip[2] = tip.y;
