@@ -37,7 +37,9 @@ static crane_sample out[CAPACITY];  /* 48 B a sample in float: static memory, no
 
 #ifdef BOARD_PROFILE
 /* The profile build (board_profile.py): one prediction of scenario BOARD_PROFILE_SCENARIO (an
- * index into scenarios.c's list), nothing else, so that QEMU's execution log stays small. */
+ * index into scenarios.c's list), nothing else, so that QEMU's execution log stays small; sampled
+ * every BOARD_PROFILE_DT s if that is defined (make profile PROFILE_DT=...), else at the
+ * scenario's dt. */
 #ifndef BOARD_PROFILE_SCENARIO
 #define BOARD_PROFILE_SCENARIO 0
 #endif
@@ -45,9 +47,14 @@ int main(void)
 {
     size_t n_sc, n = 0;
     const board_scenario *sc = board_scenarios(&n_sc) + BOARD_PROFILE_SCENARIO;
+#ifdef BOARD_PROFILE_DT
+    const crane_real dt = (crane_real)BOARD_PROFILE_DT;
+#else
+    const crane_real dt = sc->dt;
+#endif
 
     board_crane(sc, &crane);
-    return crane_predict(&crane, &sc->state0, &sc->inputs, sc->horizon, sc->dt, out, CAPACITY,
+    return crane_predict(&crane, &sc->state0, &sc->inputs, sc->horizon, dt, out, CAPACITY,
                          &n) == CRANE_OK ? 0 : 1;
 }
 #else

@@ -2,9 +2,9 @@
 /*
  * The board's scenarios (scenarios.h). The paper's Figure 4 from the generated header
  * example/crane_scenarios.h (src/cranepredict/scenarios/paper-fig4.toml: lift at 175 bar on the
- * bore side, tilt held, from rest, 2 s; its 200 kg load is also the crane header's) at the Python
- * API's default step of 2 ms and at the C example's 1 ms; with BOARD_VALVES (make HYD=1) also
- * lever-open: the paper's pose at rest on closed valves, the lift lever fully open, at 2 ms.
+ * bore side, tilt held, from rest, 2 s; its 200 kg load is also the crane header's) at 2 ms, the
+ * board's RK4 step, and at the C example's 1 ms; with BOARD_VALVES (make HYD=1) also lever-open:
+ * the paper's pose at rest on closed valves, the lift lever fully open, at 2 ms.
  */
 #include <string.h>
 #include "crane_scenarios.h"
