@@ -1249,23 +1249,25 @@ static CRANE__NOINLINE crane_real ros_step(ctx_t *c, crane_real t, const xstate 
 {
     const crane_real gh = ROS_GAMMA * h;
     const int n = n_used(c);
-    xstate u[3], xs;
+    /* the stages u[s], each solved where it was formed (no copies between them) */
+    xstate u[4];
     crane_real err = 0;
     int s, i, k;
 
     for (s = 0; s < 4; ++s) {
         const int row = (s - 1) * s / 2;
-        if (s == 0) {
-            copy_state(c, &xs, f0);
-        } else {
+        xstate *const us = &u[s];
+        /* f at the stage's point: f0 itself for the first */
+        const xstate *const f = s == 0 ? f0 : us;
+        if (s != 0) {
             for (i = 0; i < n; ++i) {
                 crane_real v = x->v[i];
                 for (k = 0; k < s; ++k) {
                     v += ROS_A[row + k] * u[k].v[i];
                 }
-                xs.v[i] = v;
+                us->v[i] = v;
             }
-            rates(c, t + ROS_ALPHA[s] * h, &xs, &xs);
+            rates(c, t + ROS_ALPHA[s] * h, us, us);
         }
         for (i = 0; i < n; ++i) {
             crane_real v = 0;
@@ -1275,19 +1277,16 @@ static CRANE__NOINLINE crane_real ros_step(ctx_t *c, crane_real t, const xstate 
                 /* cppcheck-suppress uninitvar */
                 v += ROS_C[row + k] * u[k].v[i];
             }
-            xs.v[i] = gh * xs.v[i] + ROS_GAMMA * v;
+            us->v[i] = gh * f->v[i] + ROS_GAMMA * v;
         }
-        wsolve(c, J, gh, &xs);
-        if (s < 3) {
-            copy_state(c, &u[s], &xs);
-        }
+        wsolve(c, J, gh, us);
     }
     for (i = 0; i < n; ++i) {
         const crane_real e = ROS_E[0] * u[0].v[i] + ROS_E[1] * u[1].v[i] + ROS_E[2] * u[2].v[i] +
-                             ROS_E[3] * xs.v[i];
+                             ROS_E[3] * u[3].v[i];
         const crane_real r = crane__fabs(e) / tolerance(c, i);
         y->v[i] = x->v[i] + (ROS_M[0] * u[0].v[i] + ROS_M[1] * u[1].v[i] + ROS_M[2] * u[2].v[i] +
-                             ROS_M[3] * xs.v[i]);
+                             ROS_M[3] * u[3].v[i]);
         if (!(r <= err) && err == err) {
             err = r; /* the largest; a NaN, once met, stays (a later entry must not hide it) */
         }
@@ -1480,61 +1479,73 @@ static void dense_coefficients(ctx_t *c, const xstate *x0, const xstate *x1, con
     }
 }
 
-/* The sample at ts in [t, t + h) of the step from (t, x0) to x1: for ROS34PW2 the cubic Hermite
- * interpolant of every entry from its values and rates at both ends (dense output, order 3 like
- * the step), for the explicit pair its own of order 4. */
+/* Entry i of the sample at th = (ts - t) / h in the step from (t, x0) to x1 of size h: for
+ * ROS34PW2 the cubic Hermite interpolant from its values and rates at both ends (dense output,
+ * order 3 like the step), for the explicit pair its own of order 4. */
+static crane_real dense_entry(const ctx_t *c, int i, crane_real th, const xstate *x0,
+                              const xstate *f0, const xstate *x1, const xstate *f1, crane_real h)
+{
+    if (c->dopri != 0u) {
+        /* the explicit pair's own dense output (order 4, from the step's stages) */
+        return x0->v[i] +
+               th * ((x1->v[i] - x0->v[i]) +
+                     (1 - th) * (c->work.dp.d[0][i] + th * (c->work.dp.d[1][i] + (1 - th) * c->work.dp.d[2][i])));
+    }
+    return (1 - th) * x0->v[i] + th * x1->v[i] +
+           th * (th - 1) *
+               ((1 - 2 * th) * (x1->v[i] - x0->v[i]) + (th - 1) * h * f0->v[i] + th * h * f1->v[i]);
+}
+
+/* The sample at ts in [t, t + h) of the step from (t, x0) to x1 (dense_entry), interpolating only
+ * what a sample reads: a held or stopped joint stays exactly where it is (interpolated, rounding
+ * would move it off its stop by an ulp), and only the valve-driven actuators' chambers and spools
+ * are read (put_sample). */
 static CRANE__NOINLINE void dense_sample(ctx_t *c, crane_real t, const xstate *x0,
                                          const xstate *f0, const xstate *x1, const xstate *f1,
                                          crane_real h, crane_real ts, crane_sample *o)
 {
     const crane_real th = (ts - t) / h;
     xstate xs;
-    int i;
+    int j;
 
-    if (c->dopri != 0u) {
-        /* the explicit pair's own dense output (order 4, from the step's stages) */
-        for (i = 0; i < N_MECH; ++i) {
-            xs.v[i] = x0->v[i] +
-                      th * ((x1->v[i] - x0->v[i]) +
-                            (1 - th) * (c->work.dp.d[0][i] + th * (c->work.dp.d[1][i] + (1 - th) * c->work.dp.d[2][i])));
-        }
-    } else {
-        for (i = 0; i < n_used(c); ++i) {
-            xs.v[i] = (1 - th) * x0->v[i] + th * x1->v[i] +
-                      th * (th - 1) *
-                          ((1 - 2 * th) * (x1->v[i] - x0->v[i]) + (th - 1) * h * f0->v[i] +
-                           th * h * f1->v[i]);
-        }
-    }
-    /* a held or stopped joint stays exactly where it is (the interpolant's rounding would move
-     * it off its stop by an ulp); a free one stays between its stops (the cubic of a joint just
-     * released, accelerating away from its stop, first leaves it outwards by up to 1e-12 rad); a
-     * spool in [-1, 1] (the cubic can pass a clamped end) */
-    for (i = 0; i < 4; ++i) {
-        if (locked(c, i) != 0) {
-            xs.v[Q + i] = x0->v[Q + i];
-            xs.v[W + i] = x0->v[W + i];
-        } else if (xs.v[Q + i] < lo_q(c, i)) {
-            xs.v[Q + i] = lo_q(c, i);
-        } else if (xs.v[Q + i] > hi_q(c, i)) {
-            xs.v[Q + i] = hi_q(c, i);
+    for (j = 0; j < 4; ++j) {
+        if (locked(c, j) != 0) {
+            xs.v[Q + j] = x0->v[Q + j];
+            xs.v[W + j] = x0->v[W + j];
         } else {
-            /* between its stops */
+            /* between its stops: the cubic of a joint just released, accelerating away from its
+             * stop, first leaves it outwards by up to 1e-12 rad */
+            const crane_real q = dense_entry(c, Q + j, th, x0, f0, x1, f1, h);
+            const crane_real lo = lo_q(c, j), hi = hi_q(c, j);
+            xs.v[W + j] = dense_entry(c, W + j, th, x0, f0, x1, f1, h);
+            xs.v[Q + j] = q < lo ? lo : (q > hi ? hi : q);
         }
     }
-    spools_in_range(c, &xs);
-    /* a chamber that relaxes within a tenth of the step (its own slope -h dp'/dp over
-     * STIFF_SAMPLE; an open limit valve's always) sits on its quasi-steady path at both ends:
-     * interpolated linearly. The cubic through its end rates would carry the end's departure
-     * from that path, within the tolerance, times the slope: a chamber held at the supply
-     * pressure swung by a bar between two samples of an 82-ms step. */
+    /* the valve-driven actuators' chambers and spools (the explicit pair has none) */
     if (c->dopri == 0u && c->lim.valves != 0u) {
         const crane_real lim = -STIFF_SAMPLE / h;
-        for (i = 0; i < 8; ++i) {
-            const int j = i >> 1, k = H + 3 * j + (i & 1);
-            if (valve(c, j) != 0 &&
-                (((c->open >> i) & 1u) != 0u || c->work.J.ch[j][(i & 1) * 3] < lim)) {
-                xs.v[k] = (1 - th) * x0->v[k] + th * x1->v[k];
+        for (j = 0; j < 4; ++j) {
+            if (valve(c, j) != 0) {
+                const unsigned open = ((unsigned)c->open >> (2 * j)) & 3u;
+                const int k = H + 3 * j;
+                crane_real y;
+                int side;
+                for (side = 0; side < 2; ++side) {
+                    /* a chamber that relaxes within a tenth of the step (its own slope
+                     * -h dp'/dp over STIFF_SAMPLE; an open limit valve's always) sits on its
+                     * quasi-steady path at both ends: interpolated linearly. The cubic through
+                     * its end rates would carry the end's departure from that path, within the
+                     * tolerance, times the slope: a chamber held at the supply pressure swung by
+                     * a bar between two samples of an 82-ms step. */
+                    if (((open >> side) & 1u) != 0u || c->work.J.ch[j][side * 3] < lim) {
+                        xs.v[k + side] = (1 - th) * x0->v[k + side] + th * x1->v[k + side];
+                    } else {
+                        xs.v[k + side] = dense_entry(c, k + side, th, x0, f0, x1, f1, h);
+                    }
+                }
+                /* the spool in [-1, 1] (the cubic can pass a clamped end) */
+                y = dense_entry(c, k + 2, th, x0, f0, x1, f1, h);
+                xs.v[k + 2] = y > 1 ? 1 : (y < -1 ? -1 : y);
             }
         }
     }
