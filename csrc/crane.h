@@ -552,9 +552,10 @@ crane_status crane_predict_model(const crane_model *model, const crane_state *st
  * stroke <-> angle conversion; with error control each period steps from its own start, so they
  * agree with it to the method's accuracy. As crane_predict_model, the model must be the one at
  * state->extension (a telescope that has moved needs a model made at its new extension:
- * crane_model_init); sampled drives' times count from the period's start. Every error of crane_predict_model with period as
- * the horizon (CRANE_E_HORIZON if period <= 0, CRANE_E_DT if dt <= 0 or dt > period, ...); on an
- * error nothing is written, except CRANE_E_DIVERGED (out[0] may have been written, *next not). */
+ * crane_model_init); sampled drives' times count from the period's start. Every error of
+ * crane_predict_model with period as the horizon (CRANE_E_HORIZON if period <= 0, CRANE_E_DT if
+ * dt <= 0 or dt > period, ...); on an error nothing is written, except CRANE_E_DIVERGED (out[0]
+ * may have been written, *next not). */
 crane_status crane_step(const crane_model *model, const crane_state *state,
                         const crane_inputs *inputs, crane_real period, crane_real dt,
                         crane_state *next, crane_sample out[2]);
