@@ -158,16 +158,6 @@ class _ValveDrive:
         o, w_a, w_b = self.branch(y, p_a, p_b)[:3]
         return o * w_a, o * w_b
 
-    def flow_slopes(self, y: float, p_a: float, p_b: float) -> Pair:
-        """(dQ_a/dp_a, dQ_b/dp_b) of flows (Q_a does not depend on p_b, nor Q_b on p_a)."""
-        o, _, _, _, s_a, s_b = self.branch(y, p_a, p_b, slopes=True)
-        return o * s_a, o * s_b
-
-    def flow_gains(self, y: float, p_a: float, p_b: float) -> Pair:
-        """(dQ_a/dy, dQ_b/dy) of flows on the branch y takes (the dead band: no gain)."""
-        _, w_a, w_b, g, _, _ = self.branch(y, p_a, p_b)
-        return g * w_a, g * w_b
-
     def compliances(self, stroke: float) -> Pair:
         """(C_a, C_b) at a stroke."""
         v_a, v_b = self.volumes(stroke)

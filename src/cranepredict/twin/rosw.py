@@ -205,9 +205,11 @@ class _Rosw:
             stroke = pred.stroke(j, x[j], conf if free else None)
             c_a, c_b = drive.compliances(stroke)  # type: ignore[union-attr]
             y = x[SPOOL + j] if drive.tau > 0.0 else drive.lever(t)  # type: ignore[union-attr]
-            d_a, d_b = drive.flow_slopes(y, x[HYD + 2 * j], x[HYD + 2 * j + 1])  # type: ignore[union-attr]
-            leak = drive.leakage  # type: ignore[union-attr]
             a, b = HYD + 2 * j, HYD + 2 * j + 1
+            # the valve's branch once: its slopes in the pressures and its gain in the spool
+            o, w_a, w_b, gain, s_a, s_b = drive.branch(y, x[a], x[b], slopes=True)  # type: ignore[union-attr]
+            d_a, d_b = o * s_a, o * s_b
+            leak = drive.leakage  # type: ignore[union-attr]
             g_a = drive.limit_slope(self.floor[j][0]) if self.open[j][0] else 0.0  # type: ignore[union-attr]
             g_b = drive.limit_slope(self.floor[j][1]) if self.open[j][1] else 0.0  # type: ignore[union-attr]
             J[a, a] = (d_a - leak - g_a) / c_a
@@ -217,9 +219,8 @@ class _Rosw:
             if drive.tau > 0.0:  # type: ignore[union-attr]
                 J[SPOOL + j, SPOOL + j] = -1.0 / drive.tau  # type: ignore[union-attr]
                 # the valve's gain (spec)
-                q_a, q_b = drive.flow_gains(y, x[a], x[b])  # type: ignore[union-attr]
-                J[a, SPOOL + j] = q_a / c_a
-                J[b, SPOOL + j] = -q_b / c_b
+                J[a, SPOOL + j] = gain * w_a / c_a
+                J[b, SPOOL + j] = -(gain * w_b) / c_b
         return J
 
     # -- a step -------------------------------------------------------------------------------
