@@ -96,12 +96,12 @@ def test_crane_step_10ms(benchmark):
     inp, keep = ffi.new("crane_inputs *"), []
     _core._inputs(inp, sc.inputs, keep)
     m = _core.model(sc.crane, s0.extension)
-    s, out = ffi.new("crane_state *"), ffi.new("crane_sample[2]")
+    s, out, work = ffi.new("crane_state *"), ffi.new("crane_sample[2]"), _core.work()
 
     def run():
         s[0] = s0[0]
         for _ in range(STEPS):
-            lib.crane_step(m, s, inp, 0.01, 0.005, s, out)
+            lib.crane_step(m, s, inp, 0.01, 0.005, s, out, work)
 
     benchmark(run)
     if benchmark.stats is not None:

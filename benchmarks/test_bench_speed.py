@@ -479,9 +479,10 @@ def _bare_predict(crane, initial, inputs, horizon: float, dt: float):
     n = _core.sample_count(horizon, dt)
     out = np.empty(n, dtype=_core.SAMPLE_DTYPE)
     ptr, written = ffi.from_buffer("crane_sample[]", out), ffi.new("size_t *")
+    work = _core.work()
 
     def run():
-        return lib.crane_predict_model(m, s, inp, horizon, dt, ptr, n, written)
+        return lib.crane_predict_model(m, s, inp, horizon, dt, ptr, n, written, work)
     assert run() == lib.CRANE_OK and written[0] == n
     return run, out
 

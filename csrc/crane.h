@@ -517,11 +517,170 @@ crane_status crane_solver_default(crane_solver *solver);
 /* Number of samples a prediction writes: ceil(horizon/dt - 1e-9) + 1. */
 crane_status crane_sample_count(crane_real horizon, crane_real dt, size_t *count);
 
+/* ---- The core's working storage ----
+ * A prediction's working data (crane_work): the integrator's context and the state vectors of its
+ * steps (the float build on a Cortex-M4F: 1,248 bytes, 304 with RK4 only), in the caller's memory
+ * (static, a task's data, the heap of a desktop program), not on the stack: a controller's task
+ * stack is small (docs/embedding.md, "Footprint"). One crane_work per concurrent call; a call
+ * writes everything it reads of it, so it needs no initialisation and carries nothing from one
+ * call to the next. Its fields are the core's, not an interface: the Python binding declares it
+ * opaque (only its size is known there), so its layout may change. The types below are its
+ * parts, named as the core's (crane__). */
+/* CRANE_WORK_BEGIN */
+/* The error-controlled method (ROS34PW2, docs/model.md "Integration") is compiled in unless
+ * CRANE_ROSW is defined to 0: a build for a controller that needs the fixed cost and the smaller
+ * code and working storage of RK4 (docs/embedding.md); there the default method is RK4 and
+ * CRANE_METHOD_ROSW is refused (CRANE_E_METHOD). Define it alike for the core and its callers:
+ * crane_work's size depends on it. */
+#ifndef CRANE_ROSW
+#define CRANE_ROSW 1
+#endif
+
+/* The state's entries: q[4], qd[4] (lift, tilt, slew, extension), then with valve-driven
+ * actuators joint j's p_a, p_b and spool at CRANE__NMECH + 3j (integrator.c). */
+enum { CRANE__NX = 20, CRANE__NMECH = 8 };
+
+typedef struct {
+    crane_real v[CRANE__NX];
+} crane__vector;
+
+/* The four-bar at one tilt angle (docs/model.md, "Tilt kinematics", "Side links"), in the lift
+ * boom frame: the pins Q and A, the stroke and ds/dtheta1, and the side links' terms of ID reduced
+ * to what depends on theta1 alone. Per link (mass m, Izz I), with its centre of mass d, its velocity
+ * relative to the lift boom per unit tilt rate v, its relative acceleration per unit squared tilt
+ * rate at zero tilt acceleration w (so the relative acceleration is alpha1 v + omega1^2 w), k =
+ * dphi/dtheta1 and g = ddphi per unit squared tilt rate (ddphi = k alpha1 + g omega1^2), the sums
+ * over both links are: M (their share of M00, M01, M11), md = sum m d, mv = sum m v,
+ * huu = (sum m cross(d, w) + I g, sum m w.v + I g k), dv = sum m d.v. The links' torques are then
+ * (gl = gravity in the lift boom frame, w1 = omega0, u = omega1)
+ *   tau0 = M00 alpha0 + M01 alpha1 + cross(md, gl) + huu0 u^2 + 2 dv w1 u,
+ *   tau1 = M01 alpha0 + M11 alpha1 + mv.gl + huu1 u^2 - dv w1^2. */
+typedef struct {
+    crane_vec2 q, a;
+    crane_real stroke, ds;
+    crane_real M[3];
+    crane_vec2 md, mv;
+    crane_real huu[2], dv;
+} crane__tilt_kin;
+
+/* The spatial kernel's constants of one crane (independent of the extension): body 3 = the
+ * extension boom + the load, lumped in the extension boom frame (mass, centre, izz, in-plane tensor
+ * ixx, iyy, ixy), and the pillar's share of the slew inertia m com.x^2 + iyy. */
+typedef struct {
+    crane_real m3, izz3, t3[3], jp;
+    crane_vec2 c3;
+} crane__bodies;
+
+/* What the kernels read of one configuration (theta0, theta1, e), computed once for all of them:
+ * trig of theta0, theta1 and theta0 + theta1, the extension and the four-bar (which the planar
+ * kernel reads only with side links). The rotated arms (C1 = R(th0) c1 and the like) and the
+ * side links one by one are each reader's to work (dynamics.c): this struct is in every
+ * crane_work (the caller's memory): its size is the caller's RAM. */
+typedef struct {
+    crane_real c0, s0, c1, s1, c01, s01, e;
+    crane__tilt_kin tk;
+} crane__conf;
+
+/* The relief and anti-cavitation valves of a prediction: its model, the valve-driven actuators
+ * (bit j: actuator j) and their chambers' rates G_lim/C(V) at the current substep's start
+ * (crane__substeps; coef[2j], coef[2j + 1]). In each integrator's context. */
+typedef struct {
+    const crane_model *m;
+    crane_real coef[8];
+    unsigned valves;
+} crane__limits;
+
+/* Everything the accelerations need at (t, x): the configuration (the mass matrix is worked from
+ * it where it is solved), J_z and the net generalized forces b = tau - h; and what the
+ * configuration was worked at, so that the next evaluation at the same angles (a sample, the next
+ * step's release check and first RK4 stage) or the same tilt angle (a tilt held or stopped) reuses
+ * it instead of evaluating the same trig and four-bar again. */
+typedef struct {
+    crane__conf cf;
+    crane_real jz, b[4];
+    crane_real key_th[2];
+} crane__dyn;
+
+#if CRANE_ROSW
+/* The Jacobian J of the W-method at a step's start: the stiff parts of f exactly, the rest left
+ * out (a W-method keeps its order with any J): the chambers' slopes (crane__chamber_jacobian),
+ * the oil spring's coupling of the pressures and the joint rates, the friction's damping, the
+ * spool's pole and the valve's gain. Not the slopes through the configuration (gravity,
+ * volumes, the mass matrix's change), which are slow. */
+typedef struct {
+    crane_real mp[6], jz;     /* the kernel's mass matrix (mass) and J_z */
+    crane_real ds[4];         /* ds/dq */
+    crane_real fr[4];         /* ds^2 max(dF/dv, 0): the friction's damping of the joint */
+    crane_real ch[4][8];      /* each valve-driven actuator's crane__chamber_jacobian */
+    crane_real area[4][2];    /* A_a ds, -A_b ds: its force's slopes in the pressures, in q terms */
+    crane_real spool[4];      /* 1 / tau of its spool (0 without a lag) */
+} crane__wjac;
+#endif
+
+/* The integrator's context of one prediction (integrator.c) and its steps' vectors. */
+typedef struct {
+    const crane_inputs *in;
+    const crane_state *s0;      /* held joints report their initial strokes */
+    /* the model (lim.m) and the relief and anti-cavitation valves (crane__limit_valves);
+     * lim.valves bit j: joint j is valve-driven (some is: the state carries pressures and
+     * spools) */
+    crane__limits lim;
+    crane__bodies b;            /* the spatial kernel's constants */
+    size_t cursor[4];           /* sample segment last used, per joint */
+    /* The one scratch of every evaluation of the dynamics (RK4's stages, the release rule, the
+     * impacts, the substep count), which never overlap. */
+    crane__dyn d;
+    signed char mode[4];        /* CRANE__FREE, _HELD, _STOP_LO, _STOP_HI (in q terms) */
+    /* Bit j: joint j's lower limit of q is its actuator's stroke_max (stop flag +1 there; else
+     * -1). */
+    unsigned char lo_is_max;
+    unsigned char planar;       /* the planar kernel: slew and extension held */
+    unsigned char cache;        /* which of d is valid (integrator.c) */
+    /* The last step ended with the release rule run at its end (the next step's start time and
+     * state) releasing nothing: the release at the next step's start would repeat it exactly. */
+    unsigned char release_clear;
+    crane__vector x;            /* the state */
+#if CRANE_ROSW
+    /* The error-controlled method (ROS34PW2): the relief and anti-cavitation valves are rates
+     * (crane__limit_rates) instead of RK4's implicit update. */
+    unsigned char rosw;
+    /* ... with the explicit pair DOPRI5(4) instead of ROS34PW2 (a future without valve drives:
+     * no oil, no chambers) */
+    unsigned char dopri;
+    /* bit 2j + side: that chamber's relief or anti-cavitation valve is open over the step
+     * (limits_open) */
+    unsigned char open;
+    /* bit 2j + side: that chamber's vacuum floor is in J over the step (floors_in) */
+    unsigned char floor;
+    /* its tolerances: tip metres over the crane's reach (angles), tip metres (the extension),
+     * Pa (the pressures) */
+    crane_real tol_q, tol_tip, tol_p;
+    /* the rates at the step's start, the step's end and its rates, the rates at a stage's point
+     * (the explicit pair's last stage) */
+    crane__vector f0, x1, f1, fs;
+    crane__vector stage[4];     /* ROS34PW2's stages */
+    /* A prediction runs one method: their working data share the storage. */
+    union {
+        crane__wjac J; /* ROS34PW2's matrix at the step's start (w_matrix) */
+        struct {
+            /* the explicit pair's stages k1..k6 of the step last taken (k7 is its end's rates),
+             * for its dense output */
+            crane_real k[6][CRANE__NMECH];
+            /* and its dense output's coefficients over the step last taken
+             * (dense_coefficients) */
+            crane_real d[3][CRANE__NMECH];
+        } dp;
+    } work;
+#endif
+} crane_work;
+/* CRANE_WORK_END */
+
 /* Predicts the motion from state0 under the inputs over [0, horizon] and samples it every dt
  * (the last sample at the horizon), integrated by inputs->solver: by default with error control
  * to its tolerances, its steps independent of dt (the samples by dense output); with
- * CRANE_METHOD_RK4 by fixed RK4 steps of dt. Writes *n_written samples (t = 0 first) into
- * out[0..capacity).
+ * CRANE_METHOD_RK4 by fixed RK4 steps of dt; in the caller's working storage *work (crane_work:
+ * one per concurrent call; what it holds on return is not a result). Writes *n_written samples
+ * (t = 0 first) into out[0..capacity).
  * CRANE_E_DIVERGED is the one error after which samples have been written: if the state stops
  * being finite or a valve-driven actuator leaves the physical domain (a spool beyond [-1, 1], a
  * chamber above CRANE_PRESSURE_MAX: possible only with absurd parameters, e.g. gravity 1e135) the
@@ -530,7 +689,8 @@ crane_status crane_sample_count(crane_real horizon, crane_real dt, size_t *count
  * a result. Every other error writes nothing. */
 crane_status crane_predict(const crane_params *params, const crane_state *state0,
                            const crane_inputs *inputs, crane_real horizon, crane_real dt,
-                           crane_sample *out, size_t capacity, size_t *n_written);
+                           crane_sample *out, size_t capacity, size_t *n_written,
+                           crane_work *work);
 
 /* crane_predict with a model from crane_model_init: the crane's checks and derived constants
  * (which depend only on the crane file and the extension) are done once by the caller instead of
@@ -538,7 +698,8 @@ crane_status crane_predict(const crane_params *params, const crane_state *state0
  * The results are identical to crane_predict's. */
 crane_status crane_predict_model(const crane_model *model, const crane_state *state0,
                                  const crane_inputs *inputs, crane_real horizon, crane_real dt,
-                                 crane_sample *out, size_t capacity, size_t *n_written);
+                                 crane_sample *out, size_t capacity, size_t *n_written,
+                                 crane_work *work);
 
 /* One control period: advances *state by period (s) under the inputs with crane_predict_model's
  * integration (inputs->solver: with RK4, steps of dt <= period, the last step of the period up to
@@ -558,7 +719,7 @@ crane_status crane_predict_model(const crane_model *model, const crane_state *st
  * may have been written, *next not). */
 crane_status crane_step(const crane_model *model, const crane_state *state,
                         const crane_inputs *inputs, crane_real period, crane_real dt,
-                        crane_state *next, crane_sample out[2]);
+                        crane_state *next, crane_sample out[2], crane_work *work);
 
 /* Number of samples a prediction writes when it keeps only the sample at t = 0, the one after
  * every sample_every-th step (sample_every >= 1) and the one after the last step: with
@@ -577,12 +738,13 @@ crane_status crane_sample_count_every(crane_real horizon, crane_real dt, size_t 
  * arguments) and nothing is written; except CRANE_E_DIVERGED (see crane_predict): then futures
  * 0 .. *failed - 1 are complete, future *failed holds some finite samples and the rest nothing.
  * No heap, no threads: to use several cores, call it on disjoint slices of the batch from several
- * threads (it touches nothing but its arguments).
+ * threads, each with its own crane_work (it touches nothing but its arguments).
  * The samples of each future are identical to crane_predict's (at the kept steps). */
 crane_status crane_predict_many(const crane_params *params, size_t n_params, size_t n_futures,
                                 const crane_state *states, const crane_inputs *inputs,
                                 crane_real horizon, crane_real dt, size_t sample_every,
-                                crane_sample *out, size_t stride, size_t *failed);
+                                crane_sample *out, size_t stride, size_t *failed,
+                                crane_work *work);
 
 /* Kinematics of one joint (joint = CRANE_LIFT or CRANE_TILT). */
 crane_status crane_joint_angle(const crane_model *model, int joint, crane_real stroke,
@@ -759,6 +921,7 @@ typedef struct {
     crane_sample samples[2 * (CRANE_EST_N + 1)];
     crane_real a[CRANE_EST_N * CRANE_EST_N], b[CRANE_EST_N * CRANE_EST_N],
         k[CRANE_EST_N * CRANE_EST_N];
+    crane_work work;                 /* its predictions' working storage */
 } crane_estimator;
 
 /* Starts the estimator at x0 (inside the config's domain) with covariance0 (made symmetric

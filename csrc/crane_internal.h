@@ -231,24 +231,6 @@ int crane__tilt_from_stroke(const crane_model *m, crane_real stroke, crane_real 
 void crane__tilt_from_angle(const crane_model *m, crane_real c1, crane_real s1,
                             crane_real *stroke, crane_real *ds, crane_vec2 *q, crane_vec2 *a);
 
-/* The four-bar at one tilt angle (docs/model.md, "Tilt kinematics", "Side links"), in the lift
- * boom frame: the pins Q and A, the stroke and ds/dtheta1, and the side links' terms of ID reduced
- * to what depends on theta1 alone. Per link (mass m, Izz I), with its centre of mass d, its velocity
- * relative to the lift boom per unit tilt rate v, its relative acceleration per unit squared tilt
- * rate at zero tilt acceleration w (so the relative acceleration is alpha1 v + omega1^2 w), k =
- * dphi/dtheta1 and g = ddphi per unit squared tilt rate (ddphi = k alpha1 + g omega1^2), the sums
- * over both links are: M (their share of M00, M01, M11), md = sum m d, mv = sum m v,
- * huu = (sum m cross(d, w) + I g, sum m w.v + I g k), dv = sum m d.v. The links' torques are then
- * (gl = gravity in the lift boom frame, w1 = omega0, u = omega1)
- *   tau0 = M00 alpha0 + M01 alpha1 + cross(md, gl) + huu0 u^2 + 2 dv w1 u,
- *   tau1 = M01 alpha0 + M11 alpha1 + mv.gl + huu1 u^2 - dv w1^2. */
-typedef struct {
-    crane_vec2 q, a;
-    crane_real stroke, ds;
-    crane_real M[3];
-    crane_vec2 md, mv;
-    crane_real huu[2], dv;
-} crane__tilt_kin;
 
 /* Fills *tk at cos/sin of theta1; the side-link sums only if m->links (else they are unset). */
 void crane__tilt_kinematics(const crane_model *m, crane_real c1, crane_real s1,
@@ -303,25 +285,9 @@ crane_real crane__wrap_tilt(crane_real theta);
 
 /* ---- dynamics.c: the dynamics kernels (docs/model.md, "Dynamics", "Four joints") ---- */
 
-/* The spatial kernel's constants of one crane (independent of the extension): body 3 = the
- * extension boom + the load, lumped in the extension boom frame (mass, centre, izz, in-plane tensor
- * ixx, iyy, ixy), and the pillar's share of the slew inertia m com.x^2 + iyy. */
-typedef struct {
-    crane_real m3, izz3, t3[3], jp;
-    crane_vec2 c3;
-} crane__bodies;
 
 void crane__bodies_init(const crane_params *p, crane__bodies *b);
 
-/* What the kernels read of one configuration (theta0, theta1, e), computed once for all of them:
- * trig of theta0, theta1 and theta0 + theta1, the extension and the four-bar (which the planar
- * kernel reads only with side links). The rotated arms (C1 = R(th0) c1 and the like) and the
- * side links one by one are each reader's to work (dynamics.c): this struct is kept on the stack
- * budget's deepest path. */
-typedef struct {
-    crane_real c0, s0, c1, s1, c01, s01, e;
-    crane__tilt_kin tk;
-} crane__conf;
 
 void crane__conf_at(const crane_model *m, crane_real th0, crane_real th1, crane_real e,
                     crane__conf *cf);
@@ -388,13 +354,6 @@ crane_real crane__actuator_force(const crane_model *m, int joint, crane_real p_a
 
 /* ---- hydraulics.c (docs/model.md, "Hydraulics") ---- */
 
-/* The error-controlled method (ROS34PW2, docs/model.md "Integration") is compiled in unless
- * CRANE_ROSW is defined to 0: a build for a controller that needs the fixed cost and the 1-kB
- * stack of RK4 (docs/embedding.md); there the default method is RK4 and CRANE_METHOD_ROSW is
- * refused (CRANE_E_METHOD). */
-#ifndef CRANE_ROSW
-#define CRANE_ROSW 1
-#endif
 
 /* Valve-driven cylinders are compiled in unless CRANE_HYDRAULICS is defined to 0: a build
  * without them refuses valve drives (CRANE_E_VALVE) and is smaller, for a controller that drives
@@ -413,14 +372,6 @@ const crane_hydraulics *crane__circuit(const crane_model *m, int joint);
  * (p_a, p_b) and spool y: rate = (dp_a/dt, dp_b/dt, dy/dt). */
 void crane__chamber_rates(const crane_model *m, int joint, crane_real lever, crane_real stroke,
                           crane_real v, const crane_real p[2], crane_real y, crane_real rate[3]);
-/* The relief and anti-cavitation valves of a prediction: its model, the valve-driven actuators
- * (bit j: actuator j) and their chambers' rates G_lim/C(V) at the current substep's start
- * (crane__substeps; coef[2j], coef[2j + 1]). In each integrator's context. */
-typedef struct {
-    const crane_model *m;
-    crane_real coef[8];
-    unsigned valves;
-} crane__limits;
 
 /* The relief and anti-cavitation valves over dt, implicitly (docs/model.md, "Integration
  * (stiffness and substeps)"): the chamber pressures of each valve-driven actuator j at
@@ -513,10 +464,10 @@ static inline long crane__attempt_cap(crane_real horizon)
  * crane_predict. Writes the sample at t = 0, one after every sample_every-th step (>= 1) and one
  * after the last step: crane__decimated_count samples, and returns CRANE_OK; or, if the state
  * stops being finite (or its chambers and spools leave their domain), CRANE_E_DIVERGED with the
- * samples written before that (all finite). *n_written is set either way. */
+ * samples written before that (all finite). *n_written is set either way. work: the caller's. */
 crane_status crane__integrate(const crane_model *m, const crane_state *s0, const crane_inputs *in,
                               crane_real horizon, crane_real dt, long n_steps, long sample_every,
-                              crane_sample *out, size_t *n_written);
+                              crane_sample *out, size_t *n_written, crane_work *work);
 
 /* The extension's friction rate bound of docs/model.md ("Four joints", substeps), 1/s:
  * lambda_e = G_f (M^-1)_ee with (M^-1)_ee taken at most 4 / m_ext (the extension boom's own mass;
@@ -544,7 +495,7 @@ static inline crane_real crane__extension_rate_bound(const crane_params *p)
 crane_status crane__predict_every(const crane_model *model, const crane_state *state0,
                                   const crane_inputs *inputs, crane_real horizon, crane_real dt,
                                   long sample_every, crane_sample *out, size_t capacity,
-                                  size_t *n_written);
+                                  size_t *n_written, crane_work *work);
 
 /* Samples written for n_steps steps, keeping every sample_every-th step and the last. */
 static inline size_t crane__decimated_count(long n_steps, long sample_every)

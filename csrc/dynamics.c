@@ -116,7 +116,8 @@ void crane__conf_at(const crane_model *m, crane_real th0, crane_real th1, crane_
 
 /* The rotated arms of a configuration: C1 = R(th0) c1, C2 = R(th0 + th1) c_ob,
  * C3 = R(th0 + th1) (mount + (e, 0) + c3), r12 = R(th0) O2. Worked by each of their readers
- * rather than kept in crane__conf, which is on the stack budget's deepest path. */
+ * rather than kept in crane__conf, which every crane_work holds (and the planar kernel does not
+ * read). */
 typedef struct {
     crane_vec2 C1, C2, C3, r12;
 } arms;

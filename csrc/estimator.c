@@ -580,7 +580,8 @@ crane_status crane_estimator_update(crane_estimator *est, const crane_model *mod
         n_cols = columns(est);
         perturb(est, inputs, n_cols);
         st = crane_predict_many(model->params, 1, (size_t)(1 + n_cols), est->futures, est->inputs,
-                                period, dt, every, est->samples, 2, &failed);
+                                period, dt, every, est->samples, 2, &failed,
+                                &est->work);
         if (st != CRANE_OK) {
             return st;
         }

@@ -16,95 +16,20 @@
 /* State layout: q[4], qd[4], then with valve-driven actuators joint j's p_a, p_b and spool at
  * H + 3j (the order of crane__chamber_rates's rates); entries of joints that are not valve-driven
  * stay 0. */
-enum x_slot { Q = 0, W = 4, H = 8, N_MECH = 8, N_ALL = 20 };
+enum x_slot { Q = 0, W = 4, H = CRANE__NMECH, N_MECH = CRANE__NMECH, N_ALL = CRANE__NX };
 
-typedef struct {
-    crane_real v[N_ALL];
-} xstate;
-
-/* What is valid in the dynamics' cache (dyn): the trig of cf at key_th, its four-bar at the tilt
- * angle key_th[1]. */
+/* What is valid in the dynamics' cache (ctx_t's d): the trig of cf at key_th, its four-bar at the
+ * tilt angle key_th[1]. */
 enum { CACHE_TRIG = 1, CACHE_TK = 2 };
 
-/* Everything the accelerations need at (t, x): the configuration (the mass matrix is worked from
- * it where it is solved), J_z and the net generalized forces b = tau - h; and what the
- * configuration was worked at, so that the next evaluation at the same angles (a sample, the next
- * step's release check and first RK4 stage) or the same tilt angle (a tilt held or stopped) reuses
- * it instead of evaluating the same trig and four-bar again. */
-typedef struct {
-    crane__conf cf;
-    crane_real jz, b[4];
-    crane_real key_th[2];
-} dyn;
-
+/* The working storage's parts (crane.h): the state, the dynamics' cache, ROS34PW2's matrix and
+ * the context of one prediction, in the caller's crane_work. */
+typedef crane__vector xstate;
+typedef crane__dyn dyn;
 #if CRANE_ROSW
-/* The Jacobian J of the W-method at a step's start: the stiff parts of f exactly, the rest left
- * out (a W-method keeps its order with any J): the chambers' slopes (crane__chamber_jacobian),
- * the oil spring's coupling of the pressures and the joint rates, the friction's damping, the
- * spool's pole and the valve's gain. Not the slopes through the configuration (gravity,
- * volumes, the mass matrix's change), which are slow. */
-typedef struct {
-    crane_real mp[6], jz;     /* the kernel's mass matrix (mass) and J_z */
-    crane_real ds[4];         /* ds/dq */
-    crane_real fr[4];         /* ds^2 max(dF/dv, 0): the friction's damping of the joint */
-    crane_real ch[4][8];      /* each valve-driven actuator's crane__chamber_jacobian */
-    crane_real area[4][2];    /* A_a ds, -A_b ds: its force's slopes in the pressures, in q terms */
-    crane_real spool[4];      /* 1 / tau of its spool (0 without a lag) */
-} wjac;
+typedef crane__wjac wjac;
 #endif
-
-/* Per-prediction working data, on the caller's stack. */
-typedef struct {
-    const crane_inputs *in;
-    const crane_state *s0;      /* held joints report their initial strokes */
-    /* the model (lim.m) and the relief and anti-cavitation valves (crane__limit_valves);
-     * lim.valves bit j: joint j is valve-driven (some is: the state carries pressures and
-     * spools) */
-    crane__limits lim;
-    crane__bodies b;            /* the spatial kernel's constants */
-    size_t cursor[4];           /* sample segment last used, per joint */
-    /* The one scratch of every evaluation of the dynamics (RK4's stages, the release rule, the
-     * impacts, the substep count), which never overlap: a frame of its own in each would stack
-     * on this one (the stack). */
-    dyn d;
-    signed char mode[4];        /* CRANE__FREE, _HELD, _STOP_LO, _STOP_HI (in q terms) */
-    /* Bit j: joint j's lower limit of q is its actuator's stroke_max (stop flag +1 there; else
-     * -1). A mask, not an array of flags: this context is on the stack budget's deepest path. */
-    unsigned char lo_is_max;
-    unsigned char planar;       /* the planar kernel: slew and extension held */
-    unsigned char cache;        /* CACHE_* bits */
-    /* The last step ended with the release rule run at its end (the next step's start time and
-     * state) releasing nothing: the release at the next step's start would repeat it exactly. */
-    unsigned char release_clear;
-#if CRANE_ROSW
-    /* The error-controlled method (ROS34PW2): the relief and anti-cavitation valves are rates
-     * (crane__limit_rates) instead of RK4's implicit update. */
-    unsigned char rosw;
-    /* ... with the explicit pair DOPRI5(4) instead of ROS34PW2 (a future without valve drives:
-     * no oil, no chambers) */
-    unsigned char dopri;
-    /* bit 2j + side: that chamber's relief or anti-cavitation valve is open over the step
-     * (limits_open) */
-    unsigned char open;
-    /* bit 2j + side: that chamber's vacuum floor is in J over the step (floors_in) */
-    unsigned char floor;
-    /* its tolerances: tip metres over the crane's reach (angles), tip metres (the extension),
-     * Pa (the pressures) */
-    crane_real tol_q, tol_tip, tol_p;
-    /* A prediction runs one method: their working data share the storage (the stack). */
-    union {
-        wjac J; /* ROS34PW2's matrix at the step's start (w_matrix) */
-        struct {
-            /* the explicit pair's stages k1..k6 of the step last taken (k7 is its end's rates),
-             * for its dense output */
-            crane_real k[6][N_MECH];
-            /* and its dense output's coefficients over the step last taken
-             * (dense_coefficients) */
-            crane_real d[3][N_MECH];
-        } dp;
-    } work;
-#endif
-} ctx_t;
+typedef crane_work ctx_t;
 
 static int locked(const ctx_t *c, int j) { return c->mode[j] != CRANE__FREE; }
 
@@ -1251,7 +1176,7 @@ static CRANE__NOINLINE crane_real ros_step(ctx_t *c, crane_real t, const xstate 
     const crane_real gh = ROS_GAMMA * h;
     const int n = n_used(c);
     /* the stages u[s], each solved where it was formed (no copies between them) */
-    xstate u[4];
+    xstate *const u = c->stage;
     crane_real err = 0;
     int s, i, k;
 
@@ -1643,7 +1568,7 @@ static CRANE__NOINLINE crane_status integrate_rosw(ctx_t *c, xstate *x, crane_re
                                                    crane_sample *out, size_t *n_written)
 {
     const long cap = crane__attempt_cap(horizon) + crane__knot_count(c->in, horizon);
-    xstate f0, x1, f1, fs;
+    xstate *const f0 = &c->f0, *const x1 = &c->x1, *const f1 = &c->f1, *const fs = &c->fs;
     wjac *const J = &c->work.J;
     crane_real t = 0, h = dt < ROS_FIRST_STEP ? dt : ROS_FIRST_STEP, grow = ROS_GROW;
     long attempts = 0, kept = sample_every;
@@ -1653,7 +1578,7 @@ static CRANE__NOINLINE crane_status integrate_rosw(ctx_t *c, xstate *x, crane_re
     release(c, 0, x);
     c->open = 0;
     c->floor = 0;
-    step_start(c, 0, x, &f0, 0, J);
+    step_start(c, 0, x, f0, 0, J);
     /* an int controls the loop (MISRA 14.1): 0 once the step that ends at the horizon is taken */
     while (more != 0) {
         crane_real hs = h < ROS_MAX_STEP ? h : ROS_MAX_STEP, err, tau = 0, at = 0;
@@ -1683,7 +1608,7 @@ static CRANE__NOINLINE crane_status integrate_rosw(ctx_t *c, xstate *x, crane_re
             *n_written = next;
             return CRANE_E_TOLERANCE;
         }
-        err = adaptive_step(c, t, x, &f0, J, hs, &x1, &fs);
+        err = adaptive_step(c, t, x, f0, J, hs, x1, fs);
         if (!(err <= 1)) {
             if (hs <= ROS_MIN_STEP) {
                 /* a stage that is not finite even at the smallest step: the model diverged */
@@ -1699,7 +1624,7 @@ static CRANE__NOINLINE crane_status integrate_rosw(ctx_t *c, xstate *x, crane_re
             continue;
         }
         if (c->dopri != 0u && hs > ROS_MIN_STEP) {
-            const crane_real frac = reversal_fraction(c, x, &x1);
+            const crane_real frac = reversal_fraction(c, x, x1);
             if (frac < 1) {
                 /* a friction reversal jumped across: again, shorter */
                 grow = 1;
@@ -1717,8 +1642,8 @@ static CRANE__NOINLINE crane_status integrate_rosw(ctx_t *c, xstate *x, crane_re
         /* an end stop or a limit valve's setting inside the step: the step is cut at the first
          * and the joint goes onto its stop, the chamber onto the setting */
         tau = hs;
-        first = first_crossing(c, x, &x1, hs, &tau, &upper);
-        chamber = chamber_crossing(c, x, &x1, hs, &tau, &at);
+        first = first_crossing(c, x, x1, hs, &tau, &upper);
+        chamber = chamber_crossing(c, x, x1, hs, &tau, &at);
         if (chamber >= 0) {
             first = -1;
         }
@@ -1733,9 +1658,9 @@ static CRANE__NOINLINE crane_status integrate_rosw(ctx_t *c, xstate *x, crane_re
         if (first >= 0 || chamber >= 0) {
             hs = tau;
             last = 0;
-            (void)adaptive_step(c, t, x, &f0, J, hs, &x1, &fs);
+            (void)adaptive_step(c, t, x, f0, J, hs, x1, fs);
             changed = 2; /* x1 is not the whole step's */
-            if (any_stopped(c) != 0 && release_set(c, t + hs, &x1) != 0) {
+            if (any_stopped(c) != 0 && release_set(c, t + hs, x1) != 0) {
                 /* a stopped joint comes free before the event: the release first (below); the
                  * event is found again in the next step */
                 first = -1;
@@ -1743,19 +1668,19 @@ static CRANE__NOINLINE crane_status integrate_rosw(ctx_t *c, xstate *x, crane_re
             }
 #if CRANE_HYDRAULICS
             if (chamber >= 0) {
-                x1.v[chamber] = at;
+                x1->v[chamber] = at;
                 changed = 1;
             }
 #endif
         }
-        if (first < 0 && chamber < 0 && any_stopped(c) != 0 && release_set(c, t + hs, &x1) != 0) {
+        if (first < 0 && chamber < 0 && any_stopped(c) != 0 && release_set(c, t + hs, x1) != 0) {
             /* a stopped joint comes free inside the step: bisect for the time (f1 is scratch) */
             crane_real lo = 0, hi = hs;
             int k;
             for (k = 0; k < CRANE__RELEASE_BISECTIONS; ++k) {
                 const crane_real mid = (lo + hi) / 2;
-                (void)adaptive_step(c, t, x, &f0, J, mid, &f1, &fs);
-                if (release_set(c, t + mid, &f1) != 0) {
+                (void)adaptive_step(c, t, x, f0, J, mid, f1, fs);
+                if (release_set(c, t + mid, f1) != 0) {
                     hi = mid;
                 } else {
                     lo = mid;
@@ -1765,66 +1690,66 @@ static CRANE__NOINLINE crane_status integrate_rosw(ctx_t *c, xstate *x, crane_re
                 last = 0;
             }
             hs = hi;
-            (void)adaptive_step(c, t, x, &f0, J, hs, &x1, &fs);
+            (void)adaptive_step(c, t, x, f0, J, hs, x1, fs);
             changed = 1;
         }
-        spools_in_range(c, &x1);
+        spools_in_range(c, x1);
         if (c->dopri != 0u && changed == 0) {
-            copy_state(c, &f1, &fs); /* the pair's last stage is f(t + hs, x1) (FSAL) */
+            copy_state(c, f1, fs); /* the pair's last stage is f(t + hs, x1) (FSAL) */
         } else {
-            rates(c, t + hs, &x1, &f1);
+            rates(c, t + hs, x1, f1);
         }
         if (changed == 2) {
             changed = 0;
         }
         /* the samples are interpolated with f1 too: it must be finite as well */
-        if (finite_state(c, &x1) == 0 || finite_rates(c, &f1) == 0) {
+        if (finite_state(c, x1) == 0 || finite_rates(c, f1) == 0) {
             *n_written = next;
             return CRANE_E_DIVERGED;
         }
         /* the kept sample times in [t, t + hs), by dense output */
         if (c->dopri != 0u && kept < n_steps && (crane_real)kept * dt < t + hs) {
-            dense_coefficients(c, x, &x1, &f1, hs);
+            dense_coefficients(c, x, x1, f1, hs);
         }
         while (kept < n_steps && (crane_real)kept * dt < t + hs) {
-            dense_sample(c, t, x, &f0, &x1, &f1, hs, (crane_real)kept * dt, &out[next++]);
+            dense_sample(c, t, x, f0, x1, f1, hs, (crane_real)kept * dt, &out[next++]);
             kept += sample_every;
         }
         t = last != 0 ? horizon : t + hs;
         if (first >= 0) {
-            stop_joint(c, &x1, first, upper);
+            stop_joint(c, x1, first, upper);
             changed = 1;
         }
         /* every other free joint beyond a limit, or at it with its rate not pointing into the
          * range, goes onto it too, in joint order (one at it moving inward stays free: a joint
          * just released may not have moved its coordinate by an ulp yet) */
         for (i = 0; i < 4; ++i) {
-            const crane_real q = x1.v[Q + i], w = x1.v[W + i];
+            const crane_real q = x1->v[Q + i], w = x1->v[W + i];
             if (c->mode[i] != CRANE__FREE) {
                 continue;
             }
             if (q < lo_q(c, i) || (q == lo_q(c, i) && w <= 0)) {
-                stop_joint(c, &x1, i, 0);
+                stop_joint(c, x1, i, 0);
                 changed = 1;
             } else if (q > hi_q(c, i) || (q == hi_q(c, i) && w >= 0)) {
-                stop_joint(c, &x1, i, 1);
+                stop_joint(c, x1, i, 1);
                 changed = 1;
             } else {
                 /* inside its range, or at a limit moving into it: stays free */
             }
         }
         if (changed != 0) {
-            release(c, t, &x1);
+            release(c, t, x1);
             /* a new start after an event: the step is found again from the first one's size */
             if (h > ROS_FIRST_STEP) {
                 h = ROS_FIRST_STEP;
             }
         } else {
-            copy_state(c, &f0, &f1);
+            copy_state(c, f0, f1);
         }
-        copy_state(c, x, &x1);
+        copy_state(c, x, x1);
         if (last == 0) {
-            step_start(c, t, x, &f0, changed == 0, J);
+            step_start(c, t, x, f0, changed == 0, J);
         }
         more = last == 0;
     }
@@ -1837,25 +1762,25 @@ static CRANE__NOINLINE crane_status integrate_rosw(ctx_t *c, xstate *x, crane_re
 
 crane_status crane__integrate(const crane_model *m, const crane_state *s0, const crane_inputs *in,
                               crane_real horizon, crane_real dt, long n_steps, long sample_every,
-                              crane_sample *out, size_t *n_written)
+                              crane_sample *out, size_t *n_written, crane_work *work)
 {
-    ctx_t c;
-    xstate x;
+    ctx_t *const c = work;
+    xstate *const x = &work->x;
     long k;
     size_t next;
     int i;
 
-    c.lim.m = m;
-    c.in = in;
-    c.s0 = s0;
-    crane__bodies_init(m->params, &c.b);
-    c.lim.valves = 0;
-    c.lo_is_max = 0;
-    c.cache = 0;
-    c.release_clear = 0;
+    c->lim.m = m;
+    c->in = in;
+    c->s0 = s0;
+    crane__bodies_init(m->params, &c->b);
+    c->lim.valves = 0;
+    c->lo_is_max = 0;
+    c->cache = 0;
+    c->release_clear = 0;
 #if CRANE_ROSW
-    c.rosw = (unsigned char)(in->solver.method != CRANE_METHOD_RK4);
-    c.dopri = 0;
+    c->rosw = (unsigned char)(in->solver.method != CRANE_METHOD_RK4);
+    c->dopri = 0;
     {
         /* the angles' tolerance: tip metres over the crane's reach (lift pivot to the tip with the
          * telescope out), which bounds the tip's motion per radian of any joint */
@@ -1864,42 +1789,42 @@ crane_status crane__integrate(const crane_model *m, const crane_state *s0, const
             crane__norm(p->tilt_pivot) +
             crane__norm(crane__add(p->extension_mount,
                                    crane__v2(p->extension_max + p->tip_distance, 0)));
-        c.tol_tip = in->solver.tip_tolerance > 0 ? in->solver.tip_tolerance : CRANE__TIP_TOLERANCE;
-        c.tol_p = in->solver.pressure_tolerance > 0 ? in->solver.pressure_tolerance
+        c->tol_tip = in->solver.tip_tolerance > 0 ? in->solver.tip_tolerance : CRANE__TIP_TOLERANCE;
+        c->tol_p = in->solver.pressure_tolerance > 0 ? in->solver.pressure_tolerance
                                                     : CRANE__PRESSURE_TOLERANCE;
-        c.tol_q = c.tol_tip / reach;
+        c->tol_q = c->tol_tip / reach;
     }
 #endif
-    c.planar = (unsigned char)(in->drive[CRANE_SLEW].mode == CRANE_DRIVE_HOLD &&
+    c->planar = (unsigned char)(in->drive[CRANE_SLEW].mode == CRANE_DRIVE_HOLD &&
                                in->drive[CRANE_EXTENSION].mode == CRANE_DRIVE_HOLD);
     for (i = 0; i < N_ALL; ++i) {
-        x.v[i] = 0;
+        x->v[i] = 0;
     }
     for (i = 0; i < 4; ++i) {
-        c.cursor[i] = 0;
-        c.mode[i] = (signed char)(in->drive[i].mode == CRANE_DRIVE_HOLD ? CRANE__HELD : CRANE__FREE);
+        c->cursor[i] = 0;
+        c->mode[i] = (signed char)(in->drive[i].mode == CRANE_DRIVE_HOLD ? CRANE__HELD : CRANE__FREE);
         if (CRANE_HYDRAULICS != 0 && in->drive[i].mode == CRANE_DRIVE_VALVE) {
-            c.lim.valves |= 1u << i;
-            x.v[H + 3 * i] = s0->p_a[i];
-            x.v[H + 3 * i + 1] = s0->p_b[i];
-            x.v[H + 3 * i + 2] = s0->spool[i];
+            c->lim.valves |= 1u << i;
+            x->v[H + 3 * i] = s0->p_a[i];
+            x->v[H + 3 * i + 1] = s0->p_b[i];
+            x->v[H + 3 * i + 2] = s0->spool[i];
         }
         if (i < 2) {
             crane_real ds;
             if (i == CRANE_LIFT) {
-                crane__lift_from_stroke(m, s0->stroke[i], &x.v[Q + i], &ds);
+                crane__lift_from_stroke(m, s0->stroke[i], &x->v[Q + i], &ds);
             } else {
-                (void)crane__tilt_from_stroke(m, s0->stroke[i], &x.v[Q + i], &ds, NULL, NULL);
+                (void)crane__tilt_from_stroke(m, s0->stroke[i], &x->v[Q + i], &ds, NULL, NULL);
             }
-            x.v[W + i] = s0->stroke_rate[i] / ds;
+            x->v[W + i] = s0->stroke_rate[i] / ds;
             /* Which stroke limit is the lower angle limit follows the sign of ds/dtheta, which
              * the crane check keeps constant over the stroke. */
             if (!(ds > 0)) {
-                c.lo_is_max = (unsigned char)(c.lo_is_max | (1u << i));
+                c->lo_is_max = (unsigned char)(c->lo_is_max | (1u << i));
             }
         } else {
-            x.v[Q + i] = i == CRANE_SLEW ? s0->slew : s0->extension;
-            x.v[W + i] = i == CRANE_SLEW ? s0->slew_rate : s0->extension_rate;
+            x->v[Q + i] = i == CRANE_SLEW ? s0->slew : s0->extension;
+            x->v[W + i] = i == CRANE_SLEW ? s0->slew_rate : s0->extension_rate;
         }
     }
 
@@ -1907,7 +1832,7 @@ crane_status crane__integrate(const crane_model *m, const crane_state *s0, const
      * stop, in joint order, with a plastic impact. */
     for (i = 0; i < 4; ++i) {
         int flag; /* the stop's flag: -1 stroke_min, +1 stroke_max */
-        if (c.mode[i] != CRANE__FREE) {
+        if (c->mode[i] != CRANE__FREE) {
             continue;
         }
         if (i < 2) {
@@ -1920,34 +1845,34 @@ crane_status crane__integrate(const crane_model *m, const crane_state *s0, const
                 continue;
             }
         } else {
-            if (x.v[Q + i] <= lo_q(&c, i) && x.v[W + i] <= 0) {
+            if (x->v[Q + i] <= lo_q(c, i) && x->v[W + i] <= 0) {
                 flag = -1;
-            } else if (x.v[Q + i] >= hi_q(&c, i) && x.v[W + i] >= 0) {
+            } else if (x->v[Q + i] >= hi_q(c, i) && x->v[W + i] >= 0) {
                 flag = 1;
             } else {
                 continue;
             }
         }
         /* the upper limit of q is the one whose flag is not lo_flag */
-        stop_joint(&c, &x, i, flag != lo_flag(&c, i));
+        stop_joint(c, x, i, flag != lo_flag(c, i));
     }
 
     /* A state that stops being finite (only with absurd parameters, e.g. gravity 1e135) ends
      * the prediction with CRANE_E_DIVERGED and the samples written before it, all finite. */
     *n_written = 0;
-    if (finite_state(&c, &x) == 0) {
+    if (finite_state(c, x) == 0) {
         return CRANE_E_DIVERGED;
     }
-    put_sample(&c, 0, &x, &out[0]);
+    put_sample(c, 0, x, &out[0]);
 #if CRANE_ROSW
     /* the default's pick: ROS34PW2 where the future is stiff (a valve drive's chambers, a
      * moving telescope's friction: RK4's substep sources), the explicit pair elsewhere */
-    c.dopri = (unsigned char)(c.rosw != 0u && (in->solver.method == CRANE_METHOD_DOPRI5 ||
+    c->dopri = (unsigned char)(c->rosw != 0u && (in->solver.method == CRANE_METHOD_DOPRI5 ||
                                                (in->solver.method == CRANE_METHOD_DEFAULT &&
-                                                c.lim.valves == 0u &&
-                                                c.mode[CRANE_EXTENSION] == CRANE__HELD)));
-    if (c.rosw != 0u) {
-        return integrate_rosw(&c, &x, horizon, dt, n_steps, sample_every, out, n_written);
+                                                c->lim.valves == 0u &&
+                                                c->mode[CRANE_EXTENSION] == CRANE__HELD)));
+    if (c->rosw != 0u) {
+        return integrate_rosw(c, x, horizon, dt, n_steps, sample_every, out, n_written);
     }
 #endif
     /* Samples after every sample_every-th step and after the last one. The kinematic cache is
@@ -1969,30 +1894,30 @@ crane_status crane__integrate(const crane_model *m, const crane_state *s0, const
             /* docs/model.md "Hydraulics", "Four joints": with valve-driven actuators or a moving
              * extension, n equal substeps, each a full step of the scheme (one call site of step,
              * so that it stays inlined: the stack). */
-            if ((c.lim.valves != 0u || c.mode[CRANE_EXTENSION] != CRANE__HELD) && h > 0) {
-                n_sub = substeps(&c, &x, h);
+            if ((c->lim.valves != 0u || c->mode[CRANE_EXTENSION] != CRANE__HELD) && h > 0) {
+                n_sub = substeps(c, x, h);
                 sub = h / (crane_real)n_sub;
             }
             for (j = 0; j < n_sub; ++j) {
                 const int final = j == n_sub - 1;
                 const crane_real t_sub = j == 0 ? t : t + (crane_real)j * sub;
-                if (c.release_clear == 0u) {
-                    release(&c, t_sub, &x);
+                if (c->release_clear == 0u) {
+                    release(c, t_sub, x);
                 }
                 if (h > 0) {
-                    step(&c, t_sub, &x, final != 0 ? (j == 0 ? h : t_q - t_sub) : sub,
+                    step(c, t_sub, x, final != 0 ? (j == 0 ? h : t_q - t_sub) : sub,
                          final != 0 ? t_q : t_sub + sub);
                 }
             }
             more = t_q < t_end; /* an int controls the loop (MISRA 14.1) */
             t = t_q;
         } while (more != 0);
-        if (finite_state(&c, &x) == 0) {
+        if (finite_state(c, x) == 0) {
             *n_written = next;
             return CRANE_E_DIVERGED;
         }
         if (last != 0 || (k + 1) % sample_every == 0) {
-            put_sample(&c, last != 0 ? horizon : (crane_real)(k + 1) * dt, &x, &out[next++]);
+            put_sample(c, last != 0 ? horizon : (crane_real)(k + 1) * dt, x, &out[next++]);
         }
     }
     *n_written = next;

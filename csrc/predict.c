@@ -494,9 +494,10 @@ static crane_status check_work(const crane_model *m, const crane_inputs *in, cra
 static CRANE__ALWAYS_INLINE crane_status integrate(const crane_model *m, const crane_state *s0,
                                                    const crane_inputs *in, crane_real horizon,
                                                    crane_real dt, long n_steps, long sample_every,
-                                                   crane_sample *out, size_t *n_written)
+                                                   crane_sample *out, size_t *n_written,
+                                                   crane_work *work)
 {
-    return crane__integrate(m, s0, in, horizon, dt, n_steps, sample_every, out, n_written);
+    return crane__integrate(m, s0, in, horizon, dt, n_steps, sample_every, out, n_written, work);
 }
 
 /* crane_predict_model after its NULL checks, keeping every sample_every-th sample (and the
@@ -507,7 +508,7 @@ static CRANE__ALWAYS_INLINE crane_status predict(const crane_model *model,
                                                  const crane_inputs *inputs, crane_real horizon,
                                                  crane_real dt, long sample_every,
                                                  crane_sample *out, size_t capacity,
-                                                 size_t *n_written)
+                                                 size_t *n_written, crane_work *work)
 {
     crane_status st;
     long n_steps;
@@ -534,43 +535,50 @@ static CRANE__ALWAYS_INLINE crane_status predict(const crane_model *model,
         return CRANE_E_CAPACITY;
     }
 
-    return integrate(model, state0, inputs, horizon, dt, n_steps, sample_every, out, n_written);
+    return integrate(model, state0, inputs, horizon, dt, n_steps, sample_every, out, n_written,
+                     work);
 }
 
 crane_status crane_predict(const crane_params *params, const crane_state *state0,
                            const crane_inputs *inputs, crane_real horizon, crane_real dt,
-                           crane_sample *out, size_t capacity, size_t *n_written)
+                           crane_sample *out, size_t capacity, size_t *n_written,
+                           crane_work *work)
 {
     crane_model model;
     crane_field field;
     crane_status st;
 
-    if (params == NULL || state0 == NULL || inputs == NULL || out == NULL || n_written == NULL) {
+    if (params == NULL || state0 == NULL || inputs == NULL || out == NULL || n_written == NULL ||
+        work == NULL) {
         return CRANE_E_NULL;
     }
     st = crane__model_derive(&model, params, state0->extension, &field);
     if (st != CRANE_OK) {
         return st;
     }
-    return predict(&model, state0, inputs, horizon, dt, 1, out, capacity, n_written);
+    return predict(&model, state0, inputs, horizon, dt, 1, out, capacity, n_written, work);
 }
 
 crane_status crane_predict_model(const crane_model *model, const crane_state *state0,
                                  const crane_inputs *inputs, crane_real horizon, crane_real dt,
-                                 crane_sample *out, size_t capacity, size_t *n_written)
+                                 crane_sample *out, size_t capacity, size_t *n_written,
+                                 crane_work *work)
 {
-    if (model == NULL || state0 == NULL || inputs == NULL || out == NULL || n_written == NULL) {
+    if (model == NULL || state0 == NULL || inputs == NULL || out == NULL || n_written == NULL ||
+        work == NULL) {
         return CRANE_E_NULL;
     }
-    return crane__predict_every(model, state0, inputs, horizon, dt, 1, out, capacity, n_written);
+    return crane__predict_every(model, state0, inputs, horizon, dt, 1, out, capacity, n_written,
+                                work);
 }
 
 crane_status crane__predict_every(const crane_model *model, const crane_state *state0,
                                   const crane_inputs *inputs, crane_real horizon, crane_real dt,
                                   long sample_every, crane_sample *out, size_t capacity,
-                                  size_t *n_written)
+                                  size_t *n_written, crane_work *work)
 {
-    return predict(model, state0, inputs, horizon, dt, sample_every, out, capacity, n_written);
+    return predict(model, state0, inputs, horizon, dt, sample_every, out, capacity, n_written,
+                   work);
 }
 
 crane_status crane_sample_count_every(crane_real horizon, crane_real dt, size_t sample_every,
@@ -638,7 +646,8 @@ static CRANE__NOINLINE crane_status check_futures(crane_model *model, const cran
 crane_status crane_predict_many(const crane_params *params, size_t n_params, size_t n_futures,
                                 const crane_state *states, const crane_inputs *inputs,
                                 crane_real horizon, crane_real dt, size_t sample_every,
-                                crane_sample *out, size_t stride, size_t *failed)
+                                crane_sample *out, size_t stride, size_t *failed,
+                                crane_work *work)
 {
     crane_model model;
     crane_field field;
@@ -652,7 +661,8 @@ crane_status crane_predict_many(const crane_params *params, size_t n_params, siz
         return CRANE_E_NULL;
     }
     *failed = n_futures;
-    if (params == NULL || (n_futures > 0 && (states == NULL || inputs == NULL || out == NULL))) {
+    if (params == NULL || work == NULL ||
+        (n_futures > 0 && (states == NULL || inputs == NULL || out == NULL))) {
         return CRANE_E_NULL;
     }
     if (each != 0u && n_params != n_futures) {
@@ -690,7 +700,7 @@ crane_status crane_predict_many(const crane_params *params, size_t n_params, siz
             (void)crane__model_derive(&model, params + k * each, states[k].extension, &field);
         }
         st = integrate(&model, &states[k], &inputs[k], horizon, dt, n_steps, (long)sample_every,
-                       out + k * stride, &count);
+                       out + k * stride, &count, work);
         if (st != CRANE_OK) {
             *failed = k;
             return st;

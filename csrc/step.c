@@ -36,16 +36,17 @@ static void state_at(const crane_model *m, const crane_sample *o, crane_state *s
 
 crane_status crane_step(const crane_model *model, const crane_state *state,
                         const crane_inputs *inputs, crane_real period, crane_real dt,
-                        crane_state *next, crane_sample out[2])
+                        crane_state *next, crane_sample out[2], crane_work *work)
 {
     crane_status st;
     size_t n_written;
 
-    if (model == NULL || state == NULL || inputs == NULL || next == NULL || out == NULL) {
+    if (model == NULL || state == NULL || inputs == NULL || next == NULL || out == NULL ||
+        work == NULL) {
         return CRANE_E_NULL;
     }
     /* LONG_MAX: no step but the last is kept, so out[2] holds the period's two ends */
-    st = crane__predict_every(model, state, inputs, period, dt, LONG_MAX, out, 2, &n_written);
+    st = crane__predict_every(model, state, inputs, period, dt, LONG_MAX, out, 2, &n_written, work);
     if (st != CRANE_OK) {
         return st;
     }

@@ -132,7 +132,7 @@ def _raw_predict(crane, **over):
     out[cap].t = 12345.0  # a sentinel just past the capacity
     n = ffi.new("size_t *")
     st = lib.crane_predict(_core.params(crane), s, inp, over.get("horizon", 1.0), over.get("dt", 1e-3),
-                           out, cap, n)
+                           out, cap, n, _core.work())
     assert out[cap].t == 12345.0  # never written past the capacity
     return st
 
@@ -157,7 +157,8 @@ def test_c_status_codes(crane, over, status):
 
 def test_c_core_rejects_null_pointers(crane):
     n = ffi.new("size_t *")
-    assert lib.crane_predict(ffi.NULL, ffi.NULL, ffi.NULL, 1.0, 1e-3, ffi.NULL, 0, n) == lib.CRANE_E_NULL
+    assert lib.crane_predict(ffi.NULL, ffi.NULL, ffi.NULL, 1.0, 1e-3, ffi.NULL, 0, n,
+                             ffi.NULL) == lib.CRANE_E_NULL
     m = ffi.new("crane_model *")
     assert lib.crane_model_init(m, ffi.NULL, 0.0) == lib.CRANE_E_NULL
 

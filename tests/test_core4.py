@@ -47,7 +47,8 @@ def core_run(crane, state, inputs, horizon, dt, method="auto"):
     out = np.empty(n, dtype=_core.SAMPLE_DTYPE)
     written = ffi.new("size_t *")
     st = lib.crane_predict(prm, s, inp, horizon, dt,
-                                 ffi.cast("crane_sample *", ffi.from_buffer(out)), n, written)
+                                 ffi.cast("crane_sample *", ffi.from_buffer(out)), n, written,
+                           _core.work())
     return st, out[: written[0]]
 
 

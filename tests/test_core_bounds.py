@@ -81,9 +81,11 @@ def test_one_calls_samples_and_work_are_bounded(crane):
     failed = ffi.new("size_t *")
     p = _core.params(crane)
     # 9 futures x 1,000,001 samples > 2^23; 9 futures x 1,000,000 steps (11 samples each) > 2^23
-    assert lib.crane_predict_many(p, 1, 9, st, inp, 1000.0, 1e-3, 1, out, 2, failed) == \
+    assert lib.crane_predict_many(p, 1, 9, st, inp, 1000.0, 1e-3, 1, out, 2, failed,
+                                  _core.work()) == \
         lib.CRANE_E_SAMPLE_COUNT
-    assert lib.crane_predict_many(p, 1, 9, st, inp, 1000.0, 1e-3, 100000, out, 2, failed) == \
+    assert lib.crane_predict_many(p, 1, 9, st, inp, 1000.0, 1e-3, 100000, out, 2, failed,
+                                  _core.work()) == \
         lib.CRANE_E_BATCH
     assert failed[0] == 9
 

@@ -140,7 +140,7 @@ def test_the_core_refuses_bad_valve_drives_itself(crane):
         mutate(prm, st, inp)
         out = ffi.new("crane_sample[]", 11)
         n = ffi.new("size_t *")
-        return lib.crane_predict(prm, st, inp, 0.01, 1e-3, out, 11, n)
+        return lib.crane_predict(prm, st, inp, 0.01, 1e-3, out, 11, n, _core.work())
 
     def nothing(prm, st, inp):
         pass

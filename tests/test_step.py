@@ -35,7 +35,7 @@ def _chain(sc, n, dt, period=PERIOD, method="auto"):
     view = ffi.cast("crane_sample *", ffi.from_buffer(ends))
     for k in range(n):
         m = _core.model(sc.crane, s.extension)   # the telescope's model at its extension
-        assert lib.crane_step(m, s, inp, period, dt, s, out) == lib.CRANE_OK, k
+        assert lib.crane_step(m, s, inp, period, dt, s, out, _core.work()) == lib.CRANE_OK, k
         view[k] = out[1]
     return ends, s
 
@@ -112,7 +112,7 @@ def test_next_state_is_trajectory_state(name):
     inp, _keep = _c_inputs(sc.inputs)
     nxt, out = ffi.new("crane_state *"), ffi.new("crane_sample[2]")
     assert lib.crane_step(_core.model(sc.crane, s.extension), s, inp, 0.3, 0.01, nxt,
-                          out) == lib.CRANE_OK
+                          out, _core.work()) == lib.CRANE_OK
     assert (nxt.stroke[0], nxt.stroke[1]) == (want.lift_stroke, want.tilt_stroke)
     assert (nxt.stroke_rate[0], nxt.stroke_rate[1]) == (want.lift_stroke_rate,
                                                         want.tilt_stroke_rate)
@@ -144,11 +144,12 @@ def _bad_call(**change):
     s = _c_state(sc.initial)
     inp, keep = _c_inputs(sc.inputs)
     args = dict(model=_core.model(sc.crane, s.extension), state=s, inputs=inp, period=PERIOD,
-                dt=0.005, next=ffi.new("crane_state *"), out=ffi.new("crane_sample[2]"))
+                dt=0.005, next=ffi.new("crane_state *"), out=ffi.new("crane_sample[2]"),
+                work=_core.work())
     args.update(change)
     before = bytes(ffi.buffer(args["next"])) if args["next"] != ffi.NULL else None
     st = lib.crane_step(args["model"], args["state"], args["inputs"], args["period"], args["dt"],
-                        args["next"], args["out"])
+                        args["next"], args["out"], args["work"])
     if before is not None and st != lib.CRANE_OK:
         assert bytes(ffi.buffer(args["next"])) == before, "nothing is written on an error"
     return st
@@ -156,7 +157,7 @@ def _bad_call(**change):
 
 def test_bad_input_gets_a_status():
     assert _bad_call() == lib.CRANE_OK
-    for field in ("model", "state", "inputs", "next", "out"):
+    for field in ("model", "state", "inputs", "next", "out", "work"):
         assert _bad_call(**{field: ffi.NULL}) == lib.CRANE_E_NULL, field
     assert _bad_call(period=0.0) == lib.CRANE_E_HORIZON
     assert _bad_call(period=-0.01) == lib.CRANE_E_HORIZON

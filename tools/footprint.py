@@ -63,6 +63,7 @@ static crane_params params;
 static crane_state state;
 static crane_inputs inputs;
 static crane_model model;
+static crane_work work;
 static crane_sample out[4];
 static crane_real buf[4 * CRANE_N_POINTS * 3], th[4], w[4], a[4], t[4];
 static crane_solid solids[2];
@@ -77,12 +78,12 @@ int main(void)
     size_t n, failed;
     crane_field field;
     int s = 0;
-    s += (int)crane_predict(&params, &state, &inputs, v, v, out, 4, &n);
-    s += (int)crane_predict_many(&params, 1, 1, &state, &inputs, v, v, (size_t)v, out, 4, &failed);
+    s += (int)crane_predict(&params, &state, &inputs, v, v, out, 4, &n, &work);
+    s += (int)crane_predict_many(&params, 1, 1, &state, &inputs, v, v, (size_t)v, out, 4, &failed, &work);
     s += (int)crane_sample_count_every(v, v, (size_t)v, &n);
-    s += (int)crane_predict_model(&model, &state, &inputs, v, v, out, 4, &n);
+    s += (int)crane_predict_model(&model, &state, &inputs, v, v, out, 4, &n, &work);
     s += (int)crane_model_init(&model, &params, v);
-    s += (int)crane_step(&model, &state, &inputs, v, v, &state, out);
+    s += (int)crane_step(&model, &state, &inputs, v, v, &state, out, &work);
     s += (int)crane_params_check(&params, &field);
     s += (int)crane_field_rule(field)[0];
     s += (int)crane_points(&model, v, 1, th, buf);
@@ -260,6 +261,13 @@ def main(argv=None):
         run([a.cross + "gcc", "-std=c99"] + cflags + ["-I", csrc, probe, lib,
              "--specs=nosys.specs", "-Wl,--gc-sections", "-lm", "-o", elf])
         dis = run([a.cross + "objdump", "-d", elf])
+        owned = {l.split()[3]: int(l.split()[1], 16)
+                 for l in run([a.cross + "nm", "-S", elf]).splitlines()
+                 if len(l.split()) == 4 and l.split()[3] in ("work", "est")}
+    # the caller's memory that the entry points take (RAM, not stack: not in the budget)
+    print(f"\ncaller-owned storage: crane_work {owned['work']} bytes (crane_predict, "
+          f"crane_predict_model, crane_step, crane_predict_many), crane_estimator {owned['est']} "
+          "bytes (its crane_work included)")
     funcs = parse_objdump(dis)
     su, ambiguous = su_frames(a.build)
     # -fstack-usage names a clone "f.isra" where the symbol is "f.isra.0"

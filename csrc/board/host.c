@@ -8,6 +8,9 @@
 #include "crane.h"
 #include "scenarios.h"
 
+/* the predictions' working storage (crane.h): one, these calls never run at once */
+static crane_work work;
+
 static crane_params crane;
 enum { CAPACITY = 2001 };
 static crane_sample out[CAPACITY];
@@ -24,7 +27,7 @@ int main(void)
         n = 0;
         board_crane(&sc[i], &crane);
         st = crane_predict(&crane, &sc[i].state0, &sc[i].inputs, sc[i].horizon, sc[i].dt, out,
-                           CAPACITY, &n);
+                           CAPACITY, &n, &work);
         if (st != CRANE_OK) {
             fprintf(stderr, "%s: %s\n", sc[i].name, crane_status_message(st));
             return 1;

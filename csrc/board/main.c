@@ -26,6 +26,9 @@
 #include "scenarios.h"
 #include "semihost.h"
 
+/* the predictions' working storage (crane.h): one, these calls never run at once */
+static crane_work prediction_work;
+
 #define PAINT 0xC5A3C5A3u
 #define CALIBRATION_LOOPS 1000000u /* two instructions each */
 
@@ -55,7 +58,7 @@ int main(void)
 
     board_crane(sc, &crane);
     return crane_predict(&crane, &sc->state0, &sc->inputs, sc->horizon, dt, out, CAPACITY,
-                         &n) == CRANE_OK ? 0 : 1;
+                         &n, &prediction_work) == CRANE_OK ? 0 : 1;
 }
 #else
 
@@ -195,7 +198,7 @@ static void run_scenario(const board_scenario *sc)
     expect(crane_sample_count(sc->horizon, sc->dt, &count), CRANE_OK, "crane_sample_count");
     report("scenario", sc->name, (unsigned long)count);
     MEASURED("crane_predict", st = crane_predict(&crane, &sc->state0, &sc->inputs, sc->horizon,
-                                                 sc->dt, out, CAPACITY, &n));
+                                                 sc->dt, out, CAPACITY, &n, &prediction_work));
     expect(st, CRANE_OK, sc->name);
     if (n != count)
         fail("sample_count", (unsigned long)n);
@@ -293,9 +296,9 @@ static void run_entry_points(const board_scenario *sc)
     expect(st, CRANE_OK, "crane_sample_count_every");
     MEASURED("crane_predict_model",
              st = crane_predict_model(&model, &sc->state0, &sc->inputs, sc->horizon, sc->dt,
-                                      out2, CAPACITY, &n));
+                                      out2, CAPACITY, &n, &prediction_work));
     expect(st, CRANE_OK, "crane_predict_model");
-    (void)crane_predict(&crane, &sc->state0, &sc->inputs, sc->horizon, sc->dt, out, CAPACITY, &n);
+    (void)crane_predict(&crane, &sc->state0, &sc->inputs, sc->horizon, sc->dt, out, CAPACITY, &n, &prediction_work);
     if (memcmp(out, out2, n * sizeof out[0]) != 0)
         fail("crane_predict_model_differs_from_crane_predict", (unsigned long)n);
     states[0] = states[1] = sc->state0;
@@ -303,7 +306,7 @@ static void run_entry_points(const board_scenario *sc)
     inputs[0] = inputs[1] = sc->inputs;
     MEASURED("crane_predict_many",
              st = crane_predict_many(&crane, 1, 2, states, inputs, sc->horizon, sc->dt, 10, out2,
-                                     count, &failed));
+                                     count, &failed, &prediction_work));
     expect(st, CRANE_OK, "crane_predict_many");
     MEASURED("crane_joint_angle",
              st = crane_joint_angle(&model, CRANE_TILT, (crane_real)0.2, &th, &ds));

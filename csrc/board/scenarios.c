@@ -120,6 +120,7 @@ const board_scenario *board_estimator_prepare(crane_params *params, crane_model 
     static const crane_real x[CRANE_EST_N] = CRANE_EXAMPLE_ESTIMATOR_X0;
     static const crane_real diagonal[CRANE_EST_N] = CRANE_EXAMPLE_ESTIMATOR_COVARIANCE0_DIAGONAL;
     static const crane_real spool[4] = CRANE_EXAMPLE_ESTIMATOR_SPOOL0;
+    static crane_work work; /* the prediction's working storage (crane.h) */
     const board_scenario *sc = NULL;
     size_t i, n = 0;
 
@@ -133,7 +134,7 @@ const board_scenario *board_estimator_prepare(crane_params *params, crane_model 
     if (crane_model_init(model, params, sc->state0.extension) != CRANE_OK ||
         crane_predict(params, &sc->state0, &sc->inputs,
                       BOARD_ESTIMATOR_PERIOD * BOARD_ESTIMATOR_CYCLES, BOARD_ESTIMATOR_PERIOD, out,
-                      capacity, &n) != CRANE_OK ||
+                      capacity, &n, &work) != CRANE_OK ||
         n != BOARD_ESTIMATOR_CYCLES + 1u)
         return NULL;
     *config = c;

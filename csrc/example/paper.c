@@ -16,6 +16,9 @@
 #include "crane_patu655.h"
 #include "crane_scenarios.h"
 
+/* the predictions' working storage (crane.h): one, these calls never run at once */
+static crane_work work;
+
 #define DT 1e-3
 #define N_SAMPLES 2001 /* ceil(horizon / DT) + 1 for the scenario's 2 s */
 
@@ -34,7 +37,7 @@ int main(int argc, char **argv)
 
     crane.load_mass = CRANE_SCENARIO_PAPER_FIG4_LOAD_MASS;
     st = crane_predict(&crane, &s0, &in, CRANE_SCENARIO_PAPER_FIG4_HORIZON, (crane_real)DT, out,
-                       N_SAMPLES, &n);
+                       N_SAMPLES, &n, &work);
     if (st != CRANE_OK) {
         fprintf(stderr, "crane_predict: %s (status %d)\n", crane_status_message(st), (int)st);
         return 1;

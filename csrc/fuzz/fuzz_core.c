@@ -49,6 +49,9 @@
 #include "crane_patu655.h"
 #include "crane_scenarios.h"
 
+/* the predictions' working storage (crane.h): one, these calls never run at once */
+static crane_work work;
+
 #define CRANE_STATUS_LAST CRANE_E_TOLERANCE
 #define MAX_SAMPLES 16   /* pressure samples per cylinder */
 #define MAX_CAPACITY 600 /* output samples (bounds the work per input) */
@@ -347,7 +350,7 @@ static void run_many(const universe *u, const crane_params *params, const crane_
     memset(out, 0x5a, total * sizeof *out);
     memcpy(ref, out, total * sizeof *out);
     st = crane_predict_many(params, 1, F, states, ins, u->horizon, u->dt, u->sample_every, out, stride,
-                            &failed);
+                            &failed, &work);
     check_status(st, "crane_predict_many status");
     if (failed > F)
         fail("crane_predict_many: *failed out of range");
@@ -427,7 +430,7 @@ static void run_predict(const universe *u)
     memcpy(scopy, &state, sizeof state);
     memcpy(icopy, &inputs, sizeof inputs);
 
-    st = crane_predict(&params, &state, &inputs, u->horizon, u->dt, out, cap, &n_written);
+    st = crane_predict(&params, &state, &inputs, u->horizon, u->dt, out, cap, &n_written, &work);
     check_status(st, "crane_predict status");
     if (memcmp(pcopy, &params, sizeof params) || memcmp(scopy, &state, sizeof state) ||
         memcmp(icopy, &inputs, sizeof inputs))
@@ -446,7 +449,7 @@ static void run_predict(const universe *u)
             abort();
         memcpy(out2, ref, cap ? cap * sizeof *out : 1);
         if (crane_model_init(&model, &params, state.extension) == CRANE_OK) {
-            st2 = crane_predict_model(&model, &state, &inputs, u->horizon, u->dt, out2, cap, &n2);
+            st2 = crane_predict_model(&model, &state, &inputs, u->horizon, u->dt, out2, cap, &n2, &work);
             check_status(st2, "crane_predict_model status");
             if (memcmp(scopy, &state, sizeof state) || memcmp(icopy, &inputs, sizeof inputs))
                 fail("crane_predict_model modified its inputs");
@@ -468,7 +471,7 @@ static void run_predict(const universe *u)
         if (!long_run && crane_model_init(&model, &params, state.extension) == CRANE_OK) {
             memset(&next, 0xa5, sizeof next);
             memcpy(&canary, &next, sizeof next);
-            st3 = crane_step(&model, &state, &inputs, u->horizon, u->dt, &next, ends);
+            st3 = crane_step(&model, &state, &inputs, u->horizon, u->dt, &next, ends, &work);
             check_status(st3, "crane_step status");
             if (memcmp(scopy, &state, sizeof state) || memcmp(icopy, &inputs, sizeof inputs))
                 fail("crane_step modified its inputs");

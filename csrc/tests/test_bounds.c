@@ -14,6 +14,9 @@
 #include "crane.h"
 #include "crane_patu655.h"
 
+/* the predictions' working storage (crane.h): one, these calls never run at once */
+static crane_work work;
+
 static int n_pass, n_fail;
 
 static void check_status(crane_status got, crane_status want, const char *what)
@@ -66,10 +69,10 @@ static void test_limits(void)
                                                                  : (size_t)LONG_MAX,
                                           &n),
                  CRANE_E_STEPS, "horizon 1e9, sample_every 10^12: steps");
-    check_status(crane_predict(&params, &s, &in[0], (crane_real)1e9, dt, out, 2, &n),
+    check_status(crane_predict(&params, &s, &in[0], (crane_real)1e9, dt, out, 2, &n, &work),
                  CRANE_E_STEPS, "crane_predict horizon 1e9");
     check_status(crane_predict_many(&params, 1, 1, &s, in, (crane_real)1e9, dt, 1000000, out, 2,
-                                    &failed),
+                                    &failed, &work),
                  CRANE_E_STEPS, "crane_predict_many horizon 1e9");
     check(failed == 1, "crane_predict_many horizon 1e9: a shared argument");
     /* at the limit: accepted by the count (not run here) */
@@ -85,11 +88,11 @@ static void test_limits(void)
     check_status(crane_sample_count((crane_real)(CRANE_MAX_STEPS + 2) * dt, dt, &n),
                  CRANE_E_STEPS, "CRANE_MAX_STEPS + 2 steps are not");
     /* one call's samples: 9 futures of 1,000,001 samples */
-    check_status(crane_predict_many(&params, 1, 9, &s, in, (crane_real)1000, dt, 1, out, 2, &failed),
+    check_status(crane_predict_many(&params, 1, 9, &s, in, (crane_real)1000, dt, 1, out, 2, &failed, &work),
                  CRANE_E_SAMPLE_COUNT, "9 x 1,000,001 samples: over CRANE_MAX_SAMPLES");
     /* one call's work: 34 futures of 1,000,000 steps, 11 samples each */
     check_status(crane_predict_many(&params, 1, 34, &s, in, (crane_real)1000, dt, 100000, out, 2,
-                                    &failed),
+                                    &failed, &work),
                  CRANE_E_BATCH, "34 x 1,000,000 steps: over CRANE_MAX_BATCH_STEPS");
 }
 
@@ -122,7 +125,7 @@ static void test_time_is_k_dt(void)
 
     held(&in[0]);
     check_status(crane_predict_many(&params, 1, 1, &s, in, (crane_real)65.536, dt, 4096, out, 20,
-                                    &failed),
+                                    &failed, &work),
                  CRANE_OK, "65,536 held steps, every 4096th kept");
     for (k = 0; k <= 16; ++k)
         exact &= out[k].t == (k == 16 ? (crane_real)65.536 : (crane_real)(k * 4096) * dt);

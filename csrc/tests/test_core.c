@@ -16,6 +16,9 @@
 #include "crane_patu655.h"
 #include "golden.h"
 
+/* the predictions' working storage (crane.h): one, these calls never run at once */
+static crane_work work;
+
 static int n_pass, n_fail;
 
 #ifdef CRANE_FLOAT
@@ -412,7 +415,7 @@ static void expect_predict(const crane_params *p, const crane_state *s, const cr
 
     memset(buf, 0xa5, sizeof buf);
     memcpy(ref, buf, sizeof buf);
-    check_status(crane_predict(p, s, in, R(horizon), R(dt), buf, capacity, &n), want, what);
+    check_status(crane_predict(p, s, in, R(horizon), R(dt), buf, capacity, &n, &work), want, what);
     if (want != CRANE_OK)
         check(memcmp(buf, ref, sizeof buf) == 0 && n == 12345, "predict: nothing written");
     else
@@ -441,11 +444,21 @@ static void test_bad_predict(void)
     expect_predict(&good, &s0, &in0, 0.1, 0.01, BUF, CRANE_OK, "predict OK (11 samples)");
     expect_predict(&good, &s0, &in0, 0.1, 0.01, 11, CRANE_OK, "predict OK, capacity exact");
     expect_predict(&good, &s0, &in0, 0.1, 0.01, 10, CRANE_E_CAPACITY, "capacity too small");
-    check_status(crane_predict(NULL, &s0, &in0, R(0.1), R(0.01), buf, BUF, &n), CRANE_E_NULL, "NULL params");
-    check_status(crane_predict(&good, NULL, &in0, R(0.1), R(0.01), buf, BUF, &n), CRANE_E_NULL, "NULL state");
-    check_status(crane_predict(&good, &s0, NULL, R(0.1), R(0.01), buf, BUF, &n), CRANE_E_NULL, "NULL inputs");
-    check_status(crane_predict(&good, &s0, &in0, R(0.1), R(0.01), NULL, BUF, &n), CRANE_E_NULL, "NULL out");
-    check_status(crane_predict(&good, &s0, &in0, R(0.1), R(0.01), buf, BUF, NULL), CRANE_E_NULL, "NULL n");
+    check_status(crane_predict(NULL, &s0, &in0, R(0.1), R(0.01), buf, BUF, &n, &work), CRANE_E_NULL, "NULL params");
+    check_status(crane_predict(&good, NULL, &in0, R(0.1), R(0.01), buf, BUF, &n, &work), CRANE_E_NULL, "NULL state");
+    check_status(crane_predict(&good, &s0, NULL, R(0.1), R(0.01), buf, BUF, &n, &work), CRANE_E_NULL, "NULL inputs");
+    check_status(crane_predict(&good, &s0, &in0, R(0.1), R(0.01), NULL, BUF, &n, &work), CRANE_E_NULL, "NULL out");
+    check_status(crane_predict(&good, &s0, &in0, R(0.1), R(0.01), buf, BUF, NULL, &work), CRANE_E_NULL, "NULL n");
+    check_status(crane_predict(&good, &s0, &in0, R(0.1), R(0.01), buf, BUF, &n, NULL), CRANE_E_NULL, "NULL work");
+    {
+        crane_model mw;
+        size_t failed;
+        check_status(crane_model_init(&mw, &good, s0.extension), CRANE_OK, "NULL work: the model");
+        check_status(crane_predict_model(&mw, &s0, &in0, R(0.1), R(0.01), buf, BUF, &n, NULL), CRANE_E_NULL,
+                     "predict_model: NULL work");
+        check_status(crane_predict_many(&good, 1, 1, &s0, &in0, R(0.1), R(0.01), 1, buf, BUF, &failed, NULL),
+                     CRANE_E_NULL, "predict_many: NULL work");
+    }
     expect_predict(&good, &s0, &in0, 0.1, 0, BUF, CRANE_E_DT, "dt = 0");
     expect_predict(&good, &s0, &in0, 0.1, -0.01, BUF, CRANE_E_DT, "dt < 0");
     expect_predict(&good, &s0, &in0, 0.1, 0.2, BUF, CRANE_E_DT, "dt > horizon");
@@ -641,7 +654,7 @@ static void test_energy(void)
         p.cylinder[i].friction.viscous = 0;
     }
     crane_model_init(&m, &p, R(0.5));
-    check_status(crane_predict(&p, &s0, &in, R(0.4), R(1e-3), out, 401, &n), CRANE_OK, "energy run");
+    check_status(crane_predict(&p, &s0, &in, R(0.4), R(1e-3), out, 401, &n, &work), CRANE_OK, "energy run");
     check(n == 401, "energy run: 401 samples");
     E0 = kinetic_energy(&m, out[0].theta, out[0].omega);
     for (k = 0; k < n; ++k) {
@@ -686,7 +699,7 @@ static void test_paper_scenario(void)
     p.load_mass = CRANE_SCENARIO_PAPER_FIG4_LOAD_MASS;
     crane_model_init(&m, &p, R(0));
     check_status(crane_predict(&p, &s0, &in, CRANE_SCENARIO_PAPER_FIG4_HORIZON, R(1e-3), paper_out,
-                               N_PAPER, &n), CRANE_OK, "paper scenario runs");
+                               N_PAPER, &n, &work), CRANE_OK, "paper scenario runs");
     check(n == N_PAPER, "paper scenario: 2001 samples");
     check(D(paper_out[0].t) == 0 && D(paper_out[n - 1].t) == 2, "paper scenario: t from 0 to 2");
     for (k = 0; k < n; ++k) {
@@ -738,12 +751,12 @@ static void test_step(void)
     in.solver.method = CRANE_METHOD_RK4;
     p.load_mass = CRANE_SCENARIO_PAPER_FIG4_LOAD_MASS;
     check_status(crane_predict(&p, &s0, &in, CRANE_SCENARIO_PAPER_FIG4_HORIZON, R(1e-3), rk4_out,
-                               N_PAPER, &n), CRANE_OK, "step: the one-shot RK4 prediction");
+                               N_PAPER, &n, &work), CRANE_OK, "step: the one-shot RK4 prediction");
     check_status(crane_model_init(&m, &p, R(0)), CRANE_OK, "step: model");
     for (k = 0; k < 200; ++k) {
         const crane_sample *want = &rk4_out[10 * (k + 1)];
         int i;
-        if (crane_step(&m, &s, &in, R(0.01), R(1e-3), &s, ends) != CRANE_OK)
+        if (crane_step(&m, &s, &in, R(0.01), R(1e-3), &s, ends, &work) != CRANE_OK)
             break;
         for (i = 0; i < 3; ++i) {
             const double e = fabs(D(ends[1].tip[i]) - D(want->tip[i]));
@@ -759,10 +772,11 @@ static void test_step(void)
     printf("  step: 200 chained 10-ms periods vs one 2-s prediction: tip within %.2g m\n", worst);
 
     before = s;
-    check_status(crane_step(NULL, &s, &in, R(0.01), R(1e-3), &s, ends), CRANE_E_NULL, "step: no model");
-    check_status(crane_step(&m, &s, &in, R(0.01), R(1e-3), &s, NULL), CRANE_E_NULL, "step: no out");
-    check_status(crane_step(&m, &s, &in, R(0), R(1e-3), &s, ends), CRANE_E_HORIZON, "step: period 0");
-    check_status(crane_step(&m, &s, &in, R(0.01), R(0.02), &s, ends), CRANE_E_DT, "step: dt > period");
+    check_status(crane_step(NULL, &s, &in, R(0.01), R(1e-3), &s, ends, &work), CRANE_E_NULL, "step: no model");
+    check_status(crane_step(&m, &s, &in, R(0.01), R(1e-3), &s, NULL, &work), CRANE_E_NULL, "step: no out");
+    check_status(crane_step(&m, &s, &in, R(0.01), R(1e-3), &s, ends, NULL), CRANE_E_NULL, "step: no work");
+    check_status(crane_step(&m, &s, &in, R(0), R(1e-3), &s, ends, &work), CRANE_E_HORIZON, "step: period 0");
+    check_status(crane_step(&m, &s, &in, R(0.01), R(0.02), &s, ends, &work), CRANE_E_DT, "step: dt > period");
     check(memcmp(&before, &s, sizeof s) == 0, "step: nothing written on an error");
 }
 
@@ -781,7 +795,7 @@ static void test_stops_and_release(void)
     {
         const crane_state s0 = state(0, 0.78, 0, 0, 0, 0);
         const crane_inputs in = constant_inputs(0, 0, CRANE_DRIVE_PRESSURE, 0, 0);
-        check_status(crane_predict(&p, &s0, &in, R(0.3), R(1e-3), out, 301, &n), CRANE_OK, "rest on stops");
+        check_status(crane_predict(&p, &s0, &in, R(0.3), R(1e-3), out, 301, &n, &work), CRANE_OK, "rest on stops");
         ok = 1;
         for (k = 0; k < n; ++k)
             if (out[k].stop[0] != -1 || out[k].stroke[0] != 0 || out[k].theta[0] != m.theta_min[0])
@@ -798,7 +812,7 @@ static void test_stops_and_release(void)
     {
         const crane_state s0 = state(0, 0.3, 0, 0, 0, 0);
         const crane_inputs in = constant_inputs(100e5, 0, CRANE_DRIVE_HOLD, 0, 0);
-        check_status(crane_predict(&p, &s0, &in, R(0.3), R(1e-3), out, 301, &n), CRANE_OK, "release run");
+        check_status(crane_predict(&p, &s0, &in, R(0.3), R(1e-3), out, 301, &n, &work), CRANE_OK, "release run");
         check(out[0].stop[0] == -1 && out[1].stop[0] == 0 && out[n - 1].stroke[0] > out[1].stroke[0],
               "lift released from its lower stop when pressurised");
     }
@@ -806,7 +820,7 @@ static void test_stops_and_release(void)
     {
         const crane_state s0 = state(0.535, 0.3, 0.05, 0, 0, 0);
         const crane_inputs in = constant_inputs(175e5, 0, CRANE_DRIVE_PRESSURE, 30e5, 30e5);
-        check_status(crane_predict(&p, &s0, &in, R(0.3), R(1e-3), out, 301, &n), CRANE_OK, "impact at t=0");
+        check_status(crane_predict(&p, &s0, &in, R(0.3), R(1e-3), out, 301, &n, &work), CRANE_OK, "impact at t=0");
         check(out[0].stop[0] == 1 && out[0].omega[0] == 0, "moving into the stop at t = 0: stopped, omega 0");
     }
     /* Both joints free, the lift hits its upper stop: the plastic impact must not add energy and
@@ -815,7 +829,7 @@ static void test_stops_and_release(void)
         const crane_state s0 = state(0.3, 0.3, 0.1, 0, 0, 0);
         const crane_inputs in = constant_inputs(175e5, 0, CRANE_DRIVE_PRESSURE, 60e5, 60e5);
         int hit = 0;
-        check_status(crane_predict(&p, &s0, &in, R(1), R(5e-3), out, 301, &n), CRANE_OK, "free-free run");
+        check_status(crane_predict(&p, &s0, &in, R(1), R(5e-3), out, 301, &n, &work), CRANE_OK, "free-free run");
         for (k = 0; k < n; ++k)
             if (out[k].stop[0] == 1)
                 hit = 1;
@@ -834,7 +848,7 @@ static void test_tilt_flag(void)
     crane_sample out[401];
     size_t n = 0;
 
-    check_status(crane_predict(&p, &s0, &in, R(2), R(5e-3), out, 401, &n), CRANE_OK, "tilt flag run");
+    check_status(crane_predict(&p, &s0, &in, R(2), R(5e-3), out, 401, &n, &work), CRANE_OK, "tilt flag run");
     check(out[n - 1].stop[0] == 1 && out[n - 1].stroke[0] == p.cylinder[0].stroke_max,
           "lift ends on stroke_max (+1)");
     check(out[n - 1].stop[1] == 1 && out[n - 1].stroke[1] == p.cylinder[1].stroke_max,
@@ -857,22 +871,22 @@ static void test_samples_equal_constant(void)
     /* RK4's steps (knots on its grid): the same bits; the default's explicit pair cuts its steps
      * at the knots, so within its tolerance */
     in.solver.method = CRANE_METHOD_RK4;
-    crane_predict(&p, &s0, &in, R(0.5), R(5e-3), a, 101, &na);
+    crane_predict(&p, &s0, &in, R(0.5), R(5e-3), a, 101, &na, &work);
     in.drive[0].n_samples = 4;
     in.drive[0].t = t;
     in.drive[0].p_a_samples = pa;
     in.drive[0].p_b_samples = pb;
-    crane_predict(&p, &s0, &in, R(0.5), R(5e-3), b, 101, &nb);
+    crane_predict(&p, &s0, &in, R(0.5), R(5e-3), b, 101, &nb, &work);
     check(na == nb && memcmp(a, b, na * sizeof a[0]) == 0,
           "constant pressure samples give the same prediction as constant pressures");
     in.solver.method = CRANE_METHOD_DEFAULT;
-    check_status(crane_predict(&p, &s0, &in, R(0.5), R(5e-3), b, 101, &nb), CRANE_OK,
+    check_status(crane_predict(&p, &s0, &in, R(0.5), R(5e-3), b, 101, &nb, &work), CRANE_OK,
                  "constant samples run by default");
     check(nb == na && fabs(D(b[nb - 1].tip[2]) - D(a[na - 1].tip[2])) < 1e-4,
           "constant pressure samples by default: within 0.1 mm of RK4's constant pressures");
     in.solver.method = CRANE_METHOD_RK4;
     in.drive[0].p_a_samples = ramp_a;
-    check_status(crane_predict(&p, &s0, &in, R(0.5), R(5e-3), c, 101, &nc), CRANE_OK, "ramp samples run");
+    check_status(crane_predict(&p, &s0, &in, R(0.5), R(5e-3), c, 101, &nc, &work), CRANE_OK, "ramp samples run");
     check(strokes_in_range(&p, c, nc) && D(c[nc - 1].tip[2]) != D(a[na - 1].tip[2]),
           "ramp samples change the prediction");
 }
@@ -892,7 +906,7 @@ static void test_diverged(void)
     p.gravity = R(is_float ? 1e30 : 1e135);
     memset(out, 0xa5, sizeof out);
     memcpy(ref, out, sizeof out);
-    check_status(crane_predict(&p, &s0, &in, R(0.2), R(1e-3), out, 201, &n), CRANE_E_DIVERGED,
+    check_status(crane_predict(&p, &s0, &in, R(0.2), R(1e-3), out, 201, &n, &work), CRANE_E_DIVERGED,
                  "gravity 1e135: CRANE_E_DIVERGED");
     check(n < 201, "diverged: fewer samples than asked for");
     for (k = 0; k < n; ++k)
@@ -903,10 +917,10 @@ static void test_diverged(void)
     check(n < 201 && memcmp(out + n, ref + n, (201 - n) * sizeof out[0]) == 0,
           "diverged: nothing written past n_written");
     check(crane_model_init(&m, &p, R(0)) == CRANE_OK &&
-              crane_predict_model(&m, &s0, &in, R(0.2), R(1e-3), out, 201, &k) == CRANE_E_DIVERGED &&
+              crane_predict_model(&m, &s0, &in, R(0.2), R(1e-3), out, 201, &k, &work) == CRANE_E_DIVERGED &&
               k == n,
           "diverged: crane_predict_model the same");
-    check_status(crane_predict_many(&p, 1, 1, &s0, &in, R(0.2), R(1e-3), 1, out, 201, &failed),
+    check_status(crane_predict_many(&p, 1, 1, &s0, &in, R(0.2), R(1e-3), 1, out, 201, &failed, &work),
                  CRANE_E_DIVERGED, "diverged: crane_predict_many");
     check(failed == 0, "diverged: crane_predict_many names the future");
     check(strlen(crane_status_message(CRANE_E_DIVERGED)) > 0, "diverged: a message");
@@ -932,10 +946,10 @@ static void test_params_per_future(void)
         in[k] = constant_inputs(175e5, 0, CRANE_DRIVE_HOLD, 0, 0);
     }
     p[1].cylinder[CRANE_LIFT].friction.factor = R(2.0);
-    check_status(crane_predict_many(p, 3, 3, s, in, R(0.1), R(1e-3), 1, out, 101, &failed),
+    check_status(crane_predict_many(p, 3, 3, s, in, R(0.1), R(1e-3), 1, out, 101, &failed, &work),
                  CRANE_OK, "a crane per future");
     for (k = 0; k < 3; ++k) {
-        check_status(crane_predict(&p[k], &s[k], &in[k], R(0.1), R(1e-3), ref, 101, &n), CRANE_OK,
+        check_status(crane_predict(&p[k], &s[k], &in[k], R(0.1), R(1e-3), ref, 101, &n, &work), CRANE_OK,
                      "a crane per future: crane_predict");
         same = same && n == 101 && memcmp(out + k * 101, ref, sizeof ref) == 0;
     }
@@ -945,13 +959,13 @@ static void test_params_per_future(void)
 
     memset(out, 0x5a, sizeof out);
     memcpy(blank, out, sizeof out);
-    check_status(crane_predict_many(p, 2, 3, s, in, R(0.1), R(1e-3), 1, out, 101, &failed),
+    check_status(crane_predict_many(p, 2, 3, s, in, R(0.1), R(1e-3), 1, out, 101, &failed, &work),
                  CRANE_E_PARAMS, "n_params neither 1 nor n_futures");
     check(failed == 3, "n_params: a shared argument");
-    check_status(crane_predict_many(p, 0, 3, s, in, R(0.1), R(1e-3), 1, out, 101, &failed),
+    check_status(crane_predict_many(p, 0, 3, s, in, R(0.1), R(1e-3), 1, out, 101, &failed, &work),
                  CRANE_E_PARAMS, "n_params 0");
     p[2].load_mass = R(-1.0);
-    check_status(crane_predict_many(p, 3, 3, s, in, R(0.1), R(1e-3), 1, out, 101, &failed),
+    check_status(crane_predict_many(p, 3, 3, s, in, R(0.1), R(1e-3), 1, out, 101, &failed, &work),
                  CRANE_E_BODY, "a bad crane of future 2");
     check(failed == 2, "a bad crane: its future is named");
     check(memcmp(out, blank, sizeof out) == 0, "a bad crane: nothing written");
@@ -975,7 +989,7 @@ static void benchmark(void)
         return;
     c0 = clock();
     for (r = 0; r < reps; ++r)
-        crane_predict(&p, &s0, &in, R(2), R(5e-3), out, 401, &n);
+        crane_predict(&p, &s0, &in, R(2), R(5e-3), out, 401, &n, &work);
     c1 = clock();
     printf("  benchmark: 2 s at dt 5 ms (both joints free): %.1f us per prediction\n",
            1e6 * (double)(c1 - c0) / CLOCKS_PER_SEC / reps);
@@ -1089,7 +1103,7 @@ static void test_golden_vectors(void)
         p.load_mass = g->load_mass;
         snprintf(what, sizeof what, "golden %s: prediction runs", g->name);
         check_status(crane_predict(&p, &g->state, &g->inputs, g->horizon, R(GOLDEN_DT), golden_out,
-                                   N_GOLDEN_MAX, &n), CRANE_OK, what);
+                                   N_GOLDEN_MAX, &n, &work), CRANE_OK, what);
         if (n != g->n_samples) {
             printf("  (golden %s: %lu samples, the twin %lu)\n", g->name, (unsigned long)n,
                    (unsigned long)g->n_samples);

@@ -1,7 +1,8 @@
 """cffi build script (API mode): compiles csrc/ into ``cranepredict._cranepredict``.
 
 The cdef is read from the public header between CRANE_CDEF_BEGIN and CRANE_CDEF_END, so the
-declarations are written once; crane_model's body is replaced by "...;" (opaque: size only).
+declarations are written once; crane_model's and crane_work's bodies are replaced by "...;" (opaque:
+size only).
 The Python extension always uses the double build.
 """
 
@@ -29,6 +30,12 @@ def header_cdef(path: str = os.path.join(CSRC, "crane.h")) -> str:
                       m.group(1))
     if n != 1:
         raise RuntimeError(f"{path}: the crane_model typedef was not found in the CDEF section")
+    # crane_work (the predictions' working storage) likewise; its parts between the markers are
+    # the core's types, which the binding does not declare.
+    cdef, n = re.subn(r"/\* CRANE_WORK_BEGIN \*/.*/\* CRANE_WORK_END \*/",
+                      "typedef struct { ...; } crane_work;", cdef, flags=re.S)
+    if n != 1:
+        raise RuntimeError(f"{path}: the CRANE_WORK_BEGIN/END markers were not found in the CDEF section")
     return "typedef double crane_real;\n" + cdef
 
 

@@ -359,6 +359,19 @@ def solver(dst: Any, method: str, tolerance: Any) -> None:
 SAMPLE_SIZE = ffi.sizeof("crane_sample")
 
 
+_THREAD = threading.local()   # .work: this thread's crane_work
+
+
+def work() -> Any:
+    """This thread's crane_work, the predictions' working storage (crane.h): made at its first
+    prediction and kept, as a call needs no initialised storage and two calls of one thread never
+    overlap."""
+    w = getattr(_THREAD, "work", None)
+    if w is None:
+        w = _THREAD.work = ffi.new("crane_work *")
+    return w
+
+
 def predict_buffer(crane: "Crane", state: "State", inputs: "Inputs", horizon: float, dt: float,
                    n: int, method: str = "auto", tolerance: Any = None) -> Tuple[np.ndarray, int]:
     """Runs crane_predict_model with the crane's cached model (the samples of crane_predict,
@@ -375,7 +388,7 @@ def predict_buffer(crane: "Crane", state: "State", inputs: "Inputs", horizon: fl
     out = np.empty(n * SAMPLE_SIZE, dtype=np.uint8)
     written = ffi.new("size_t *")
     status = lib.crane_predict_model(m, s, inp, horizon, dt, ffi.from_buffer("crane_sample[]", out),
-                                     n, written)
+                                     n, written, work())
     if status != _OK:
         ensure(status, "predict")
     out.setflags(write=False)
@@ -532,7 +545,7 @@ def predict_many(crane: "Crane", states: Sequence["State"], inputs: Sequence["In
                 else:
                     cranes, n_cranes = per_future + lo, hi - lo
                 status = _run_chunk(cranes, n_cranes, hi - lo, st + lo, inp + lo, horizon, dt,
-                                    sample_every, base + lo * n, n, failed)
+                                    sample_every, base + lo * n, n, failed, work())
                 if status == lib.CRANE_E_BATCH and hi - lo > 1:
                     size = max(1, (hi - lo) // 2)   # refused before it ran: nothing written
                     continue

@@ -195,7 +195,8 @@ static int advance(cfmu_instance *f, double h, int at_start)
     if (ensure_model(f))
         return 1;
     drives(f, &in);
-    st = crane_step(&f->model, &f->s.state, &in, h, step < h ? step : h, &next, out);
+    st = crane_step(&f->model, &f->s.state, &in, h, step < h ? step : h, &next, out,
+                    &f->prediction);
     if (st != CRANE_OK)
         return fail(f, at_start ? "the initial state" : "doStep", st);
     if (at_start) {
@@ -245,7 +246,7 @@ static int judge(cfmu_instance *f)
     drives(f, &in);
     f->params.load_mass = f->s.value[Q_LOAD_MASS];
     st = crane_predict_many(&f->params, 1, 1, &f->s.state, &in, horizon, dt, every, f->future, count,
-                            &failed);
+                            &failed, &f->prediction);
     if (st != CRANE_OK)
         return fail(f, "the guard's prediction", st);
     if (ensure_model(f))

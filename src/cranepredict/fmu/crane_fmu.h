@@ -76,6 +76,7 @@ typedef struct {
     crane_sample *future;
     size_t future_capacity;
     crane_real *work, *part_clearance;
+    crane_work prediction;     /* the predictions' working storage (not state) */
 } cfmu_instance;
 
 /* The export's configuration (crane_fmu_config.h, written by cranepredict.fmu). */
