@@ -231,6 +231,11 @@ def main(argv=None):
                     help="print the figures against the budget but do not fail on them (the "
                          "build with the error-controlled method, whose stack and text are over "
                          "the budget: docs/embedding.md)")
+    ap.add_argument("--unchecked", metavar="FIGURE", action="append", default=[],
+                    choices=["text", "stack", "estimator stack"],
+                    help="print FIGURE against its budget but do not fail on it (the build with "
+                         "the error-controlled methods, whose text is over the budget: "
+                         "docs/embedding.md); the other figures are checked")
     a = ap.parse_args(argv)
     csrc = os.path.join(os.path.dirname(os.path.dirname(os.path.abspath(__file__))), "csrc")
     objs = sorted(p for p in glob.glob(os.path.join(a.build, "*.o")))
@@ -368,12 +373,16 @@ def main(argv=None):
               ("estimator stack", est_stack)]
     for k, v in checks:
         good = v <= BUDGET[k]
-        ok &= good
-        print(f"  {k:<12}{v:>8} <= {BUDGET[k]:<6} {'ok' if good else 'OVER BUDGET'}")
+        if k not in a.unchecked:
+            ok &= good
+        note = " (reported, not checked)" if k in a.unchecked else ""
+        print(f"  {k:<12}{v:>8} <= {BUDGET[k]:<6} {'ok' if good else 'OVER BUDGET'}{note}")
     if a.report:
         print("footprint: reported, not checked (" + ("within budget" if ok else "over budget") + ")")
         return 0
-    print("footprint: " + ("within budget" if ok else "FAILED"))
+    over = [k for k, v in checks if k in a.unchecked and v > BUDGET[k]]
+    print("footprint: " + ("within budget" if ok else "FAILED")
+          + (f" ({', '.join(over)} over, reported, not checked)" if over else ""))
     return 0 if ok else 1
 
 
