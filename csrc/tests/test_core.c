@@ -1185,6 +1185,54 @@ static void test_golden_vectors(void)
  * rates, so a diagonal covariance stays diagonal and a measured field is the scalar Kalman filter
  * worked by hand: P- = P + q T, g = P- / (P- + r), x+ = x + g (z - x), P+ = P- r / (P- + r). Then
  * bad arguments leave it untouched. The estimator is large: static, not on the stack. */
+/* crane_work needs no initialisation and carries nothing from one call to the next (crane.h):
+ * every golden scenario over its first 0.5 s, by the default method and by RK4, gives the same
+ * bytes with a zeroed work, with a work whose every byte is 0xFF (NaN in every real, a wild
+ * pointer in every pointer: a field read before the call writes it would show) and with the
+ * work that the previous call, another scenario, left. */
+static void test_work_carries_nothing(void)
+{
+    enum { N_WORK = 128 };
+    static crane_sample fresh[N_WORK], other[N_WORK];
+    static crane_work used; /* the previous call's */
+    static const int methods[2] = {CRANE_METHOD_DEFAULT, CRANE_METHOD_RK4};
+    int i, k, runs = 0, same = 1, ok = 1;
+
+    for (k = 0; k < 2; ++k) {
+        for (i = 0; i < GOLDEN_N_SCENARIOS; ++i) {
+            const golden_scenario *g = &golden_scenarios[i];
+            const crane_real horizon = g->horizon < R(0.5) ? g->horizon : R(0.5);
+            crane_params p = patu();
+            crane_inputs in = g->inputs;
+            size_t n0 = 0, n1 = 0, n2 = 0;
+            crane_status s0, s1, s2;
+
+#if defined(CRANE_HYDRAULICS) && !CRANE_HYDRAULICS
+            if (g->valves) {
+                continue;
+            }
+#endif
+            p.load_mass = g->load_mass;
+            in.solver.method = methods[k];
+            memset(fresh, 0, sizeof fresh);
+            memset(other, 0, sizeof other);
+            memset(&work, 0, sizeof work);
+            s0 = crane_predict(&p, &g->state, &in, horizon, R(5e-3), fresh, N_WORK, &n0, &work);
+            memset(&work, 0xFF, sizeof work);
+            s1 = crane_predict(&p, &g->state, &in, horizon, R(5e-3), other, N_WORK, &n1, &work);
+            same = same && s1 == s0 && n1 == n0 && memcmp(fresh, other, sizeof fresh) == 0;
+            memset(other, 0, sizeof other);
+            s2 = crane_predict(&p, &g->state, &in, horizon, R(5e-3), other, N_WORK, &n2, &used);
+            same = same && s2 == s0 && n2 == n0 && memcmp(fresh, other, sizeof fresh) == 0;
+            ok = ok && s0 == CRANE_OK && n0 > 1;
+            ++runs;
+        }
+    }
+    check(ok && runs > 0, "work: every scenario predicts");
+    check(same, "work: the same bytes from a zeroed, an all-ones and a used crane_work");
+    printf("  work: %d predictions, each with a zeroed, an all-ones and a used crane_work\n", runs);
+}
+
 static void test_estimator(void)
 {
     static crane_estimator est, before;
@@ -1275,6 +1323,7 @@ int main(void)
     test_samples_equal_constant();
     test_diverged();
     test_params_per_future();
+    test_work_carries_nothing();
     test_estimator();
     benchmark();
     printf("%d passed, %d failed\n", n_pass, n_fail);
