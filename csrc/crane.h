@@ -521,9 +521,9 @@ crane_status crane_sample_count(crane_real horizon, crane_real dt, size_t *count
  * A prediction's working data (crane_work): the integrator's context and the state vectors of its
  * steps (the float build on a Cortex-M4F: 1,248 bytes, 304 with RK4 only), in the caller's memory
  * (static, a task's data, the heap of a desktop program), not on the stack: a controller's task
- * stack is small (docs/embedding.md, "Footprint"). One crane_work per concurrent call; a call
- * writes everything it reads of it, so it needs no initialisation and carries nothing from one
- * call to the next. Its fields are the core's, not an interface: the Python binding declares it
+ * stack is small (docs/embedding.md, "Footprint"). One crane_work per concurrent call, apart
+ * from the call's other arguments; a call writes everything it reads of it, so it needs no
+ * initialisation and carries nothing from one call to the next. Its fields are the core's, not an interface: the Python binding declares it
  * opaque (only its size is known there), so its layout may change. The types below are its
  * parts, named as the core's (crane__). */
 /* CRANE_WORK_BEGIN */
