@@ -231,8 +231,8 @@ int crane__tilt_from_stroke(const crane_model *m, crane_real stroke, crane_real 
 void crane__tilt_from_angle(const crane_model *m, crane_real c1, crane_real s1,
                             crane_real *stroke, crane_real *ds, crane_vec2 *q, crane_vec2 *a);
 
-
-/* Fills *tk at cos/sin of theta1; the side-link sums only if m->links (else they are unset). */
+/* The four-bar's terms at one tilt angle: crane__tilt_kin, with the other parts of a prediction's
+ * working storage in crane.h (crane_work). Fills *tk at cos/sin of theta1; the side-link sums only if m->links (else they are unset). */
 void crane__tilt_kinematics(const crane_model *m, crane_real c1, crane_real s1,
                             crane__tilt_kin *tk);
 
@@ -285,10 +285,10 @@ crane_real crane__wrap_tilt(crane_real theta);
 
 /* ---- dynamics.c: the dynamics kernels (docs/model.md, "Dynamics", "Four joints") ---- */
 
-
+/* The spatial kernel's constants (crane__bodies, crane.h) of the crane p. */
 void crane__bodies_init(const crane_params *p, crane__bodies *b);
 
-
+/* The configuration (crane__conf, crane.h) at theta0, theta1 and e. */
 void crane__conf_at(const crane_model *m, crane_real th0, crane_real th1, crane_real e,
                     crane__conf *cf);
 
@@ -353,7 +353,6 @@ crane_real crane__actuator_force(const crane_model *m, int joint, crane_real p_a
                                  crane_real v);
 
 /* ---- hydraulics.c (docs/model.md, "Hydraulics") ---- */
-
 
 /* Valve-driven cylinders are compiled in unless CRANE_HYDRAULICS is defined to 0: a build
  * without them refuses valve drives (CRANE_E_VALVE) and is smaller, for a controller that drives

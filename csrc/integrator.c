@@ -69,7 +69,7 @@ static void copy_state(const ctx_t *c, xstate *dst, const xstate *src)
 }
 
 /* The lower (upper) limit of q of joint j: the angle limits, [slew_min, slew_max], the extension
- * range. Read where needed rather than kept in the context (the stack). */
+ * range. Read where needed rather than kept in the context (the caller's crane_work). */
 static crane_real lo_q(const ctx_t *c, int j)
 {
     if (j < 2) {
