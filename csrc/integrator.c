@@ -1168,7 +1168,10 @@ static void step_start(ctx_t *c, crane_real t, const xstate *x, xstate *f, int v
 }
 
 /* One ROS34PW2 step of size h from (t, x), f0 = f(t, x), into y; returns the error's largest
- * ratio to its tolerance (NaN if the step failed). */
+ * ratio to its tolerance (NaN if the step failed). The stages' sums run a stage at a time over
+ * the entries (each entry's terms in the same order as the formulas above: the same arithmetic as
+ * an entry at a time, in a loop the compiler keeps simple); c->fs is free under this method and
+ * holds a stage's sum of earlier stages. */
 static CRANE__NOINLINE crane_real ros_step(ctx_t *c, crane_real t, const xstate *x,
                                            const xstate *f0, const wjac *J, crane_real h,
                                            xstate *y)
@@ -1177,33 +1180,40 @@ static CRANE__NOINLINE crane_real ros_step(ctx_t *c, crane_real t, const xstate 
     const int n = n_used(c);
     /* the stages u[s], each solved where it was formed (no copies between them) */
     xstate *const u = c->stage;
+    xstate *const sum = &c->fs;
     crane_real err = 0;
     int s, i, k;
 
-    for (s = 0; s < 4; ++s) {
+    for (i = 0; i < n; ++i) {
+        u[0].v[i] = gh * f0->v[i] + ROS_GAMMA * (crane_real)0;
+    }
+    wsolve(c, J, gh, &u[0]);
+    for (s = 1; s < 4; ++s) {
         const int row = (s - 1) * s / 2;
         xstate *const us = &u[s];
-        /* f at the stage's point: f0 itself for the first */
-        const xstate *const f = s == 0 ? f0 : us;
-        if (s != 0) {
+        /* the stage's point x + sum_k a_sk U_k, and f there in place */
+        for (i = 0; i < n; ++i) {
+            us->v[i] = x->v[i] + ROS_A[row] * u[0].v[i];
+        }
+        for (k = 1; k < s; ++k) {
+            const crane_real a = ROS_A[row + k];
             for (i = 0; i < n; ++i) {
-                crane_real v = x->v[i];
-                for (k = 0; k < s; ++k) {
-                    v += ROS_A[row + k] * u[k].v[i];
-                }
-                us->v[i] = v;
+                us->v[i] += a * u[k].v[i];
             }
-            rates(c, t + ROS_ALPHA[s] * h, us, us);
+        }
+        rates(c, t + ROS_ALPHA[s] * h, us, us);
+        /* gamma h f + gamma sum_k c_sk U_k (the sum from 0, as the formula's) */
+        for (i = 0; i < n; ++i) {
+            sum->v[i] = (crane_real)0 + ROS_C[row] * u[0].v[i];
+        }
+        for (k = 1; k < s; ++k) {
+            const crane_real cc = ROS_C[row + k];
+            for (i = 0; i < n; ++i) {
+                sum->v[i] += cc * u[k].v[i];
+            }
         }
         for (i = 0; i < n; ++i) {
-            crane_real v = 0;
-            for (k = 0; k < s; ++k) {
-                /* u[k] for k < s was written at stage k (cppcheck 2.10 does not see it: a false
-                 * "uninitvar") */
-                /* cppcheck-suppress uninitvar */
-                v += ROS_C[row + k] * u[k].v[i];
-            }
-            us->v[i] = gh * f->v[i] + ROS_GAMMA * v;
+            us->v[i] = gh * us->v[i] + ROS_GAMMA * sum->v[i];
         }
         wsolve(c, J, gh, us);
     }
