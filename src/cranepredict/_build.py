@@ -50,7 +50,7 @@ ffibuilder.set_source(
     '#include "crane.h"',
     sources=core_sources(),
     include_dirs=[os.path.relpath(CSRC, ROOT)],
-    extra_compile_args=["-std=c99", "-O2"],
+    extra_compile_args=["-std=c99", "-O3"],
     libraries=["m"],
 )
 
