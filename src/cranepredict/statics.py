@@ -133,7 +133,7 @@ def pressures_in_bar(crane: Crane, state: State, inputs: "Inputs") -> Tuple[str,
         if type(drive) is Pressure:
             p_a, p_b = drive.p_a, drive.p_b
         elif isinstance(drive, PressureSeries):
-            p_a, p_b = float(drive.p_a.max()), float(drive.p_b.max())
+            p_a, p_b = drive.peak_pressures
         else:
             continue
         if not looks_like_bar(max(p_a, p_b)):

@@ -226,6 +226,13 @@ class PressureSeries:
                                  f"got [{float(a.min())!r}, {float(a.max())!r}]")
         for name, a in arrays.items():
             object.__setattr__(self, name, a)
+        # the arrays are read-only: their peaks, asked on every call's checks, once
+        object.__setattr__(self, "_peaks", (float(arrays["p_a"].max()), float(arrays["p_b"].max())))
+
+    @property
+    def peak_pressures(self) -> Tuple[float, float]:
+        """(largest p_a, largest p_b), Pa."""
+        return self._peaks
 
     @classmethod
     def ramp(cls, t0: float, t1: float, start: Tuple[float, float], end: Tuple[float, float],
