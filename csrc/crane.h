@@ -523,9 +523,9 @@ crane_status crane_sample_count(crane_real horizon, crane_real dt, size_t *count
  * (static, a task's data, the heap of a desktop program), not on the stack: a controller's task
  * stack is small (docs/embedding.md, "Footprint"). One crane_work per concurrent call, apart
  * from the call's other arguments; a call writes everything it reads of it, so it needs no
- * initialisation and carries nothing from one call to the next. Its fields are the core's, not an interface: the Python binding declares it
- * opaque (only its size is known there), so its layout may change. The types below are its
- * parts, named as the core's (crane__). */
+ * initialisation and carries nothing from one call to the next. Its fields are the core's, not
+ * an interface: the Python binding declares it opaque (only its size is known there), so its
+ * layout may change. The types below are its parts, named as the core's (crane__). */
 /* CRANE_WORK_BEGIN */
 /* The error-controlled method (ROS34PW2, docs/model.md "Integration") is compiled in unless
  * CRANE_ROSW is defined to 0: a build for a controller that needs the fixed cost and the smaller

@@ -232,7 +232,8 @@ void crane__tilt_from_angle(const crane_model *m, crane_real c1, crane_real s1,
                             crane_real *stroke, crane_real *ds, crane_vec2 *q, crane_vec2 *a);
 
 /* The four-bar's terms at one tilt angle: crane__tilt_kin, with the other parts of a prediction's
- * working storage in crane.h (crane_work). Fills *tk at cos/sin of theta1; the side-link sums only if m->links (else they are unset). */
+ * working storage in crane.h (crane_work). Fills *tk at cos/sin of theta1; the side-link sums
+ * only if m->links (else they are unset). */
 void crane__tilt_kinematics(const crane_model *m, crane_real c1, crane_real s1,
                             crane__tilt_kin *tk);
 

@@ -1186,6 +1186,8 @@ static CRANE__NOINLINE crane_real ros_step(ctx_t *c, crane_real t, const xstate 
     crane_real err = 0;
     int s, i, k;
 
+    /* the first stage: gamma h f0 plus gamma times its empty sum of earlier stages (0, added as
+     * the formula adds it) */
     for (i = 0; i < n; ++i) {
         u[0].v[i] = gh * f0->v[i] + ROS_GAMMA * (crane_real)0;
     }
